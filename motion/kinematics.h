@@ -1,0 +1,34 @@
+// Forward kinematics: joint-local transforms to world positions and rotations.
+#ifndef STYLUS_MOTION_KINEMATICS_H_
+#define STYLUS_MOTION_KINEMATICS_H_
+
+#include <vector>
+
+#include "motion/motion.h"
+
+namespace stylus::motion {
+
+struct GlobalPose {
+  std::vector<Vec3> positions;  // World position of each joint.
+  std::vector<Quat> rotations;  // World rotation of each joint's frame.
+};
+
+// World transforms of all joints for one local pose (parents before children,
+// so one pass suffices; no recursion).
+GlobalPose ForwardKinematics(const Skeleton& skeleton, const LocalPose& pose);
+
+// World positions of every joint in every frame: frames x joints.
+std::vector<std::vector<Vec3>> GlobalPositions(const Motion& motion);
+
+// Local pose from world rotations and positions (the inverse of
+// ForwardKinematics): rotation_j = R_parent^-1 R_j, translation_j =
+// R_parent^-1 (p_j - p_parent).
+LocalPose LocalFromGlobal(const Skeleton& skeleton, const GlobalPose& global);
+
+// Largest distance between corresponding joints of two motions over all frames
+// (both must have the same number of joints and frames).
+double MaxPositionDifference(const Motion& a, const Motion& b);
+
+}  // namespace stylus::motion
+
+#endif  // STYLUS_MOTION_KINEMATICS_H_

@@ -1,0 +1,81 @@
+// Skeleton: the joint hierarchy of a motion clip, as a BVH HIERARCHY describes it.
+//
+// Joints are stored in depth-first file order, so a joint's parent always has a
+// smaller index than the joint itself (index 0 is the root). A Skeleton is an
+// immutable value once created; copies are cheap enough for per-clip use and all
+// const methods are thread-safe.
+#ifndef STYLUS_MOTION_SKELETON_H_
+#define STYLUS_MOTION_SKELETON_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+#include "motion/rotation.h"
+
+namespace stylus::motion {
+
+enum class Channel { kXposition, kYposition, kZposition, kXrotation, kYrotation, kZrotation };
+
+// "Xposition" ... "Zrotation" (BVH spelling).
+absl::string_view ChannelName(Channel c);
+// Case-insensitive inverse of ChannelName; nullopt for anything else.
+std::optional<Channel> ParseChannel(absl::string_view name);
+inline bool IsPosition(Channel c) { return c <= Channel::kZposition; }
+// 0, 1, 2 for the X, Y, Z axis of a position or rotation channel.
+inline int ChannelAxis(Channel c) { return static_cast<int>(c) % 3; }
+
+struct Joint {
+  std::string name;
+  int parent = -1;  // -1 for the root.
+  Vec3 offset;      // Translation from the parent in the parent's frame, at rest.
+  std::vector<Channel> channels;
+  std::vector<Vec3> end_sites;  // BVH "End Site" offsets below this joint.
+};
+
+class Skeleton {
+ public:
+  // Validates and indexes `joints`: exactly one root (index 0), depth-first
+  // order (each parent before its children, subtrees contiguous), unique non-empty names, at most 6 channels per joint with no channel
+  // repeated, rotation channels (if any) forming a full 3-axis Euler order, and
+  // finite offsets. INVALID_ARGUMENT names the offending joint.
+  static absl::StatusOr<Skeleton> Create(std::vector<Joint> joints);
+
+  Skeleton() = default;
+
+  int num_joints() const { return static_cast<int>(joints_.size()); }
+  const Joint& joint(int i) const { return joints_[i]; }
+  const std::vector<Joint>& joints() const { return joints_; }
+  const std::vector<int>& children(int i) const { return children_[i]; }
+
+  // Index of the joint called `name` (exact match), or nullopt.
+  std::optional<int> Find(absl::string_view name) const;
+
+  // Total channels in one frame row, and where joint i's channels start in it.
+  int num_channels() const { return num_channels_; }
+  int channel_start(int i) const { return channel_start_[i]; }
+  // Euler order of joint i's rotation channels (ZXY when it has none).
+  const EulerOrder& rotation_order(int i) const { return rotation_order_[i]; }
+  bool has_rotation(int i) const { return has_rotation_[i]; }
+
+  // True when both have the same joint names, parents and channel layouts
+  // (offsets may differ: the same rig at another scale still matches).
+  bool SameTopology(const Skeleton& other) const;
+  // Empty when SameTopology(other); otherwise a sentence naming the first
+  // difference, e.g. "joint 3 is 'Neck' here but 'Spine2' in the other".
+  std::string DescribeMismatch(const Skeleton& other) const;
+
+ private:
+  std::vector<Joint> joints_;
+  std::vector<std::vector<int>> children_;
+  std::vector<int> channel_start_;
+  std::vector<EulerOrder> rotation_order_;
+  std::vector<bool> has_rotation_;
+  int num_channels_ = 0;
+};
+
+}  // namespace stylus::motion
+
+#endif  // STYLUS_MOTION_SKELETON_H_

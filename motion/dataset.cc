@@ -1,0 +1,127 @@
+#include "motion/dataset.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+
+#include "absl/strings/match.h"
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+
+namespace stylus::motion {
+
+namespace fs = std::filesystem;
+
+uint64_t StableHash(absl::string_view s, uint64_t seed) {
+  uint64_t h = 1469598103934665603ull ^ (seed * 0x9E3779B97F4A7C15ull);
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::optional<ClipLabel> ParseClipName(absl::string_view path) {
+  const size_t slash = path.find_last_of('/');
+  absl::string_view name = slash == absl::string_view::npos ? path : path.substr(slash + 1);
+  if (!absl::ConsumeSuffix(&name, ".bvh")) return std::nullopt;
+  std::vector<absl::string_view> parts = absl::StrSplit(name, '_');
+  ClipLabel l;
+  if (parts.size() != 4 || !absl::StartsWith(parts[0], "dataset-") || parts[1].empty() ||
+      parts[2].empty() || !absl::SimpleAtoi(parts[3], &l.take) || l.take < 0) {
+    return std::nullopt;
+  }
+  l.dataset = std::string(parts[0]);
+  l.content = std::string(parts[1]);
+  l.style = std::string(parts[2]);
+  return l;
+}
+
+std::vector<std::string> DatasetIndex::Contents() const {
+  std::set<std::string> s;
+  for (const ClipEntry& c : clips) s.insert(c.label.content);
+  return {s.begin(), s.end()};
+}
+
+std::vector<std::string> DatasetIndex::Styles() const {
+  std::set<std::string> s;
+  for (const ClipEntry& c : clips) s.insert(c.label.style);
+  return {s.begin(), s.end()};
+}
+
+std::vector<const ClipEntry*> DatasetIndex::Split(bool test) const {
+  std::vector<const ClipEntry*> out;
+  for (const ClipEntry& c : clips) {
+    if (c.test == test) out.push_back(&c);
+  }
+  return out;
+}
+
+absl::StatusOr<DatasetIndex> IndexDataset(const std::vector<std::string>& dirs,
+                                          const SplitOptions& options) {
+  DatasetIndex index;
+  for (const std::string& dir : dirs) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+      return absl::NotFoundError(absl::StrCat(dir, ": not a directory"));
+    }
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::end(it);
+         it.increment(ec)) {
+      if (!it->is_regular_file() || it->path().extension() != ".bvh") continue;
+      const std::string path = it->path().string();
+      std::optional<ClipLabel> label = ParseClipName(path);
+      if (!label) {
+        index.skipped.push_back(path + ": name is not dataset-N_content_style_take.bvh");
+        continue;
+      }
+      index.clips.push_back({path, *label, false});
+    }
+    if (ec) return absl::InternalError(absl::StrCat(dir, ": ", ec.message()));
+  }
+  if (index.clips.empty()) {
+    return absl::NotFoundError("no labelled .bvh clips found under the given directories");
+  }
+  std::sort(index.clips.begin(), index.clips.end(),
+            [](const ClipEntry& a, const ClipEntry& b) { return a.path < b.path; });
+
+  std::map<std::string, std::vector<ClipEntry*>> by_style, groups;
+  for (ClipEntry& c : index.clips) {
+    by_style[absl::StrCat(c.label.dataset, "/", c.label.content, "/", c.label.style)].push_back(&c);
+  }
+  for (auto& [key, members] : by_style) {
+    const std::string group = members.size() >= 5 ? key : key.substr(0, key.find_last_of('/'));
+    for (ClipEntry* c : members) groups[group].push_back(c);
+  }
+  for (auto& [key, members] : groups) {
+    const int n = static_cast<int>(members.size());
+    if (n < 2) continue;
+    const int held = options.test_fraction <= 0
+                         ? 0
+                         : std::max(1, static_cast<int>(std::lround(options.test_fraction * n)));
+    auto file_hash = [&](const ClipEntry* c) {
+      return StableHash(fs::path(c->path).filename().string(), options.seed);
+    };
+    std::sort(members.begin(), members.end(), [&](const ClipEntry* a, const ClipEntry* b) {
+      return file_hash(a) < file_hash(b);
+    });
+    for (int i = 0; i < held && i < n - 1; ++i) members[i]->test = true;
+  }
+  return index;
+}
+
+std::optional<std::string> FindBandaiData(const std::string& project_root) {
+  std::string dir;
+  if (const char* env = std::getenv("STYLUS_DATA"); env != nullptr && env[0] != '\0') {
+    dir = env;
+  } else {
+    dir = project_root + "/../shared/data/bandai";
+  }
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return std::nullopt;
+  return fs::weakly_canonical(dir, ec).string();
+}
+
+}  // namespace stylus::motion

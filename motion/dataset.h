@@ -1,0 +1,66 @@
+// The labelled Bandai motion dataset: an index of its clips (content and style
+// labels from the file names) and a deterministic train/test split by take.
+#ifndef STYLUS_MOTION_DATASET_H_
+#define STYLUS_MOTION_DATASET_H_
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+
+namespace stylus::motion {
+
+struct ClipLabel {
+  std::string dataset;  // "dataset-1"
+  std::string content;  // "walk"
+  std::string style;    // "old"
+  int take = 0;         // 1
+};
+
+// Parses "dataset-N_{content}_{style}_{take}.bvh" (a directory part is ignored);
+// nullopt for other names.
+std::optional<ClipLabel> ParseClipName(absl::string_view path);
+
+struct ClipEntry {
+  std::string path;
+  ClipLabel label;
+  bool test = false;  // In the held-out split.
+};
+
+struct SplitOptions {
+  double test_fraction = 0.1;
+  uint64_t seed = 0;
+};
+
+struct DatasetIndex {
+  std::vector<ClipEntry> clips;       // Sorted by path.
+  std::vector<std::string> skipped;   // "path: reason" for .bvh files without a label.
+
+  std::vector<std::string> Contents() const;  // Sorted, unique.
+  std::vector<std::string> Styles() const;
+  std::vector<const ClipEntry*> Split(bool test) const;
+};
+
+// Indexes every .bvh under `dirs` (recursively). Held out: within each group of
+// takes of one (dataset, content, style) — or of one (dataset, content) when
+// that group has fewer than 5 takes — round(fraction x size) clips (at least
+// one when the group has two or more), chosen by a hash of the file name and
+// `seed`, so the split never depends on the order files are found or on other
+// files. NOT_FOUND when a directory is missing or no clip is found.
+absl::StatusOr<DatasetIndex> IndexDataset(const std::vector<std::string>& dirs,
+                                          const SplitOptions& options = {});
+
+// The Bandai data for tests and tools: $STYLUS_DATA if set, else
+// `<project_root>/../shared/data/bandai`; nullopt when that is not a directory.
+std::optional<std::string> FindBandaiData(const std::string& project_root);
+
+// 64-bit FNV-1a: a hash that is the same on every platform and run.
+uint64_t StableHash(absl::string_view s, uint64_t seed = 0);
+
+}  // namespace stylus::motion
+
+#endif  // STYLUS_MOTION_DATASET_H_

@@ -1,0 +1,167 @@
+#include "motion/features.h"
+
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "motion/kinematics.h"
+
+namespace stylus::motion {
+namespace {
+
+double WrapAngle(double a) { return std::remainder(a, 2 * kPi); }
+
+// Facing yaw from hip and shoulder lines: forward = across x up.
+double FacingYaw(const std::vector<Vec3>& p, const HumanoidRoles& r) {
+  Vec3 across = (p[r.left_hip] - p[r.right_hip]) + (p[r.left_shoulder] - p[r.right_shoulder]);
+  across.y = 0;
+  const Vec3 forward = Cross(across, Vec3{0, 1, 0});
+  return std::atan2(forward.x, forward.z);
+}
+
+// Joints strictly above the pelvis: stored parent-relative, not root-relative.
+std::vector<bool> AbovePelvis(const Skeleton& sk, const HumanoidRoles& r) {
+  std::vector<bool> above(sk.num_joints(), false);
+  for (int j = sk.joint(r.pelvis).parent; j >= 0; j = sk.joint(j).parent) above[j] = true;
+  return above;
+}
+
+}  // namespace
+
+std::vector<std::string> FeatureLayout::ChannelNames(const Skeleton& sk,
+                                                     const HumanoidRoles& roles) const {
+  std::vector<std::string> names;
+  for (int j = 0; j < num_joints; ++j) {
+    for (const char* c : {".px", ".py", ".pz"}) names.push_back(sk.joint(j).name + c);
+  }
+  for (int j = 0; j < num_joints; ++j) {
+    for (const char* c : {".qw", ".qx", ".qy", ".qz"}) names.push_back(sk.joint(j).name + c);
+  }
+  for (const char* c : {"root.vx", "root.vz", "root.yaw_rate", "root.vy"}) names.push_back(c);
+  for (int j : FootJoints(roles)) names.push_back("contact." + sk.joint(j).name);
+  return names;
+}
+
+RootStart RootAt(const Motion& motion, const HumanoidRoles& roles, int f) {
+  const GlobalPose g = ForwardKinematics(motion.skeleton, PoseAt(motion, f));
+  return {g.positions[roles.pelvis].x, g.positions[roles.pelvis].z, FacingYaw(g.positions, roles)};
+}
+
+absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const HumanoidRoles& roles,
+                                            const ContactParams& contact_params) {
+  const Skeleton& sk = motion.skeleton;
+  const int n = motion.num_frames, nj = sk.num_joints();
+  if (n <= 0) return absl::InvalidArgumentError("cannot extract features from an empty motion");
+  const FeatureLayout layout(nj);
+  const std::vector<bool> above = AbovePelvis(sk, roles);
+  FeatureClip out;
+  out.frames = n;
+  out.dim = layout.dim();
+  out.values.assign(static_cast<size_t>(n) * out.dim, 0.f);
+
+  std::vector<std::vector<Vec3>> positions(n);
+  std::vector<Vec3> root(n);
+  std::vector<double> yaw(n);
+  std::vector<Quat> prev_q(nj);
+  for (int f = 0; f < n; ++f) {
+    const LocalPose local = PoseAt(motion, f);
+    const GlobalPose g = ForwardKinematics(sk, local);
+    positions[f] = g.positions;
+    root[f] = {g.positions[roles.pelvis].x, 0, g.positions[roles.pelvis].z};
+    yaw[f] = FacingYaw(g.positions, roles);
+    const Quat inv_yaw = Conjugate(YawRotation(yaw[f]));
+    float* row = out.row(f);
+    for (int j = 0; j < nj; ++j) {
+      const Vec3 p = above[j] ? local.translations[j] : Rotate(inv_yaw, g.positions[j] - root[f]);
+      Quat q = j == roles.pelvis ? inv_yaw * g.rotations[j] : local.rotations[j];
+      q = f == 0 ? SameHemisphere(q, Quat{}) : SameHemisphere(q, prev_q[j]);
+      prev_q[j] = q;
+      for (int c = 0; c < 3; ++c) row[layout.position(j) + c] = static_cast<float>(p[c]);
+      const double qv[4] = {q.w, q.x, q.y, q.z};
+      for (int c = 0; c < 4; ++c) row[layout.rotation(j) + c] = static_cast<float>(qv[c]);
+    }
+  }
+  const double fps = motion.fps();
+  for (int f = 0; f < n; ++f) {
+    // Forward difference; the last frame repeats the one before it.
+    const int a = (f + 1 < n) ? f : std::max(0, f - 1);
+    const int b = std::min(n - 1, a + 1);
+    float* row = out.row(f);
+    if (b > a) {
+      const Vec3 v = Rotate(Conjugate(YawRotation(yaw[a])), root[b] - root[a]) * fps;
+      row[layout.trajectory() + 0] = static_cast<float>(v.x);
+      row[layout.trajectory() + 1] = static_cast<float>(v.z);
+      row[layout.trajectory() + 2] = static_cast<float>(WrapAngle(yaw[b] - yaw[a]) * fps);
+      row[layout.trajectory() + 3] =
+          static_cast<float>((positions[b][roles.pelvis].y - positions[a][roles.pelvis].y) * fps);
+    }
+  }
+  const auto contacts = DetectFootContacts(positions, roles, fps, contact_params);
+  for (int f = 0; f < n; ++f) {
+    for (int k = 0; k < 4; ++k) out.row(f)[layout.contacts() + k] = contacts[f][k] ? 1.f : 0.f;
+  }
+  return out;
+}
+
+absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Skeleton& sk,
+                                          const HumanoidRoles& roles, double frame_time,
+                                          const RootStart& start) {
+  const int nj = sk.num_joints();
+  const FeatureLayout layout(nj);
+  if (features.dim != layout.dim()) {
+    return absl::InvalidArgumentError(absl::StrCat("features have ", features.dim,
+                                                   " channels; skeleton with ", nj, " joints needs ",
+                                                   layout.dim()));
+  }
+  if (features.frames <= 0) return absl::InvalidArgumentError("features have no frames");
+  if (!(frame_time > 0)) return absl::InvalidArgumentError("frame time must be positive");
+  for (size_t i = 0; i < features.values.size(); ++i) {
+    if (!std::isfinite(features.values[i])) {
+      return absl::InvalidArgumentError(absl::StrCat("feature value at frame ", i / features.dim,
+                                                     ", channel ", i % features.dim,
+                                                     " is not finite"));
+    }
+  }
+  const std::vector<bool> above = AbovePelvis(sk, roles);
+  Motion m = RestMotion(sk, features.frames, frame_time);
+  std::vector<Vec3> prev_euler(nj);
+  double x = start.x, z = start.z, yaw = start.yaw;
+  for (int f = 0; f < features.frames; ++f) {
+    const float* row = features.row(f);
+    const Quat yaw_q = YawRotation(yaw);
+    LocalPose local;
+    local.translations.resize(nj);
+    local.rotations.resize(nj);
+    for (int j = 0; j < nj; ++j) {
+      const float* q = row + layout.rotation(j);
+      local.rotations[j] = Normalized(Quat{q[0], q[1], q[2], q[3]});
+      local.translations[j] = sk.joint(j).offset;
+      if (above[j]) {
+        const float* p = row + layout.position(j);
+        local.translations[j] = {p[0], p[1], p[2]};
+      }
+    }
+    // The pelvis is placed in the world, then expressed relative to its parent.
+    GlobalPose g = ForwardKinematics(sk, local);
+    const float* pp = row + layout.position(roles.pelvis);
+    const Vec3 pelvis_world = Vec3{x, 0, z} + Rotate(yaw_q, Vec3{pp[0], pp[1], pp[2]});
+    const Quat pelvis_rot = yaw_q * local.rotations[roles.pelvis];
+    const int parent = sk.joint(roles.pelvis).parent;
+    if (parent < 0) {
+      local.translations[roles.pelvis] = pelvis_world;
+      local.rotations[roles.pelvis] = pelvis_rot;
+    } else {
+      const Quat inv = Conjugate(g.rotations[parent]);
+      local.translations[roles.pelvis] = Rotate(inv, pelvis_world - g.positions[parent]);
+      local.rotations[roles.pelvis] = Normalized(inv * pelvis_rot);
+    }
+    SetPose(&m, f, local, &prev_euler);
+    const float* t = row + layout.trajectory();
+    const Vec3 step = Rotate(yaw_q, Vec3{t[0], 0, t[1]}) * frame_time;
+    x += step.x;
+    z += step.z;
+    yaw += t[2] * frame_time;
+  }
+  return m;
+}
+
+}  // namespace stylus::motion

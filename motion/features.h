@@ -1,0 +1,76 @@
+// Per-frame motion features (docs/motion.md "Features"), the representation the
+// models learn on, and their inverse back to a motion on the original skeleton.
+//
+// Frame layout, d = 7J + 8 channels for J joints:
+//   [0, 3J)      joint positions relative to the character root, in its facing
+//                frame (joints above the pelvis: their parent-relative translation)
+//   [3J, 7J)     joint rotations as unit quaternions (w,x,y,z): the pelvis relative
+//                to the facing frame, every other joint relative to its parent;
+//                kept in one hemisphere frame to frame
+//   [7J, 7J+4)   root trajectory: planar velocity (x, z) in the facing frame and
+//                yaw rate, both per second, and the pelvis's vertical velocity
+//   [7J+4, 7J+8) foot contacts (0/1): left ankle, left toe, right ankle, right toe
+// The character root is the pelvis projected onto the floor (y = 0); its facing
+// direction is perpendicular to the hip and shoulder lines.
+#ifndef STYLUS_MOTION_FEATURES_H_
+#define STYLUS_MOTION_FEATURES_H_
+
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "motion/contacts.h"
+#include "motion/humanoid.h"
+#include "motion/motion.h"
+
+namespace stylus::motion {
+
+struct FeatureLayout {
+  int num_joints = 0;
+
+  explicit FeatureLayout(int joints) : num_joints(joints) {}
+  int position(int joint) const { return 3 * joint; }
+  int rotation(int joint) const { return 3 * num_joints + 4 * joint; }
+  int trajectory() const { return 7 * num_joints; }
+  int contacts() const { return 7 * num_joints + 4; }
+  int dim() const { return 7 * num_joints + 8; }
+  // One name per channel, e.g. "Hips.py", "Hips.qw", "root.vx", "contact.Toes_L".
+  std::vector<std::string> ChannelNames(const Skeleton& skeleton, const HumanoidRoles& roles) const;
+};
+
+// A frames x dim matrix of features, row-major.
+struct FeatureClip {
+  int frames = 0;
+  int dim = 0;
+  std::vector<float> values;
+
+  float* row(int f) { return values.data() + static_cast<size_t>(f) * dim; }
+  const float* row(int f) const { return values.data() + static_cast<size_t>(f) * dim; }
+};
+
+// Where and how the character stands in the first frame; MotionFromFeatures
+// starts integrating the trajectory here.
+struct RootStart {
+  double x = 0, z = 0;  // Floor position.
+  double yaw = 0;       // Facing, radians about +Y (0 faces +Z).
+};
+
+// Features of every frame. INVALID_ARGUMENT if the motion has no frames.
+absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const HumanoidRoles& roles,
+                                            const ContactParams& contacts = {});
+
+// The root's floor position and facing in frame `f` of a motion.
+RootStart RootAt(const Motion& motion, const HumanoidRoles& roles, int f);
+
+// The inverse of ExtractFeatures: a motion on `skeleton` (same channel layout)
+// whose root follows the integrated trajectory from `start`. Joints below the
+// pelvis keep the skeleton's offsets (bone lengths), quaternions are
+// renormalized, Euler angles are continuous. INVALID_ARGUMENT when the clip's
+// width does not match the skeleton or a value is not finite.
+absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Skeleton& skeleton,
+                                          const HumanoidRoles& roles, double frame_time,
+                                          const RootStart& start = {});
+
+}  // namespace stylus::motion
+
+#endif  // STYLUS_MOTION_FEATURES_H_

@@ -1,0 +1,28 @@
+// Humanoid roles: which joints of a skeleton are the pelvis, hips, shoulders,
+// ankles and toes. Features (facing direction, root trajectory) and foot contacts
+// need them; they are found from joint names, so any rig that names its sides
+// (Foot_L, LeftFoot, l_ankle, ...) works.
+#ifndef STYLUS_MOTION_HUMANOID_H_
+#define STYLUS_MOTION_HUMANOID_H_
+
+#include "absl/status/statusor.h"
+#include "motion/skeleton.h"
+
+namespace stylus::motion {
+
+struct HumanoidRoles {
+  int pelvis = -1;  // Common parent of the two hips.
+  int left_hip = -1, right_hip = -1;
+  int left_shoulder = -1, right_shoulder = -1;  // Upper-arm joints.
+  int left_ankle = -1, right_ankle = -1;
+  int left_toe = -1, right_toe = -1;
+  double leg_length = 0;  // Hip to ankle plus ankle to toe along the offsets.
+  int up_axis = 1;        // Y is up (BVH convention).
+};
+
+// Finds the roles by name; INVALID_ARGUMENT names the role it could not find.
+absl::StatusOr<HumanoidRoles> FindHumanoidRoles(const Skeleton& skeleton);
+
+}  // namespace stylus::motion
+
+#endif  // STYLUS_MOTION_HUMANOID_H_

@@ -1,0 +1,131 @@
+// bvh-info, bvh-roundtrip and features.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "motion/bvh.h"
+#include "motion/features.h"
+#include "motion/humanoid.h"
+#include "motion/kinematics.h"
+#include "tool/cli_support.h"
+
+namespace stylus::tool {
+
+using motion::Motion;
+
+int BvhInfo(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool bvh-info FILE\n\n"
+      "Prints the joints (parent, offset, channels), frame count, frame rate and\n"
+      "duration of a BVH file. Exits 1 with file:line: reason on malformed input.\n";
+  int code = 0;
+  auto args = ParseOrExit("bvh-info", argv, {}, kHelp, &code);
+  if (!args) return code;
+  if (args->positional.size() != 1) {
+    std::fprintf(stderr, "stylus-tool bvh-info: expected one FILE\n\n%s", kHelp);
+    return 2;
+  }
+  absl::StatusOr<Motion> m = motion::ReadBvhFile(args->positional[0]);
+  if (!m.ok()) return Fail("bvh-info", m.status());
+  const motion::Skeleton& sk = m->skeleton;
+  absl::PrintF("file: %s\n", args->positional[0]);
+  absl::PrintF("joints: %d (root '%s')\n", sk.num_joints(), sk.joint(0).name);
+  absl::PrintF("channels: %d per frame\n", sk.num_channels());
+  absl::PrintF("frames: %d\n", m->num_frames);
+  absl::PrintF("frame_time: %g s (%.3f fps)\n", m->frame_time, m->fps());
+  absl::PrintF("duration: %.3f s\n", m->num_frames * m->frame_time);
+  absl::PrintF("%-4s %-20s %-20s %-30s %s\n", "#", "joint", "parent", "offset", "channels");
+  for (int j = 0; j < sk.num_joints(); ++j) {
+    const motion::Joint& joint = sk.joint(j);
+    std::string channels;
+    for (motion::Channel c : joint.channels) absl::StrAppend(&channels, channels.empty() ? "" : " ", motion::ChannelName(c));
+    if (sk.has_rotation(j)) absl::StrAppend(&channels, "  (order ", sk.rotation_order(j).Name(), ")");
+    absl::PrintF("%-4d %-20s %-20s %-30s %s\n", j, joint.name,
+                 joint.parent < 0 ? "-" : sk.joint(joint.parent).name,
+                 absl::StrFormat("%g %g %g", joint.offset.x, joint.offset.y, joint.offset.z), channels);
+  }
+  return 0;
+}
+
+int BvhRoundtrip(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool bvh-roundtrip IN OUT\n\n"
+      "Reads IN, writes it to OUT, reads OUT back and compares forward-kinematics\n"
+      "joint positions of every frame. The last line is max_fk_error=<value> (in the\n"
+      "file's units). Exits 1 when a file cannot be read or written.\n";
+  int code = 0;
+  auto args = ParseOrExit("bvh-roundtrip", argv, {}, kHelp, &code);
+  if (!args) return code;
+  if (args->positional.size() != 2) {
+    std::fprintf(stderr, "stylus-tool bvh-roundtrip: expected IN and OUT\n\n%s", kHelp);
+    return 2;
+  }
+  absl::StatusOr<Motion> in = motion::ReadBvhFile(args->positional[0]);
+  if (!in.ok()) return Fail("bvh-roundtrip", in.status());
+  if (absl::Status s = motion::WriteBvhFile(*in, args->positional[1]); !s.ok()) {
+    return Fail("bvh-roundtrip", s);
+  }
+  absl::StatusOr<Motion> back = motion::ReadBvhFile(args->positional[1]);
+  if (!back.ok()) return Fail("bvh-roundtrip", back.status());
+  if (!in->skeleton.SameTopology(back->skeleton) || in->num_frames != back->num_frames) {
+    return Fail("bvh-roundtrip", absl::InternalError("re-read file has another skeleton or frame count"));
+  }
+  absl::PrintF("frames=%d joints=%d\n", in->num_frames, in->skeleton.num_joints());
+  absl::PrintF("max_fk_error=%g\n", motion::MaxPositionDifference(*in, *back));
+  return 0;
+}
+
+int Features(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool features FILE [-o RECONSTRUCTED.bvh]\n\n"
+      "Extracts per-frame features (docs/motion.md) from a humanoid BVH clip and\n"
+      "prints a summary: root speed, turning, pelvis height, foot contacts. Then\n"
+      "rebuilds the motion from the features alone and reports the largest joint\n"
+      "position error against the input (max_reconstruction_error=...). With -o,\n"
+      "writes the rebuilt motion as BVH.\n";
+  int code = 0;
+  auto args = ParseOrExit("features", argv, {{"out"}, {}}, kHelp, &code);
+  if (!args) return code;
+  if (args->positional.size() != 1) {
+    std::fprintf(stderr, "stylus-tool features: expected one FILE\n\n%s", kHelp);
+    return 2;
+  }
+  absl::StatusOr<Motion> m = motion::ReadBvhFile(args->positional[0]);
+  if (!m.ok()) return Fail("features", m.status());
+  absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(m->skeleton);
+  if (!roles.ok()) return Fail("features", roles.status());
+  absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(*m, *roles);
+  if (!f.ok()) return Fail("features", f.status());
+  const motion::FeatureLayout layout(m->skeleton.num_joints());
+  double speed = 0, turn = 0, height = 0;
+  double contact[4] = {0, 0, 0, 0};
+  for (int t = 0; t < f->frames; ++t) {
+    const float* r = f->row(t);
+    speed += std::hypot(r[layout.trajectory()], r[layout.trajectory() + 1]);
+    turn += std::fabs(r[layout.trajectory() + 2]);
+    height += r[layout.position(roles->pelvis) + 1];
+    for (int k = 0; k < 4; ++k) contact[k] += r[layout.contacts() + k];
+  }
+  const double n = f->frames;
+  absl::PrintF("file: %s\nframes: %d  feature channels: %d (7 x %d joints + 4 trajectory + 4 contacts)\n",
+               args->positional[0], f->frames, f->dim, m->skeleton.num_joints());
+  absl::PrintF("root speed: %.1f units/s   turning: %.1f deg/s   pelvis height: %.1f units\n",
+               speed / n, turn / n * motion::kRadToDeg, height / n);
+  const auto feet = motion::FootJoints(*roles);
+  for (int k = 0; k < 4; ++k) {
+    absl::PrintF("contact %-12s %5.1f%% of frames\n", m->skeleton.joint(feet[k]).name, 100 * contact[k] / n);
+  }
+  absl::StatusOr<Motion> rebuilt = motion::MotionFromFeatures(*f, m->skeleton, *roles, m->frame_time,
+                                                              motion::RootAt(*m, *roles, 0));
+  if (!rebuilt.ok()) return Fail("features", rebuilt.status());
+  if (args->Has("out")) {
+    if (absl::Status s = motion::WriteBvhFile(*rebuilt, args->Get("out")); !s.ok()) return Fail("features", s);
+    absl::PrintF("wrote %s\n", args->Get("out"));
+  }
+  absl::PrintF("max_reconstruction_error=%g\n", motion::MaxPositionDifference(*m, *rebuilt));
+  return 0;
+}
+
+}  // namespace stylus::tool

@@ -1,0 +1,26 @@
+// Shared plumbing for subcommands: parse arguments or print help and an exit
+// code, and report a failed status.
+#ifndef STYLUS_TOOL_CLI_SUPPORT_H_
+#define STYLUS_TOOL_CLI_SUPPORT_H_
+
+#include <optional>
+#include <string>
+
+#include "absl/status/status.h"
+#include "tool/args.h"
+#include "tool/commands.h"
+
+namespace stylus::tool {
+
+// Parses argv; on --help prints `help` and sets *exit_code 0; on a usage error
+// prints it with the help and sets *exit_code 2. Returns the arguments only when
+// the command should run.
+std::optional<Args> ParseOrExit(const char* command, const Argv& argv, const ArgSpec& spec,
+                                const char* help, int* exit_code);
+
+// Prints "stylus-tool COMMAND: message" to stderr and returns 1.
+int Fail(const char* command, const absl::Status& status);
+
+}  // namespace stylus::tool
+
+#endif  // STYLUS_TOOL_CLI_SUPPORT_H_

@@ -1,0 +1,22 @@
+// stylus-tool subcommands. Each takes the arguments after its name, prints its
+// results to stdout and errors to stderr, and returns the process exit code
+// (0 ok, 1 failure, 2 bad usage).
+#ifndef STYLUS_TOOL_COMMANDS_H_
+#define STYLUS_TOOL_COMMANDS_H_
+
+#include <string>
+#include <vector>
+
+namespace stylus::tool {
+
+using Argv = std::vector<std::string>;
+
+int BvhInfo(const Argv& argv);
+int BvhRoundtrip(const Argv& argv);
+int Features(const Argv& argv);
+int DatasetStats(const Argv& argv);
+int Synth(const Argv& argv);
+
+}  // namespace stylus::tool
+
+#endif  // STYLUS_TOOL_COMMANDS_H_

@@ -16,6 +16,7 @@ int BvhRoundtrip(const Argv& argv);
 int Features(const Argv& argv);
 int DatasetStats(const Argv& argv);
 int Synth(const Argv& argv);
+int Render(const Argv& argv);
 
 }  // namespace stylus::tool
 

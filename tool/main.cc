@@ -20,6 +20,7 @@ const Command kCommands[] = {
     {"features", stylus::tool::Features, "feature summary of a clip (and its features->motion error)"},
     {"dataset-stats", stylus::tool::DatasetStats, "clips, frames and counts per content and style"},
     {"synth", stylus::tool::Synth, "synthesize a styled walk or run on the Bandai skeleton"},
+    {"render", stylus::tool::Render, "draw a clip as a filmstrip of stick figures (SVG)"},
 };
 
 void Usage(FILE* out) {

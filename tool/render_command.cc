@@ -1,0 +1,99 @@
+// render: a filmstrip of stick figures as SVG, for looking at a clip without a
+// 3D package.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "motion/bvh.h"
+#include "motion/humanoid.h"
+#include "motion/kinematics.h"
+#include "tool/cli_support.h"
+
+namespace stylus::tool {
+
+int Render(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool render FILE -o OUT.svg [--frames N] [--view side|front|top]\n\n"
+      "Draws N evenly spaced frames (default 8) of a BVH clip as stick figures side\n"
+      "by side, seen from the side (x = forward along Z), front or top, each frame\n"
+      "centred on its root, with the floor line and the frame number.\n";
+  int code = 0;
+  auto args = ParseOrExit("render", argv, {{"out", "frames", "view"}, {}}, kHelp, &code);
+  if (!args) return code;
+  if (args->positional.size() != 1 || !args->Has("out")) {
+    std::fprintf(stderr, "stylus-tool render: expected FILE and -o OUT.svg\n\n%s", kHelp);
+    return 2;
+  }
+  absl::StatusOr<int> frames = args->GetInt("frames", 8);
+  if (!frames.ok() || *frames <= 0 || *frames > 200) {
+    return Fail("render", absl::InvalidArgumentError("--frames must be from 1 to 200"));
+  }
+  const std::string view = args->Get("view", "side");
+  int hx = 2, vy = 1;  // Horizontal and vertical axes of the drawing.
+  if (view == "front") {
+    hx = 0;
+  } else if (view == "top") {
+    hx = 0, vy = 2;
+  } else if (view != "side") {
+    return Fail("render", absl::InvalidArgumentError("--view must be side, front or top"));
+  }
+  absl::StatusOr<motion::Motion> m = motion::ReadBvhFile(args->positional[0]);
+  if (!m.ok()) return Fail("render", m.status());
+  const auto positions = motion::GlobalPositions(*m);
+  // Centre on the pelvis and leave out the joints above it (often a static
+  // "root" at the origin); a non-humanoid rig is drawn whole about its root.
+  absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(m->skeleton);
+  const int center = roles.ok() ? roles->pelvis : 0;
+  std::vector<bool> hidden(m->skeleton.num_joints(), false);
+  for (int j = m->skeleton.joint(center).parent; j >= 0; j = m->skeleton.joint(j).parent) hidden[j] = true;
+  double extent = 1;  // Half-size of a cell: the largest spread about the centre joint.
+  for (const auto& frame : positions) {
+    for (int j = 0; j < static_cast<int>(frame.size()); ++j) {
+      if (hidden[j]) continue;
+      const motion::Vec3& p = frame[j];
+      extent = std::max({extent, std::fabs(p[hx] - frame[center][hx]),
+                         vy == 1 ? p.y / 2 : std::fabs(p[vy] - frame[center][vy])});
+    }
+  }
+  const double cell = 160, scale = cell / (2.4 * extent);
+  const int n = std::min(*frames, m->num_frames);
+  std::string svg = absl::StrFormat(
+      "<svg xmlns='http://www.w3.org/2000/svg' width='%d' height='%d' font-family='sans-serif' "
+      "font-size='11'>\n<rect width='100%%' height='100%%' fill='white'/>\n",
+      static_cast<int>(cell * n), static_cast<int>(cell + 20));
+  for (int i = 0; i < n; ++i) {
+    const int f = n == 1 ? 0 : static_cast<int>(std::lround(i * (m->num_frames - 1.0) / (n - 1)));
+    const auto& p = positions[f];
+    const double ox = cell * i + cell / 2 - p[center][hx] * scale;
+    const double oy = vy == 1 ? cell - 10 : cell / 2 + p[center][vy] * scale;
+    auto X = [&](const motion::Vec3& v) { return ox + v[hx] * scale; };
+    auto Y = [&](const motion::Vec3& v) { return oy - v[vy] * scale; };
+    if (vy == 1) {
+      absl::StrAppendFormat(&svg, "<line x1='%.1f' y1='%.1f' x2='%.1f' y2='%.1f' stroke='#bbb'/>\n",
+                            cell * i + 5, oy, cell * (i + 1) - 5, oy);
+    }
+    for (int j = 1; j < m->skeleton.num_joints(); ++j) {
+      const int parent = m->skeleton.joint(j).parent;
+      if (hidden[parent]) continue;
+      const std::string& name = m->skeleton.joint(j).name;
+      const bool left = absl::EndsWith(name, "_L") || absl::StartsWith(name, "Left");
+      const bool right = absl::EndsWith(name, "_R") || absl::StartsWith(name, "Right");
+      const char* colour = left ? "#c33" : (right ? "#33c" : "#333");  // Left red, right blue.
+      absl::StrAppendFormat(&svg, "<line x1='%.1f' y1='%.1f' x2='%.1f' y2='%.1f' stroke='%s' stroke-width='2'/>\n",
+                            X(p[parent]), Y(p[parent]), X(p[j]), Y(p[j]), colour);
+    }
+    absl::StrAppendFormat(&svg, "<text x='%.1f' y='%.1f'>frame %d</text>\n", cell * i + 5, cell + 15, f);
+  }
+  svg += "</svg>\n";
+  std::ofstream out(args->Get("out"));
+  out << svg;
+  if (!out) return Fail("render", absl::InternalError(args->Get("out") + ": write failed"));
+  absl::PrintF("wrote %s (%d frames, %s view)\n", args->Get("out"), n, view);
+  return 0;
+}
+
+}  // namespace stylus::tool

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -6,6 +7,7 @@
 #include <sstream>
 #include <vector>
 
+#include "absl/container/flat_hash_set.h"
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "motion/bvh.h"
@@ -180,6 +182,7 @@ class BvhParser {
       absl::StrAppend(&name, name.empty() ? "" : " ", t->text);
     }
     if (name.empty()) return Error(line, "joint has no name");
+    if (!names_.insert(name).second) return Error(line, absl::StrCat("duplicate joint name '", name, "'"));
     joint.name = name;
     const std::string who = absl::StrCat("joint '", name, "'");
     if (!brace_on_name_line_) {
@@ -210,7 +213,18 @@ class BvhParser {
         return Error(t->line, absl::StrCat("unknown channel name ", Quoted(t->text), " in ", who,
                                            " (expected Xposition ... Zrotation)"));
       }
+      for (Channel seen : joint.channels) {
+        if (seen == *ch) {
+          return Error(t->line, absl::StrCat(who, " lists channel ", ChannelName(*ch), " twice"));
+        }
+      }
       joint.channels.push_back(*ch);
+    }
+    const auto rotations = std::count_if(joint.channels.begin(), joint.channels.end(),
+                                         [](Channel c) { return !IsPosition(c); });
+    if (rotations != 0 && rotations != 3) {
+      return Error(count_tok->line, absl::StrCat(who, " has ", rotations,
+                                                 " rotation channels; 0 or 3 are supported"));
     }
     joints_.push_back(std::move(joint));
     open_lines_.push_back(line);
@@ -396,6 +410,7 @@ class BvhParser {
   BvhLimits limits_;
   std::vector<Joint> joints_;
   std::vector<int> open_lines_;
+  absl::flat_hash_set<std::string> names_;
   std::vector<int> channel_joint_;
   bool brace_on_name_line_ = false;
   int hierarchy_end_line_ = 0;

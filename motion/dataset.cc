@@ -87,27 +87,46 @@ absl::StatusOr<DatasetIndex> IndexDataset(const std::vector<std::string>& dirs,
   std::sort(index.clips.begin(), index.clips.end(),
             [](const ClipEntry& a, const ClipEntry& b) { return a.path < b.path; });
 
-  std::map<std::string, std::vector<ClipEntry*>> by_style, groups;
+  // Groups of many takes of one (dataset, content, style): hold out takes chosen by
+  // hash. Contents with few takes per style: hold out the clips of the styles
+  // held out least so far, so every style is held out about equally often.
+  std::map<std::string, std::vector<ClipEntry*>> by_style;
   for (ClipEntry& c : index.clips) {
     by_style[absl::StrCat(c.label.dataset, "/", c.label.content, "/", c.label.style)].push_back(&c);
   }
-  for (auto& [key, members] : by_style) {
-    const std::string group = members.size() >= 5 ? key : key.substr(0, key.find_last_of('/'));
-    for (ClipEntry* c : members) groups[group].push_back(c);
-  }
-  for (auto& [key, members] : groups) {
-    const int n = static_cast<int>(members.size());
-    if (n < 2) continue;
-    const int held = options.test_fraction <= 0
-                         ? 0
-                         : std::max(1, static_cast<int>(std::lround(options.test_fraction * n)));
-    auto file_hash = [&](const ClipEntry* c) {
-      return StableHash(fs::path(c->path).filename().string(), options.seed);
-    };
-    std::sort(members.begin(), members.end(), [&](const ClipEntry* a, const ClipEntry* b) {
-      return file_hash(a) < file_hash(b);
+  auto held_count = [&](int n) {
+    if (n < 2 || options.test_fraction <= 0) return 0;
+    return std::min(n - 1, std::max(1, static_cast<int>(std::lround(options.test_fraction * n))));
+  };
+  auto by_hash = [&](std::vector<ClipEntry*>* members, auto key) {
+    std::sort(members->begin(), members->end(), [&](const ClipEntry* a, const ClipEntry* b) {
+      return StableHash(key(a), options.seed) < StableHash(key(b), options.seed);
     });
-    for (int i = 0; i < held && i < n - 1; ++i) members[i]->test = true;
+  };
+  auto file_name = [](const ClipEntry* c) { return fs::path(c->path).filename().string(); };
+  std::map<std::string, std::vector<ClipEntry*>> few_takes;  // dataset/content -> clips
+  for (auto& [key, members] : by_style) {
+    if (members.size() < 5) {
+      const std::string content_key = key.substr(0, key.find_last_of('/'));
+      for (ClipEntry* c : members) few_takes[content_key].push_back(c);
+      continue;
+    }
+    by_hash(&members, file_name);
+    for (int i = 0; i < held_count(static_cast<int>(members.size())); ++i) members[i]->test = true;
+  }
+  std::map<std::string, int> times_held;  // "dataset/style" -> clips held out so far.
+  for (auto& [key, members] : few_takes) {
+    // Least-held styles first; ties by hash of the file name.
+    by_hash(&members, file_name);
+    std::stable_sort(members.begin(), members.end(), [&](const ClipEntry* a, const ClipEntry* b) {
+      return times_held[a->label.dataset + "/" + a->label.style] <
+             times_held[b->label.dataset + "/" + b->label.style];
+    });
+    const int held = held_count(static_cast<int>(members.size()));
+    for (int i = 0; i < held; ++i) {
+      members[i]->test = true;
+      ++times_held[members[i]->label.dataset + "/" + members[i]->label.style];
+    }
   }
   return index;
 }

@@ -45,12 +45,15 @@ struct DatasetIndex {
   std::vector<const ClipEntry*> Split(bool test) const;
 };
 
-// Indexes every .bvh under `dirs` (recursively). Held out: within each group of
-// takes of one (dataset, content, style) — or of one (dataset, content) when
-// that group has fewer than 5 takes — round(fraction x size) clips (at least
-// one when the group has two or more), chosen by a hash of the file name and
-// `seed`, so the split never depends on the order files are found or on other
-// files. NOT_FOUND when a directory is missing or no clip is found.
+// Indexes every .bvh under `dirs` (recursively) and splits it by take, holding
+// out round(fraction x n) clips of each group (at least one of two or more):
+//  * a (dataset, content, style) with 5 or more takes: takes chosen by a hash of
+//    the file name and `seed`;
+//  * a content whose styles have fewer takes: the clips of the styles held out
+//    least so far (contents in name order, ties by file-name hash), so every
+//    style of the dataset is held out about equally often.
+// The split never depends on the order files are found. NOT_FOUND when a
+// directory is missing or no clip is found.
 absl::StatusOr<DatasetIndex> IndexDataset(const std::vector<std::string>& dirs,
                                           const SplitOptions& options = {});
 

@@ -73,7 +73,7 @@ absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const Humanoid
     for (int j = 0; j < nj; ++j) {
       const Vec3 p = above[j] ? local.translations[j] : Rotate(inv_yaw, g.positions[j] - root[f]);
       Quat q = j == roles.pelvis ? inv_yaw * g.rotations[j] : local.rotations[j];
-      q = f == 0 ? SameHemisphere(q, Quat{}) : SameHemisphere(q, prev_q[j]);
+      q = f == 0 ? CanonicalSign(q) : SameHemisphere(q, prev_q[j]);
       prev_q[j] = q;
       for (int c = 0; c < 3; ++c) row[layout.position(j) + c] = static_cast<float>(p[c]);
       const double qv[4] = {q.w, q.x, q.y, q.z};

@@ -6,7 +6,8 @@
 //                frame (joints above the pelvis: their parent-relative translation)
 //   [3J, 7J)     joint rotations as unit quaternions (w,x,y,z): the pelvis relative
 //                to the facing frame, every other joint relative to its parent;
-//                kept in one hemisphere frame to frame
+//                first frame's sign by CanonicalSign, then each frame in the
+//                previous frame's hemisphere
 //   [7J, 7J+4)   root trajectory: planar velocity (x, z) in the facing frame and
 //                yaw rate, both per second, and the pelvis's vertical velocity
 //   [7J+4, 7J+8) foot contacts (0/1): left ankle, left toe, right ankle, right toe

@@ -55,6 +55,13 @@ Quat SameHemisphere(const Quat& q, const Quat& reference) {
   return Dot(q, reference) < 0 ? Quat{-q.w, -q.x, -q.y, -q.z} : q;
 }
 
+Quat CanonicalSign(const Quat& q) {
+  // Sign of the dot product with a fixed reference that no "round" rotation
+  // (half turns, 120-degree turns about diagonals, ...) is orthogonal to.
+  const double d = q.w + 0.1 * q.x + 0.01 * q.y + 0.001 * q.z;
+  return d < 0 ? Quat{-q.w, -q.x, -q.y, -q.z} : q;
+}
+
 Quat Slerp(const Quat& a, const Quat& b_in, double t) {
   const Quat b = SameHemisphere(b_in, a);
   const double d = std::clamp(Dot(a, b), -1.0, 1.0);
@@ -199,10 +206,12 @@ Vec3 MatToEuler(const Mat3& r, const EulerOrder& order) {
   const int i = order.axes[0], j = order.axes[1], k = order.axes[2];
   const double s = ((j - i + 3) % 3 == 1) ? 1.0 : -1.0;
   const auto& m = r.m;
-  const double sb = std::clamp(s * m[i][k], -1.0, 1.0);
-  const double b = std::asin(sb);
+  // cos(b) from the two other entries of row i: accurate even near b = +-90,
+  // where asin(R[i][k]) loses half the digits.
+  const double cb = std::hypot(m[i][i], m[i][j]);
+  const double b = std::atan2(s * m[i][k], cb);
   double a, c;
-  if (std::fabs(sb) < 0.9999999) {
+  if (cb > 1e-12) {
     a = std::atan2(-s * m[j][k], m[k][k]);
     c = std::atan2(-s * m[i][j], m[i][i]);
   } else {  // Gimbal lock: only a +/- c is defined; put it all in a.

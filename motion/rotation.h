@@ -53,6 +53,10 @@ Quat YawRotation(double angle_rad);
 Quat Slerp(const Quat& a, const Quat& b, double t);
 // Returns q or -q, whichever lies in the hemisphere of `reference` (dot >= 0).
 Quat SameHemisphere(const Quat& q, const Quat& reference);
+// q or -q, whichever lies on the positive side of a fixed reference
+// (w + 0.1x + 0.01y + 0.001z >= 0): unlike w >= 0, small noise cannot flip the
+// sign of half turns (w ~ 0), which rigs use for mirrored limbs.
+Quat CanonicalSign(const Quat& q);
 // The smallest rotation that turns direction `from` onto direction `to`.
 Quat RotationBetween(const Vec3& from, const Vec3& to);
 // The angle between two rotations, in radians, in [0, pi].

@@ -1,0 +1,124 @@
+#include "motion/features.h"
+
+#include <cmath>
+
+#include "gtest/gtest.h"
+#include "motion/kinematics.h"
+#include "motion/synth.h"
+
+namespace stylus::motion {
+namespace {
+
+struct Fixture {
+  Motion motion;
+  HumanoidRoles roles;
+};
+
+Fixture Walk(const std::string& style) {
+  Fixture fx;
+  fx.motion = *Synthesize(*ParseSynthStyle(style));
+  fx.roles = *FindHumanoidRoles(fx.motion.skeleton);
+  return fx;
+}
+
+TEST(FeaturesTest, LayoutAndNames) {
+  const Fixture fx = Walk("normal,frames=40");
+  absl::StatusOr<FeatureClip> f = ExtractFeatures(fx.motion, fx.roles);
+  ASSERT_TRUE(f.ok());
+  const int j = fx.motion.skeleton.num_joints();
+  EXPECT_EQ(f->dim, 7 * j + 8);
+  EXPECT_EQ(f->frames, 40);
+  const auto names = FeatureLayout(j).ChannelNames(fx.motion.skeleton, fx.roles);
+  ASSERT_EQ(static_cast<int>(names.size()), f->dim);
+  EXPECT_EQ(names[FeatureLayout(j).position(fx.roles.pelvis) + 1], "Hips.py");
+  EXPECT_EQ(names.back(), "contact.Toes_R");
+  // The pelvis sits above the root: its local x and z are zero.
+  for (int t = 0; t < f->frames; ++t) {
+    EXPECT_NEAR(f->row(t)[FeatureLayout(j).position(fx.roles.pelvis)], 0, 1e-4);
+    EXPECT_NEAR(f->row(t)[FeatureLayout(j).position(fx.roles.pelvis) + 2], 0, 1e-4);
+  }
+}
+
+TEST(FeaturesTest, QuaternionsStayInOneHemisphere) {
+  const Fixture fx = Walk("normal,turn=90,frames=120");  // A full turn and a half.
+  absl::StatusOr<FeatureClip> f = ExtractFeatures(fx.motion, fx.roles);
+  ASSERT_TRUE(f.ok());
+  const FeatureLayout layout(fx.motion.skeleton.num_joints());
+  for (int t = 1; t < f->frames; ++t) {
+    for (int j = 0; j < layout.num_joints; ++j) {
+      const float* a = f->row(t - 1) + layout.rotation(j);
+      const float* b = f->row(t) + layout.rotation(j);
+      EXPECT_GE(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], 0) << "frame " << t << " joint " << j;
+    }
+  }
+}
+
+TEST(FeaturesTest, FeaturesToMotionToFeaturesIsIdentity) {
+  for (const char* style : {"normal", "run", "old,turn=-40"}) {
+    SCOPED_TRACE(style);
+    const Fixture fx = Walk(style);
+    absl::StatusOr<FeatureClip> f1 = ExtractFeatures(fx.motion, fx.roles);
+    ASSERT_TRUE(f1.ok());
+    absl::StatusOr<Motion> m = MotionFromFeatures(*f1, fx.motion.skeleton, fx.roles, fx.motion.frame_time,
+                                                  {3, -2, 0.7});
+    ASSERT_TRUE(m.ok()) << m.status();
+    absl::StatusOr<FeatureClip> f2 = ExtractFeatures(*m, fx.roles);
+    ASSERT_TRUE(f2.ok());
+    double worst = 0;
+    for (size_t i = 0; i < f1->values.size(); ++i) {
+      worst = std::max(worst, static_cast<double>(std::fabs(f1->values[i] - f2->values[i])));
+    }
+    EXPECT_LT(worst, 2e-3);  // cm, cm/s, rad/s and quaternion units alike.
+  }
+}
+
+TEST(FeaturesTest, MotionRebuiltFromFeaturesMatchesTheOriginal) {
+  const Fixture fx = Walk("happy,turn=25");
+  absl::StatusOr<FeatureClip> f = ExtractFeatures(fx.motion, fx.roles);
+  ASSERT_TRUE(f.ok());
+  absl::StatusOr<Motion> m = MotionFromFeatures(*f, fx.motion.skeleton, fx.roles, fx.motion.frame_time,
+                                                RootAt(fx.motion, fx.roles, 0));
+  ASSERT_TRUE(m.ok());
+  EXPECT_LT(MaxPositionDifference(fx.motion, *m), 0.05);
+}
+
+TEST(FeaturesTest, TrajectoryIsInTheFacingFrame) {
+  // Walking straight at 130 cm/s: forward velocity ~130, sideways ~0, whichever
+  // way the walk heads in the world.
+  const Fixture fx = Walk("normal,frames=90");
+  absl::StatusOr<FeatureClip> f = ExtractFeatures(fx.motion, fx.roles);
+  ASSERT_TRUE(f.ok());
+  const FeatureLayout layout(fx.motion.skeleton.num_joints());
+  double vx = 0, vz = 0;
+  for (int t = 0; t < f->frames; ++t) {
+    vx += f->row(t)[layout.trajectory()];
+    vz += f->row(t)[layout.trajectory() + 1];
+  }
+  EXPECT_NEAR(vz / f->frames, 130, 10);
+  EXPECT_NEAR(vx / f->frames, 0, 10);
+}
+
+TEST(FeaturesTest, RejectsMismatchedOrNonFiniteFeatures) {
+  const Fixture fx = Walk("normal,frames=10");
+  FeatureClip f = *ExtractFeatures(fx.motion, fx.roles);
+  FeatureClip narrow = f;
+  narrow.dim -= 1;
+  EXPECT_FALSE(MotionFromFeatures(narrow, fx.motion.skeleton, fx.roles, 1 / 30.0).ok());
+  f.values[17] = NAN;
+  const absl::Status s = MotionFromFeatures(f, fx.motion.skeleton, fx.roles, 1 / 30.0).status();
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("channel 17"), std::string::npos) << s;
+}
+
+TEST(FeaturesTest, HumanoidRolesNeedNamedLegs) {
+  std::vector<Joint> joints(2);
+  joints[0].name = "a";
+  joints[1].name = "b";
+  joints[1].parent = 0;
+  const absl::Status s = FindHumanoidRoles(*Skeleton::Create(joints)).status();
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("not a recognizable humanoid"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace stylus::motion

@@ -87,41 +87,77 @@ Vec3 PathPoint(double s, double curvature) {
 }
 Vec3 LeftOf(double heading) { return {std::cos(heading), 0, -std::sin(heading)}; }
 
+// Where one foot's ankle is, along the path: arc length, height and toe-down
+// pitch. Stance keeps the foot flat, then rolls it over the planted toe
+// (heel-off); swing carries the ankle to the next footstep.
 struct FootState {
-  double arc = 0;    // Arc length of the ankle along the path.
-  double lift = 0;   // Height above the planted height.
-  double pitch = 0;  // Toe-down pitch, degrees.
+  double arc = 0;
+  double height = 0;
+  double pitch = 0;  // Degrees, toes down.
   bool stance = true;
 };
 
-FootState Foot(const SynthStyle& st, double t, double phase0, double stance_fraction) {
+struct FootGeometry {
+  double length = 0;        // Ankle to toe.
+  double ankle_height = 0;  // With the foot flat.
+  // Ankle relative to the toe, along the path and up, at a toe-down pitch.
+  double ArcFromToe(double pitch) const {
+    const double a = pitch * kDegToRad;
+    return -length * (-0.45 * std::sin(a) + 0.89 * std::cos(a));
+  }
+  double HeightAboveToe(double pitch) const {
+    const double a = pitch * kDegToRad;
+    return length * (0.45 * std::cos(a) + 0.89 * std::sin(a));
+  }
+};
+
+constexpr double kHeelOffStart = 0.6;  // Fraction of stance.
+
+FootState Foot(const SynthStyle& st, const FootGeometry& g, double t, double phase0, double stance_fraction) {
   const double cycle = st.stride / st.speed;
+  const double max_pitch = st.run ? 25 : 35;
   const double u = t / cycle + phase0;
   const double c = std::floor(u), phi = u - c;
   const double plant = st.stride * (c - phase0) + st.stride * stance_fraction / 2;
+  const double toe_arc = plant - g.ArcFromToe(0);
+  const double toe_height = g.ankle_height - g.HeightAboveToe(0);
   FootState f;
   if (phi < stance_fraction) {
-    f.arc = plant;
+    const double p = phi / stance_fraction;
+    f.pitch = p < kHeelOffStart ? 0 : max_pitch * (p - kHeelOffStart) / (1 - kHeelOffStart);
+    f.arc = toe_arc + g.ArcFromToe(f.pitch);
+    f.height = toe_height + g.HeightAboveToe(f.pitch);
     return f;
   }
   const double s = (phi - stance_fraction) / (1 - stance_fraction);
+  const double ease = (1 - std::cos(kPi * s)) / 2;
+  const double start_arc = toe_arc + g.ArcFromToe(max_pitch);
+  const double start_height = toe_height + g.HeightAboveToe(max_pitch);
   f.stance = false;
-  f.arc = plant + st.stride * (1 - std::cos(kPi * s)) / 2;
-  f.lift = st.foot_lift * std::sin(kPi * s);
-  f.pitch = 12 * std::sin(kPi * s);
+  f.arc = start_arc + (plant + st.stride - start_arc) * ease;
+  f.height = start_height + (g.ankle_height - start_height) * ease + st.foot_lift * std::sin(kPi * s);
+  f.pitch = max_pitch * (1 - ease);
   return f;
 }
 
-// Two-bone IK in the sagittal (y, z) plane of the pelvis frame: hip and knee
-// flexion (degrees) that put the ankle at `d` from the hip.
-void LegIk(const Rig& r, const Vec3& d, double* hip_deg, double* knee_deg) {
+// Two-bone IK in the pelvis frame: abduction (about Z), then hip and knee
+// flexion in the leg's plane (degrees) that put the ankle at `d` from the hip.
+struct LegAngles {
+  double abduct = 0, hip = 0, knee = 0;
+};
+
+LegAngles LegIk(const Rig& r, const Vec3& d) {
+  LegAngles out;
   const double l1 = r.thigh, l2 = r.shin;
-  const double dist = std::clamp(std::hypot(d.y, d.z), std::fabs(l1 - l2) + 1e-3, l1 + l2 - 1e-4);
-  const double alpha = std::atan2(d.z, -d.y);
+  out.abduct = std::atan2(d.x, -d.y) * kRadToDeg;
+  const double down = std::hypot(d.x, d.y);  // Distance along the leg plane's "down".
+  const double dist = std::clamp(std::hypot(down, d.z), std::fabs(l1 - l2) + 1e-3, l1 + l2 - 1e-4);
+  const double alpha = std::atan2(d.z, down);
   const double gamma = std::acos(std::clamp((l1 * l1 + l2 * l2 - dist * dist) / (2 * l1 * l2), -1.0, 1.0));
   const double beta = std::acos(std::clamp((l1 * l1 + dist * dist - l2 * l2) / (2 * l1 * dist), -1.0, 1.0));
-  *hip_deg = (alpha + beta) * kRadToDeg;
-  *knee_deg = (kPi - gamma) * kRadToDeg;
+  out.hip = (alpha + beta) * kRadToDeg;
+  out.knee = (kPi - gamma) * kRadToDeg;
+  return out;
 }
 
 }  // namespace
@@ -249,7 +285,10 @@ absl::StatusOr<Motion> Synthesize(const SynthStyle& st) {
   const int nj = sk.num_joints();
   const double stance = st.run ? 0.35 : 0.6;
   const double reach = 0.995 * (r.thigh + r.shin);
-  const double ankle_height = 0.45 * r.foot + 2.0;
+  FootGeometry foot_geometry;
+  foot_geometry.length = r.foot;
+  foot_geometry.ankle_height = 0.45 * r.foot + 2.0;
+  const double ankle_height = foot_geometry.ankle_height;
   const double curvature = st.turn * kDegToRad / st.speed;
   const double cycle = st.stride / st.speed;
   const double stand_height = ankle_height - r.hip_offset[0].y + (r.thigh + r.shin) * (1 - st.crouch);
@@ -262,7 +301,8 @@ absl::StatusOr<Motion> Synthesize(const SynthStyle& st) {
     const double heading = curvature * body_arc;
     const double phi_l = std::fmod(t / cycle, 1.0);
     const double phi_r = std::fmod(t / cycle + 0.5, 1.0);
-    const FootState feet[2] = {Foot(st, t, 0.0, stance), Foot(st, t, 0.5, stance)};
+    const FootState feet[2] = {Foot(st, foot_geometry, t, 0.0, stance),
+                               Foot(st, foot_geometry, t, 0.5, stance)};
 
     // Pelvis: bob (highest at mid-stance when walking, lowest when running),
     // sway over the stance leg, and twist with the forward leg.
@@ -278,7 +318,7 @@ absl::StatusOr<Motion> Synthesize(const SynthStyle& st) {
     for (int k = 0; k < 2; ++k) {
       const double lateral = r.hip_offset[k].x;
       targets[k] = PathPoint(feet[k].arc, curvature) + LeftOf(curvature * feet[k].arc) * lateral;
-      targets[k].y = ankle_height + feet[k].lift;
+      targets[k].y = feet[k].height;
       if (!feet[k].stance) continue;
       // Lower the pelvis when a planted foot would otherwise be out of reach.
       const Vec3 hip = pelvis + Rotate(pelvis_rot, r.hip_offset[k]);
@@ -303,11 +343,13 @@ absl::StatusOr<Motion> Synthesize(const SynthStyle& st) {
       c[r["LowerArm" + side]] = Rx(-st.elbow);
       const Vec3 hip = pelvis + Rotate(pelvis_rot, r.hip_offset[k]);
       const Vec3 d = Rotate(Conjugate(pelvis_rot), targets[k] - hip);
-      double hip_deg = 0, knee_deg = 0;
-      LegIk(r, d, &hip_deg, &knee_deg);
-      c[r["UpperLeg" + side]] = Rx(-hip_deg);
-      c[r["LowerLeg" + side]] = Rx(knee_deg);
-      c[r["Foot" + side]] = Rx(hip_deg - knee_deg + feet[k].pitch);
+      const LegAngles leg = LegIk(r, d);
+      const Quat upper = Rz(leg.abduct) * Rx(-leg.hip);
+      c[r["UpperLeg" + side]] = upper;
+      c[r["LowerLeg" + side]] = Rx(leg.knee);
+      // The foot faces along the path where it is planted, pitched toes-down.
+      const Quat foot_world = YawRotation(curvature * feet[k].arc) * Rx(feet[k].pitch);
+      c[r["Foot" + side]] = Normalized(Conjugate(pelvis_rot * upper * Rx(leg.knee)) * foot_world);
     }
 
     // World rotations W_j = W_parent C_j; joint rotations G_j = W_j A_j.

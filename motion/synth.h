@@ -19,7 +19,7 @@ Skeleton BandaiSkeleton();
 struct SynthStyle {
   bool run = false;        // Gait: walk or run.
   double speed = 130;      // cm/s along the path.
-  double stride = 140;     // cm per full gait cycle (two steps).
+  double stride = 125;     // cm per full gait cycle (two steps).
   double lean = 3;         // Forward trunk lean, degrees.
   double head_drop = 0;    // Extra head pitch down, degrees.
   double arm_swing = 20;   // Shoulder swing amplitude, degrees.

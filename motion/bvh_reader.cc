@@ -20,7 +20,9 @@ struct Token {
   int line = 0;
 };
 
-bool IsBinaryByte(unsigned char c) { return (c < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7f; }
+bool IsBinaryByte(unsigned char c) {
+  return (c < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7f;
+}
 
 // Splits text into whitespace-separated tokens, tracking line numbers. CR, LF
 // and CRLF all end a line.
@@ -62,7 +64,9 @@ class Lexer {
   int binary_line() const { return binary_line_; }
 
  private:
-  static bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+  static bool IsSpace(char c) {
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
+  }
 
   void Newline() {
     if (text_[pos_] == '\r' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '\n') ++pos_;
@@ -136,8 +140,8 @@ class BvhParser {
     absl::StatusOr<Token> t = Next();
     if (!t.ok()) return t.status();
     if (t->text != keyword) {
-      return Error(t->line, absl::StrCat("expected '", keyword, "' ", context, ", found ",
-                                         Quoted(t->text)));
+      return Error(t->line,
+                   absl::StrCat("expected '", keyword, "' ", context, ", found ", Quoted(t->text)));
     }
     return absl::OkStatus();
   }
@@ -182,7 +186,8 @@ class BvhParser {
       absl::StrAppend(&name, name.empty() ? "" : " ", t->text);
     }
     if (name.empty()) return Error(line, "joint has no name");
-    if (!names_.insert(name).second) return Error(line, absl::StrCat("duplicate joint name '", name, "'"));
+    if (!names_.insert(name).second)
+      return Error(line, absl::StrCat("duplicate joint name '", name, "'"));
     joint.name = name;
     const std::string who = absl::StrCat("joint '", name, "'");
     if (!brace_on_name_line_) {
@@ -198,9 +203,9 @@ class BvhParser {
     if (!count_tok.ok()) return count_tok.status();
     std::optional<double> count = ParseNumber(count_tok->text);
     if (!count || *count != std::floor(*count) || *count < 0 || *count > 6) {
-      return Error(count_tok->line, absl::StrCat("CHANNELS of ", who,
-                                                 " must be a count from 0 to 6, found ",
-                                                 Quoted(count_tok->text)));
+      return Error(count_tok->line,
+                   absl::StrCat("CHANNELS of ", who, " must be a count from 0 to 6, found ",
+                                Quoted(count_tok->text)));
     }
     for (int c = 0; c < static_cast<int>(*count); ++c) {
       absl::StatusOr<Token> t = Next();
@@ -272,10 +277,10 @@ class BvhParser {
         return Error(t->line,
                      absl::StrCat("expected JOINT, End Site or '}' in joint '", open.name,
                                   "' (opened at line ", open_lines_[stack.back()], "), found ",
-                                  Quoted(t->text), t->text.empty() || t->text == "MOTION" ||
-                                                           t->text == "ROOT"
-                                                       ? ": unbalanced braces"
-                                                       : ""));
+                                  Quoted(t->text),
+                                  t->text.empty() || t->text == "MOTION" || t->text == "ROOT"
+                                      ? ": unbalanced braces"
+                                      : ""));
       }
     }
     hierarchy_end_line_ = lex_.line();
@@ -286,7 +291,8 @@ class BvhParser {
     absl::StatusOr<Token> t = Next();
     if (!t.ok()) return t.status();
     if (t->text == "}") return Error(t->line, "unbalanced braces: '}' with no open joint");
-    if (t->text == "ROOT") return Error(t->line, "a second ROOT: only one skeleton per file is supported");
+    if (t->text == "ROOT")
+      return Error(t->line, "a second ROOT: only one skeleton per file is supported");
     if (t->text != "MOTION") {
       return Error(t->line, "expected 'MOTION' after the hierarchy, found " + Quoted(t->text));
     }
@@ -303,9 +309,11 @@ class BvhParser {
     const int frames_line = t->line;
     std::optional<double> frames = ParseNumber(t->text);
     if (!frames || *frames != std::floor(*frames)) {
-      return Error(t->line, "expected a whole frame count after 'Frames:', found " + Quoted(t->text));
+      return Error(t->line,
+                   "expected a whole frame count after 'Frames:', found " + Quoted(t->text));
     }
-    if (*frames <= 0) return Error(t->line, absl::StrCat("frame count must be positive, found ", t->text));
+    if (*frames <= 0)
+      return Error(t->line, absl::StrCat("frame count must be positive, found ", t->text));
     if (*frames > static_cast<double>(limits_.max_frames)) {
       return Error(t->line, absl::StrCat("frame count ", t->text, " is over the limit of ",
                                          limits_.max_frames));
@@ -342,7 +350,8 @@ class BvhParser {
       while (end < rows.size() && rows[end] != '\n' && rows[end] != '\r') ++end;
       const absl::string_view row = rows.substr(pos, end - pos);
       pos = end;
-      if (pos < rows.size()) pos += (rows[pos] == '\r' && pos + 1 < rows.size() && rows[pos + 1] == '\n') ? 2 : 1;
+      if (pos < rows.size())
+        pos += (rows[pos] == '\r' && pos + 1 < rows.size() && rows[pos + 1] == '\n') ? 2 : 1;
       if (absl::StripAsciiWhitespace(row).empty()) continue;
       if (frame == num_frames) {
         return Error(line, absl::StrCat("more frame rows than 'Frames: ", num_frames, "' (line ",
@@ -352,9 +361,9 @@ class BvhParser {
       ++frame;
     }
     if (frame < num_frames) {
-      return Error(line - 1, absl::StrCat("truncated MOTION section: 'Frames: ", num_frames,
-                                          "' (line ", frames_line, ") but the file ends after ",
-                                          frame, " frames"));
+      return Error(line - 1,
+                   absl::StrCat("truncated MOTION section: 'Frames: ", num_frames, "' (line ",
+                                frames_line, ") but the file ends after ", frame, " frames"));
     }
     motion->num_frames = static_cast<int>(num_frames);
     return absl::OkStatus();
@@ -429,9 +438,8 @@ absl::StatusOr<Motion> ReadBvhFile(const std::string& path, const BvhLimits& lim
   const std::streamoff size = in.tellg();
   if (size < 0) return absl::InvalidArgumentError(absl::StrCat(path, ": cannot read file"));
   if (size > limits.max_file_bytes) {
-    return absl::InvalidArgumentError(absl::StrCat(path, ": file is ", size,
-                                                   " bytes, over the limit of ",
-                                                   limits.max_file_bytes));
+    return absl::InvalidArgumentError(absl::StrCat(
+        path, ": file is ", size, " bytes, over the limit of ", limits.max_file_bytes));
   }
   std::string text(static_cast<size_t>(size), '\0');
   in.seekg(0);

@@ -37,8 +37,8 @@ struct SplitOptions {
 };
 
 struct DatasetIndex {
-  std::vector<ClipEntry> clips;       // Sorted by path.
-  std::vector<std::string> skipped;   // "path: reason" for .bvh files without a label.
+  std::vector<ClipEntry> clips;      // Sorted by path.
+  std::vector<std::string> skipped;  // "path: reason" for .bvh files without a label.
 
   std::vector<std::string> Contents() const;  // Sorted, unique.
   std::vector<std::string> Styles() const;

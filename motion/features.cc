@@ -109,8 +109,8 @@ absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Ske
   const FeatureLayout layout(nj);
   if (features.dim != layout.dim()) {
     return absl::InvalidArgumentError(absl::StrCat("features have ", features.dim,
-                                                   " channels; skeleton with ", nj, " joints needs ",
-                                                   layout.dim()));
+                                                   " channels; skeleton with ", nj,
+                                                   " joints needs ", layout.dim()));
   }
   if (features.frames <= 0) return absl::InvalidArgumentError("features have no frames");
   if (!(frame_time > 0)) return absl::InvalidArgumentError("frame time must be positive");

@@ -64,16 +64,19 @@ absl::StatusOr<HumanoidRoles> FindHumanoidRoles(const Skeleton& sk) {
   r.right_toe = FindJoint(sk, Side::kRight, toe);
   r.left_shoulder = FindJoint(sk, Side::kLeft, shoulder, not_lower_arm);
   r.right_shoulder = FindJoint(sk, Side::kRight, shoulder, not_lower_arm);
-  const std::pair<const char*, int> roles[] = {
-      {"left hip/upper leg", r.left_hip},     {"right hip/upper leg", r.right_hip},
-      {"left foot/ankle", r.left_ankle},      {"right foot/ankle", r.right_ankle},
-      {"left toe", r.left_toe},               {"right toe", r.right_toe},
-      {"left upper arm", r.left_shoulder},    {"right upper arm", r.right_shoulder}};
+  const std::pair<const char*, int> roles[] = {{"left hip/upper leg", r.left_hip},
+                                               {"right hip/upper leg", r.right_hip},
+                                               {"left foot/ankle", r.left_ankle},
+                                               {"right foot/ankle", r.right_ankle},
+                                               {"left toe", r.left_toe},
+                                               {"right toe", r.right_toe},
+                                               {"left upper arm", r.left_shoulder},
+                                               {"right upper arm", r.right_shoulder}};
   for (const auto& [what, j] : roles) {
     if (j < 0) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "skeleton is not a recognizable humanoid: no joint named like a ", what,
-          " (e.g. UpperLeg_L, Foot_R, Toes_L, UpperArm_R)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("skeleton is not a recognizable humanoid: no joint named like a ", what,
+                       " (e.g. UpperLeg_L, Foot_R, Toes_L, UpperArm_R)"));
     }
   }
   r.pelvis = sk.joint(r.left_hip).parent;
@@ -82,7 +85,8 @@ absl::StatusOr<HumanoidRoles> FindHumanoidRoles(const Skeleton& sk) {
                                                    sk.joint(r.right_hip).name,
                                                    "' do not share a parent joint (pelvis)"));
   }
-  r.leg_length = ChainLength(sk, r.left_hip, r.left_ankle) + ChainLength(sk, r.left_ankle, r.left_toe);
+  r.leg_length =
+      ChainLength(sk, r.left_hip, r.left_ankle) + ChainLength(sk, r.left_ankle, r.left_toe);
   if (r.leg_length <= 0) return absl::InvalidArgumentError("the left leg has zero length");
   return r;
 }

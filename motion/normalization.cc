@@ -23,7 +23,8 @@ absl::StatusOr<NormStats> NormStats::Compute(const std::vector<const FeatureClip
   double count = 0;
   for (const FeatureClip* c : clips) {
     if (c->dim != dim) {
-      return absl::InvalidArgumentError(absl::StrCat("clip of width ", c->dim, " among clips of width ", dim));
+      return absl::InvalidArgumentError(
+          absl::StrCat("clip of width ", c->dim, " among clips of width ", dim));
     }
     for (int f = 0; f < c->frames; ++f) {
       const float* r = c->row(f);

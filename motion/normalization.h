@@ -15,7 +15,7 @@ namespace stylus::motion {
 struct NormStats {
   std::vector<std::string> names;  // One per channel (may be empty strings).
   std::vector<float> mean;
-  std::vector<float> std;          // Always > 0: constant channels get 1.
+  std::vector<float> std;  // Always > 0: constant channels get 1.
 
   int dim() const { return static_cast<int>(mean.size()); }
 

@@ -23,10 +23,9 @@ Vec3 Normalized(const Vec3& a, const Vec3& fallback) {
 }
 
 Quat operator*(const Quat& a, const Quat& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
-          a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-          a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  return {
+      a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+      a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
 Quat Conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
 double Dot(const Quat& a, const Quat& b) { return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z; }
@@ -49,7 +48,9 @@ Quat AxisAngle(const Vec3& axis, double angle_rad) {
   return {std::cos(angle_rad / 2), a.x * s, a.y * s, a.z * s};
 }
 
-Quat YawRotation(double angle_rad) { return {std::cos(angle_rad / 2), 0, std::sin(angle_rad / 2), 0}; }
+Quat YawRotation(double angle_rad) {
+  return {std::cos(angle_rad / 2), 0, std::sin(angle_rad / 2), 0};
+}
 
 Quat SameHemisphere(const Quat& q, const Quat& reference) {
   return Dot(q, reference) < 0 ? Quat{-q.w, -q.x, -q.y, -q.z} : q;
@@ -156,7 +157,8 @@ Mat3 AxisMat(int axis, double a) {
 
 absl::StatusOr<EulerOrder> EulerOrder::Parse(absl::string_view name) {
   const std::string up = absl::AsciiStrToUpper(name);
-  if (up.size() != 3) return absl::InvalidArgumentError(absl::StrCat("bad Euler order '", name, "'"));
+  if (up.size() != 3)
+    return absl::InvalidArgumentError(absl::StrCat("bad Euler order '", name, "'"));
   EulerOrder o;
   for (int i = 0; i < 3; ++i) {
     if (up[i] < 'X' || up[i] > 'Z') {
@@ -165,8 +167,8 @@ absl::StatusOr<EulerOrder> EulerOrder::Parse(absl::string_view name) {
     o.axes[i] = up[i] - 'X';
   }
   if (o.axes[0] == o.axes[1] || o.axes[1] == o.axes[2] || o.axes[0] == o.axes[2]) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("Euler order '", name, "' repeats an axis; only Tait-Bryan orders are supported"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "Euler order '", name, "' repeats an axis; only Tait-Bryan orders are supported"));
   }
   return o;
 }

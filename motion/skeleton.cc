@@ -46,14 +46,16 @@ absl::StatusOr<Skeleton> Skeleton::Create(std::vector<Joint> joints) {
   for (int i = 0; i < n; ++i) {
     const Joint& j = joints[i];
     const std::string who = absl::StrCat("joint ", i, " '", j.name, "'");
-    if (j.name.empty()) return absl::InvalidArgumentError(absl::StrCat("joint ", i, " has no name"));
+    if (j.name.empty())
+      return absl::InvalidArgumentError(absl::StrCat("joint ", i, " has no name"));
     if (!names.insert(j.name).second) {
       return absl::InvalidArgumentError(absl::StrCat("duplicate joint name '", j.name, "'"));
     }
-    if (i == 0 && j.parent != -1) return absl::InvalidArgumentError(who + " is first but not a root");
+    if (i == 0 && j.parent != -1)
+      return absl::InvalidArgumentError(who + " is first but not a root");
     if (i > 0 && (j.parent < 0 || j.parent >= i)) {
-      return absl::InvalidArgumentError(absl::StrCat(who, " has parent ", j.parent,
-                                                     "; parents must come before children"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(who, " has parent ", j.parent, "; parents must come before children"));
     }
     if (i > 0) {
       // Depth-first order: the parent is the previous joint or one of its ancestors.
@@ -72,8 +74,8 @@ absl::StatusOr<Skeleton> Skeleton::Create(std::vector<Joint> joints) {
       if (!finite(e)) return absl::InvalidArgumentError(who + " has a non-finite End Site OFFSET");
     }
     if (j.channels.size() > 6) {
-      return absl::InvalidArgumentError(absl::StrCat(who, " has ", j.channels.size(),
-                                                     " channels; at most 6 are allowed"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(who, " has ", j.channels.size(), " channels; at most 6 are allowed"));
     }
     int seen = 0;
     std::vector<int> rot_axes;
@@ -87,8 +89,8 @@ absl::StatusOr<Skeleton> Skeleton::Create(std::vector<Joint> joints) {
       if (!IsPosition(c)) rot_axes.push_back(ChannelAxis(c));
     }
     if (!rot_axes.empty() && rot_axes.size() != 3) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          who, " has ", rot_axes.size(), " rotation channels; 0 or 3 are supported"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(who, " has ", rot_axes.size(), " rotation channels; 0 or 3 are supported"));
     }
     s.has_rotation_[i] = !rot_axes.empty();
     if (s.has_rotation_[i]) {

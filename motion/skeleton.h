@@ -38,9 +38,9 @@ struct Joint {
 class Skeleton {
  public:
   // Validates and indexes `joints`: exactly one root (index 0), depth-first
-  // order (each parent before its children, subtrees contiguous), unique non-empty names, at most 6 channels per joint with no channel
-  // repeated, rotation channels (if any) forming a full 3-axis Euler order, and
-  // finite offsets. INVALID_ARGUMENT names the offending joint.
+  // order (each parent before its children, subtrees contiguous), unique non-empty names, at most 6
+  // channels per joint with no channel repeated, rotation channels (if any) forming a full 3-axis
+  // Euler order, and finite offsets. INVALID_ARGUMENT names the offending joint.
   static absl::StatusOr<Skeleton> Create(std::vector<Joint> joints);
 
   Skeleton() = default;

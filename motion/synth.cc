@@ -55,9 +55,11 @@ Rig BuildRig() {
   auto aim = [&](const std::string& j, const std::string& child, const Vec3& target) {
     r.rest[r[j]] = RotationBetween(r.off(child), target);
   };
-  r.rest[r["Hips"]] = TwoVectorAlign(r.off("Spine"), up, r.off("UpperLeg_L") - r.off("UpperLeg_R"), left);
+  r.rest[r["Hips"]] =
+      TwoVectorAlign(r.off("Spine"), up, r.off("UpperLeg_L") - r.off("UpperLeg_R"), left);
   aim("Spine", "Chest", up);
-  r.rest[r["Chest"]] = TwoVectorAlign(r.off("Neck"), up, r.off("Shoulder_L") - r.off("Shoulder_R"), left);
+  r.rest[r["Chest"]] =
+      TwoVectorAlign(r.off("Neck"), up, r.off("Shoulder_L") - r.off("Shoulder_R"), left);
   aim("Neck", "Head", up);
   r.rest[r["Head"]] = r.rest[r["Neck"]];
   for (const char* s : {"_L", "_R"}) {
@@ -113,7 +115,8 @@ struct FootGeometry {
 
 constexpr double kHeelOffStart = 0.6;  // Fraction of stance.
 
-FootState Foot(const SynthStyle& st, const FootGeometry& g, double t, double phase0, double stance_fraction) {
+FootState Foot(const SynthStyle& st, const FootGeometry& g, double t, double phase0,
+               double stance_fraction) {
   const double cycle = st.stride / st.speed;
   const double max_pitch = st.run ? 25 : 35;
   const double u = t / cycle + phase0;
@@ -135,7 +138,8 @@ FootState Foot(const SynthStyle& st, const FootGeometry& g, double t, double pha
   const double start_height = toe_height + g.HeightAboveToe(max_pitch);
   f.stance = false;
   f.arc = start_arc + (plant + st.stride - start_arc) * ease;
-  f.height = start_height + (g.ankle_height - start_height) * ease + st.foot_lift * std::sin(kPi * s);
+  f.height =
+      start_height + (g.ankle_height - start_height) * ease + st.foot_lift * std::sin(kPi * s);
   f.pitch = max_pitch * (1 - ease);
   return f;
 }
@@ -153,8 +157,10 @@ LegAngles LegIk(const Rig& r, const Vec3& d) {
   const double down = std::hypot(d.x, d.y);  // Distance along the leg plane's "down".
   const double dist = std::clamp(std::hypot(down, d.z), std::fabs(l1 - l2) + 1e-3, l1 + l2 - 1e-4);
   const double alpha = std::atan2(d.z, down);
-  const double gamma = std::acos(std::clamp((l1 * l1 + l2 * l2 - dist * dist) / (2 * l1 * l2), -1.0, 1.0));
-  const double beta = std::acos(std::clamp((l1 * l1 + dist * dist - l2 * l2) / (2 * l1 * dist), -1.0, 1.0));
+  const double gamma =
+      std::acos(std::clamp((l1 * l1 + l2 * l2 - dist * dist) / (2 * l1 * l2), -1.0, 1.0));
+  const double beta =
+      std::acos(std::clamp((l1 * l1 + dist * dist - l2 * l2) / (2 * l1 * dist), -1.0, 1.0));
   out.hip = (alpha + beta) * kRadToDeg;
   out.knee = (kPi - gamma) * kRadToDeg;
   return out;
@@ -222,7 +228,8 @@ absl::StatusOr<SynthStyle> ParseSynthStyle(const std::string& spec) {
       s.speed = 85, s.stride = 105, s.lean = 10, s.head_drop = 18, s.arm_swing = 5, s.elbow = 5;
       s.foot_lift = 6, s.crouch = 0.05, s.sway = 4;
     } else if (preset == "proud") {
-      s.speed = 125, s.stride = 145, s.lean = -6, s.head_drop = -8, s.arm_swing = 28, s.arm_out = 12;
+      s.speed = 125, s.stride = 145, s.lean = -6, s.head_drop = -8, s.arm_swing = 28,
+      s.arm_out = 12;
       s.elbow = 10;
     } else if (preset == "happy") {
       s.speed = 150, s.stride = 140, s.lean = 2, s.arm_swing = 38, s.elbow = 35, s.bounce = 5;
@@ -238,12 +245,19 @@ absl::StatusOr<SynthStyle> ParseSynthStyle(const std::string& spec) {
           "unknown style preset '", preset, "' (normal, old, tired, proud, happy, sneaky, run)"));
     }
   }
-  std::map<std::string, double*> knobs = {
-      {"speed", &s.speed},         {"stride", &s.stride}, {"lean", &s.lean},
-      {"head_drop", &s.head_drop}, {"arm_swing", &s.arm_swing}, {"elbow", &s.elbow},
-      {"arm_out", &s.arm_out},     {"bounce", &s.bounce}, {"foot_lift", &s.foot_lift},
-      {"crouch", &s.crouch},       {"sway", &s.sway},     {"turn", &s.turn},
-      {"fps", &s.fps}};
+  std::map<std::string, double*> knobs = {{"speed", &s.speed},
+                                          {"stride", &s.stride},
+                                          {"lean", &s.lean},
+                                          {"head_drop", &s.head_drop},
+                                          {"arm_swing", &s.arm_swing},
+                                          {"elbow", &s.elbow},
+                                          {"arm_out", &s.arm_out},
+                                          {"bounce", &s.bounce},
+                                          {"foot_lift", &s.foot_lift},
+                                          {"crouch", &s.crouch},
+                                          {"sway", &s.sway},
+                                          {"turn", &s.turn},
+                                          {"fps", &s.fps}};
   for (const std::string& item : items) {
     const size_t eq = item.find('=');
     if (eq == std::string::npos) {
@@ -252,14 +266,16 @@ absl::StatusOr<SynthStyle> ParseSynthStyle(const std::string& spec) {
     const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
     if (key == "gait") {
       if (value != "walk" && value != "run") {
-        return absl::InvalidArgumentError(absl::StrCat("gait must be walk or run, got '", value, "'"));
+        return absl::InvalidArgumentError(
+            absl::StrCat("gait must be walk or run, got '", value, "'"));
       }
       s.run = value == "run";
       continue;
     }
     double v = 0;
     if (!absl::SimpleAtod(value, &v) || !std::isfinite(v)) {
-      return absl::InvalidArgumentError(absl::StrCat("'", key, "' needs a number, got '", value, "'"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("'", key, "' needs a number, got '", value, "'"));
     }
     if (key == "frames") {
       s.frames = static_cast<int>(v);
@@ -273,7 +289,8 @@ absl::StatusOr<SynthStyle> ParseSynthStyle(const std::string& spec) {
 }
 
 absl::StatusOr<Motion> Synthesize(const SynthStyle& st) {
-  if (!(st.speed > 0) || !(st.stride > 0) || !(st.fps > 0) || st.frames <= 0 || st.frames > 1000000) {
+  if (!(st.speed > 0) || !(st.stride > 0) || !(st.fps > 0) || st.frames <= 0 ||
+      st.frames > 1000000) {
     return absl::InvalidArgumentError("speed, stride, fps and frames (<= 1e6) must be positive");
   }
   if (st.crouch < 0 || st.crouch > 0.5 || st.foot_lift < 0) {
@@ -291,7 +308,8 @@ absl::StatusOr<Motion> Synthesize(const SynthStyle& st) {
   const double ankle_height = foot_geometry.ankle_height;
   const double curvature = st.turn * kDegToRad / st.speed;
   const double cycle = st.stride / st.speed;
-  const double stand_height = ankle_height - r.hip_offset[0].y + (r.thigh + r.shin) * (1 - st.crouch);
+  const double stand_height =
+      ankle_height - r.hip_offset[0].y + (r.thigh + r.shin) * (1 - st.crouch);
 
   Motion m = RestMotion(sk, st.frames, 1.0 / st.fps);
   std::vector<Vec3> prev_euler(nj);
@@ -324,7 +342,8 @@ absl::StatusOr<Motion> Synthesize(const SynthStyle& st) {
       const Vec3 hip = pelvis + Rotate(pelvis_rot, r.hip_offset[k]);
       const double horiz = std::hypot(targets[k].x - hip.x, targets[k].z - hip.z);
       if (horiz < reach) {
-        height = std::min(height, targets[k].y - r.hip_offset[k].y + std::sqrt(reach * reach - horiz * horiz));
+        height = std::min(
+            height, targets[k].y - r.hip_offset[k].y + std::sqrt(reach * reach - horiz * horiz));
       }
     }
     pelvis.y = height;

@@ -17,19 +17,19 @@ namespace stylus::motion {
 Skeleton BandaiSkeleton();
 
 struct SynthStyle {
-  bool run = false;        // Gait: walk or run.
-  double speed = 130;      // cm/s along the path.
-  double stride = 125;     // cm per full gait cycle (two steps).
-  double lean = 3;         // Forward trunk lean, degrees.
-  double head_drop = 0;    // Extra head pitch down, degrees.
-  double arm_swing = 20;   // Shoulder swing amplitude, degrees.
-  double elbow = 15;       // Elbow bend, degrees.
-  double arm_out = 6;      // Arms held away from the body, degrees.
-  double bounce = 2;       // Pelvis vertical oscillation, cm.
-  double foot_lift = 10;   // Swing foot clearance, cm.
-  double crouch = 0.03;    // Knee bend at stance, as a fraction of leg length.
-  double sway = 2;         // Pelvis side-to-side sway, cm.
-  double turn = 0;         // Heading change, degrees per second (+ turns left).
+  bool run = false;       // Gait: walk or run.
+  double speed = 130;     // cm/s along the path.
+  double stride = 125;    // cm per full gait cycle (two steps).
+  double lean = 3;        // Forward trunk lean, degrees.
+  double head_drop = 0;   // Extra head pitch down, degrees.
+  double arm_swing = 20;  // Shoulder swing amplitude, degrees.
+  double elbow = 15;      // Elbow bend, degrees.
+  double arm_out = 6;     // Arms held away from the body, degrees.
+  double bounce = 2;      // Pelvis vertical oscillation, cm.
+  double foot_lift = 10;  // Swing foot clearance, cm.
+  double crouch = 0.03;   // Knee bend at stance, as a fraction of leg length.
+  double sway = 2;        // Pelvis side-to-side sway, cm.
+  double turn = 0;        // Heading change, degrees per second (+ turns left).
   int frames = 150;
   double fps = 30;
 };

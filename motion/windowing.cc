@@ -8,8 +8,8 @@ namespace stylus::motion {
 
 absl::StatusOr<std::vector<int>> WindowStarts(int frames, const WindowSpec& spec, bool cover_tail) {
   if (spec.length <= 0 || spec.hop <= 0) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("window length and hop must be positive, got ", spec.length, " and ", spec.hop));
+    return absl::InvalidArgumentError(absl::StrCat("window length and hop must be positive, got ",
+                                                   spec.length, " and ", spec.hop));
   }
   std::vector<int> starts;
   for (int s = 0; s + spec.length <= frames; s += spec.hop) starts.push_back(s);

@@ -12,7 +12,9 @@
 namespace stylus::testing {
 
 inline std::string SourceDir() { return STYLUS_SOURCE_DIR; }
-inline std::string FixturePath(const std::string& rel) { return SourceDir() + "/tests/fixtures/" + rel; }
+inline std::string FixturePath(const std::string& rel) {
+  return SourceDir() + "/tests/fixtures/" + rel;
+}
 
 inline bool UnderCi() {
   const char* ci = std::getenv("CI");
@@ -24,17 +26,19 @@ inline bool UnderCi() {
 // Sets `var` (a std::string) to the Bandai data directory, or leaves the test:
 // skipped with a visible message on a machine without the data, failed under
 // CI=true, where real-data tests must run.
-#define STYLUS_REQUIRE_BANDAI(var)                                                       \
-  std::string var;                                                                       \
-  do {                                                                                   \
-    std::optional<std::string> found = stylus::motion::FindBandaiData(stylus::testing::SourceDir()); \
-    if (!found) {                                                                        \
-      if (stylus::testing::UnderCi()) {                                                  \
-        FAIL() << "Bandai data not found at ../shared/data/bandai or $STYLUS_DATA (required under CI)"; \
-      }                                                                                  \
+#define STYLUS_REQUIRE_BANDAI(var)                                                                \
+  std::string var;                                                                                \
+  do {                                                                                            \
+    std::optional<std::string> found =                                                            \
+        stylus::motion::FindBandaiData(stylus::testing::SourceDir());                             \
+    if (!found) {                                                                                 \
+      if (stylus::testing::UnderCi()) {                                                           \
+        FAIL() << "Bandai data not found at ../shared/data/bandai or $STYLUS_DATA (required "     \
+                  "under CI)";                                                                    \
+      }                                                                                           \
       GTEST_SKIP() << "Bandai data not found at ../shared/data/bandai or $STYLUS_DATA; skipping"; \
-    }                                                                                    \
-    var = *found;                                                                        \
+    }                                                                                             \
+    var = *found;                                                                                 \
   } while (0)
 
 #endif  // STYLUS_TESTS_TEST_SUPPORT_H_

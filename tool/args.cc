@@ -21,7 +21,8 @@ absl::StatusOr<int> Args::GetInt(const std::string& name, int fallback) const {
   if (!Has(name)) return fallback;
   int v = 0;
   if (!absl::SimpleAtoi(Get(name), &v)) {
-    return absl::InvalidArgumentError(absl::StrCat("--", name, " needs a whole number, got '", Get(name), "'"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("--", name, " needs a whole number, got '", Get(name), "'"));
   }
   return v;
 }
@@ -30,7 +31,8 @@ absl::StatusOr<double> Args::GetDouble(const std::string& name, double fallback)
   if (!Has(name)) return fallback;
   double v = 0;
   if (!absl::SimpleAtod(Get(name), &v)) {
-    return absl::InvalidArgumentError(absl::StrCat("--", name, " needs a number, got '", Get(name), "'"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("--", name, " needs a number, got '", Get(name), "'"));
   }
   return v;
 }
@@ -59,7 +61,8 @@ absl::StatusOr<Args> ParseArgs(const std::vector<std::string>& argv, const ArgSp
       args.switches.insert(name);
     } else if (spec.options.count(name)) {
       if (!inline_value) {
-        if (i + 1 >= argv.size()) return absl::InvalidArgumentError(absl::StrCat("--", name, " needs a value"));
+        if (i + 1 >= argv.size())
+          return absl::InvalidArgumentError(absl::StrCat("--", name, " needs a value"));
         value = argv[++i];
       }
       args.options[name].push_back(value);

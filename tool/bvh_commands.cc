@@ -40,11 +40,14 @@ int BvhInfo(const Argv& argv) {
   for (int j = 0; j < sk.num_joints(); ++j) {
     const motion::Joint& joint = sk.joint(j);
     std::string channels;
-    for (motion::Channel c : joint.channels) absl::StrAppend(&channels, channels.empty() ? "" : " ", motion::ChannelName(c));
-    if (sk.has_rotation(j)) absl::StrAppend(&channels, "  (order ", sk.rotation_order(j).Name(), ")");
+    for (motion::Channel c : joint.channels)
+      absl::StrAppend(&channels, channels.empty() ? "" : " ", motion::ChannelName(c));
+    if (sk.has_rotation(j))
+      absl::StrAppend(&channels, "  (order ", sk.rotation_order(j).Name(), ")");
     absl::PrintF("%-4d %-20s %-20s %-30s %s\n", j, joint.name,
                  joint.parent < 0 ? "-" : sk.joint(joint.parent).name,
-                 absl::StrFormat("%g %g %g", joint.offset.x, joint.offset.y, joint.offset.z), channels);
+                 absl::StrFormat("%g %g %g", joint.offset.x, joint.offset.y, joint.offset.z),
+                 channels);
   }
   return 0;
 }
@@ -70,7 +73,8 @@ int BvhRoundtrip(const Argv& argv) {
   absl::StatusOr<Motion> back = motion::ReadBvhFile(args->positional[1]);
   if (!back.ok()) return Fail("bvh-roundtrip", back.status());
   if (!in->skeleton.SameTopology(back->skeleton) || in->num_frames != back->num_frames) {
-    return Fail("bvh-roundtrip", absl::InternalError("re-read file has another skeleton or frame count"));
+    return Fail("bvh-roundtrip",
+                absl::InternalError("re-read file has another skeleton or frame count"));
   }
   absl::PrintF("frames=%d joints=%d\n", in->num_frames, in->skeleton.num_joints());
   absl::PrintF("max_fk_error=%g\n", motion::MaxPositionDifference(*in, *back));
@@ -109,19 +113,22 @@ int Features(const Argv& argv) {
     for (int k = 0; k < 4; ++k) contact[k] += r[layout.contacts() + k];
   }
   const double n = f->frames;
-  absl::PrintF("file: %s\nframes: %d  feature channels: %d (7 x %d joints + 4 trajectory + 4 contacts)\n",
-               args->positional[0], f->frames, f->dim, m->skeleton.num_joints());
+  absl::PrintF(
+      "file: %s\nframes: %d  feature channels: %d (7 x %d joints + 4 trajectory + 4 contacts)\n",
+      args->positional[0], f->frames, f->dim, m->skeleton.num_joints());
   absl::PrintF("root speed: %.1f units/s   turning: %.1f deg/s   pelvis height: %.1f units\n",
                speed / n, turn / n * motion::kRadToDeg, height / n);
   const auto feet = motion::FootJoints(*roles);
   for (int k = 0; k < 4; ++k) {
-    absl::PrintF("contact %-12s %5.1f%% of frames\n", m->skeleton.joint(feet[k]).name, 100 * contact[k] / n);
+    absl::PrintF("contact %-12s %5.1f%% of frames\n", m->skeleton.joint(feet[k]).name,
+                 100 * contact[k] / n);
   }
-  absl::StatusOr<Motion> rebuilt = motion::MotionFromFeatures(*f, m->skeleton, *roles, m->frame_time,
-                                                              motion::RootAt(*m, *roles, 0));
+  absl::StatusOr<Motion> rebuilt = motion::MotionFromFeatures(
+      *f, m->skeleton, *roles, m->frame_time, motion::RootAt(*m, *roles, 0));
   if (!rebuilt.ok()) return Fail("features", rebuilt.status());
   if (args->Has("out")) {
-    if (absl::Status s = motion::WriteBvhFile(*rebuilt, args->Get("out")); !s.ok()) return Fail("features", s);
+    if (absl::Status s = motion::WriteBvhFile(*rebuilt, args->Get("out")); !s.ok())
+      return Fail("features", s);
     absl::PrintF("wrote %s\n", args->Get("out"));
   }
   absl::PrintF("max_reconstruction_error=%g\n", motion::MaxPositionDifference(*m, *rebuilt));

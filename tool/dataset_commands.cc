@@ -67,9 +67,11 @@ int DatasetStats(const Argv& argv) {
     if (want_norm && !clip.test) {
       absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(m->skeleton);
       absl::StatusOr<motion::FeatureClip> f =
-          roles.ok() ? motion::ExtractFeatures(*m, *roles) : absl::StatusOr<motion::FeatureClip>(roles.status());
+          roles.ok() ? motion::ExtractFeatures(*m, *roles)
+                     : absl::StatusOr<motion::FeatureClip>(roles.status());
       if (!f.ok()) {
-        std::fprintf(stderr, "error: %s: %s\n", clip.path.c_str(), std::string(f.status().message()).c_str());
+        std::fprintf(stderr, "error: %s: %s\n", clip.path.c_str(),
+                     std::string(f.status().message()).c_str());
         ++failures;
         continue;
       }
@@ -78,20 +80,26 @@ int DatasetStats(const Argv& argv) {
     if ((i + 1) % 100 == 0 || i + 1 == n) std::fprintf(stderr, "\rread %zu/%zu clips", i + 1, n);
   }
   std::fprintf(stderr, "\n");
-  absl::PrintF("clips: %d (train %d, test %d)\n", n, index->Split(false).size(), index->Split(true).size());
+  absl::PrintF("clips: %d (train %d, test %d)\n", n, index->Split(false).size(),
+               index->Split(true).size());
   absl::PrintF("frames: %d  duration: %.1f min\n", total_frames, total_seconds / 60);
-  absl::PrintF("parse: %.2f s, %.0f frames/s\n", parse_seconds, total_frames / std::max(parse_seconds, 1e-9));
-  for (const auto& [title, table] : {std::pair{"content", &by_content}, std::pair{"style", &by_style}}) {
+  absl::PrintF("parse: %.2f s, %.0f frames/s\n", parse_seconds,
+               total_frames / std::max(parse_seconds, 1e-9));
+  for (const auto& [title, table] :
+       {std::pair{"content", &by_content}, std::pair{"style", &by_style}}) {
     absl::PrintF("\n%-20s %6s %6s %8s\n", title, "train", "test", "frames");
-    for (const auto& [name, c] : *table) absl::PrintF("%-20s %6d %6d %8d\n", name, c.train, c.test, c.frames);
+    for (const auto& [name, c] : *table)
+      absl::PrintF("%-20s %6d %6d %8d\n", name, c.train, c.test, c.frames);
   }
   if (want_norm && !features.empty()) {
     std::vector<const motion::FeatureClip*> ptrs;
     for (const auto& f : features) ptrs.push_back(f.get());
     absl::StatusOr<motion::NormStats> stats = motion::NormStats::Compute(ptrs);
     if (!stats.ok()) return Fail("dataset-stats", stats.status());
-    if (absl::Status s = stats->Save(args->Get("norm-out")); !s.ok()) return Fail("dataset-stats", s);
-    absl::PrintF("\nwrote normalization statistics of %d channels to %s\n", stats->dim(), args->Get("norm-out"));
+    if (absl::Status s = stats->Save(args->Get("norm-out")); !s.ok())
+      return Fail("dataset-stats", s);
+    absl::PrintF("\nwrote normalization statistics of %d channels to %s\n", stats->dim(),
+                 args->Get("norm-out"));
   }
   if (failures > 0) {
     std::fprintf(stderr, "stylus-tool dataset-stats: %d clip(s) failed\n", failures);

@@ -16,15 +16,18 @@ struct Command {
 
 const Command kCommands[] = {
     {"bvh-info", stylus::tool::BvhInfo, "joints, frames, fps and channel layout of a BVH file"},
-    {"bvh-roundtrip", stylus::tool::BvhRoundtrip, "read, write and re-read a BVH; report the FK error"},
-    {"features", stylus::tool::Features, "feature summary of a clip (and its features->motion error)"},
+    {"bvh-roundtrip", stylus::tool::BvhRoundtrip,
+     "read, write and re-read a BVH; report the FK error"},
+    {"features", stylus::tool::Features,
+     "feature summary of a clip (and its features->motion error)"},
     {"dataset-stats", stylus::tool::DatasetStats, "clips, frames and counts per content and style"},
     {"synth", stylus::tool::Synth, "synthesize a styled walk or run on the Bandai skeleton"},
     {"render", stylus::tool::Render, "draw a clip as a filmstrip of stick figures (SVG)"},
 };
 
 void Usage(FILE* out) {
-  std::fprintf(out, "usage: stylus-tool COMMAND [ARGS...]   (stylus-tool COMMAND --help for details)\n\n");
+  std::fprintf(
+      out, "usage: stylus-tool COMMAND [ARGS...]   (stylus-tool COMMAND --help for details)\n\n");
   for (const Command& c : kCommands) std::fprintf(out, "  %-15s %s\n", c.name, c.summary);
 }
 

@@ -49,7 +49,8 @@ int Render(const Argv& argv) {
   absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(m->skeleton);
   const int center = roles.ok() ? roles->pelvis : 0;
   std::vector<bool> hidden(m->skeleton.num_joints(), false);
-  for (int j = m->skeleton.joint(center).parent; j >= 0; j = m->skeleton.joint(j).parent) hidden[j] = true;
+  for (int j = m->skeleton.joint(center).parent; j >= 0; j = m->skeleton.joint(j).parent)
+    hidden[j] = true;
   double extent = 1;  // Half-size of a cell: the largest spread about the centre joint.
   for (const auto& frame : positions) {
     for (int j = 0; j < static_cast<int>(frame.size()); ++j) {
@@ -83,10 +84,12 @@ int Render(const Argv& argv) {
       const bool left = absl::EndsWith(name, "_L") || absl::StartsWith(name, "Left");
       const bool right = absl::EndsWith(name, "_R") || absl::StartsWith(name, "Right");
       const char* colour = left ? "#c33" : (right ? "#33c" : "#333");  // Left red, right blue.
-      absl::StrAppendFormat(&svg, "<line x1='%.1f' y1='%.1f' x2='%.1f' y2='%.1f' stroke='%s' stroke-width='2'/>\n",
-                            X(p[parent]), Y(p[parent]), X(p[j]), Y(p[j]), colour);
+      absl::StrAppendFormat(
+          &svg, "<line x1='%.1f' y1='%.1f' x2='%.1f' y2='%.1f' stroke='%s' stroke-width='2'/>\n",
+          X(p[parent]), Y(p[parent]), X(p[j]), Y(p[j]), colour);
     }
-    absl::StrAppendFormat(&svg, "<text x='%.1f' y='%.1f'>frame %d</text>\n", cell * i + 5, cell + 15, f);
+    absl::StrAppendFormat(&svg, "<text x='%.1f' y='%.1f'>frame %d</text>\n", cell * i + 5,
+                          cell + 15, f);
   }
   svg += "</svg>\n";
   std::ofstream out(args->Get("out"));

@@ -45,7 +45,8 @@ TEST(BandaiTest, FeaturesRebuildRealClips) {
     ASSERT_TRUE(roles.ok()) << roles.status();
     absl::StatusOr<FeatureClip> f = ExtractFeatures(*m, *roles);
     ASSERT_TRUE(f.ok());
-    absl::StatusOr<Motion> rebuilt = MotionFromFeatures(*f, m->skeleton, *roles, m->frame_time, RootAt(*m, *roles, 0));
+    absl::StatusOr<Motion> rebuilt =
+        MotionFromFeatures(*f, m->skeleton, *roles, m->frame_time, RootAt(*m, *roles, 0));
     ASSERT_TRUE(rebuilt.ok()) << rebuilt.status();
     // Float features and an integrated root over several seconds: within 1 mm.
     EXPECT_LT(MaxPositionDifference(*m, *rebuilt), 0.1);

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "absl/strings/str_cat.h"
@@ -40,7 +41,8 @@ TEST(BvhTest, RoundTripReproducesValuesAndForwardKinematics) {
     ASSERT_TRUE(m.ok()) << m.status();
     absl::StatusOr<Motion> back = ParseBvh(FormatBvh(*m), "formatted");
     ASSERT_TRUE(back.ok()) << back.status();
-    EXPECT_TRUE(back->skeleton.SameTopology(m->skeleton)) << back->skeleton.DescribeMismatch(m->skeleton);
+    EXPECT_TRUE(back->skeleton.SameTopology(m->skeleton))
+        << back->skeleton.DescribeMismatch(m->skeleton);
     EXPECT_EQ(back->values, m->values);  // Shortest exact decimals: bit-identical.
     EXPECT_EQ(back->frame_time, m->frame_time);
     EXPECT_LT(MaxPositionDifference(*m, *back), 1e-9);
@@ -100,8 +102,12 @@ TEST(BvhTest, MalformedCorpusGivesSpecificErrorsWithLines) {
 
 TEST(BvhTest, DeepChainParsesWithoutRecursion) {
   const int depth = 5000;
-  std::string text = "HIERARCHY\nROOT j0\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n";
-  for (int i = 1; i < depth; ++i) absl::StrAppend(&text, "JOINT j", i, "\n{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n");
+  std::string text =
+      "HIERARCHY\nROOT j0\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation "
+      "Xrotation Yrotation\n";
+  for (int i = 1; i < depth; ++i)
+    absl::StrAppend(&text, "JOINT j", i,
+                    "\n{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n");
   text += "End Site\n{\nOFFSET 0 1 0\n}\n";
   for (int i = 0; i < depth; ++i) text += "}\n";
   text += "MOTION\nFrames: 1\nFrame Time: 0.04\n";
@@ -119,8 +125,10 @@ TEST(BvhTest, DeepChainParsesWithoutRecursion) {
 TEST(BvhTest, JointLimitAndLyingHeaderDoNotAllocate) {
   BvhLimits limits;
   limits.max_joints = 10;
-  std::string text = "HIERARCHY\nROOT j0\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n";
-  for (int i = 1; i < 20; ++i) absl::StrAppend(&text, "JOINT j", i, "\n{\nOFFSET 0 1 0\nCHANNELS 0\n");
+  std::string text =
+      "HIERARCHY\nROOT j0\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n";
+  for (int i = 1; i < 20; ++i)
+    absl::StrAppend(&text, "JOINT j", i, "\n{\nOFFSET 0 1 0\nCHANNELS 0\n");
   absl::StatusOr<Motion> m = ParseBvh(text, "wide", limits);
   ASSERT_FALSE(m.ok());
   EXPECT_NE(m.status().message().find("more than 10 joints"), std::string::npos);
@@ -147,6 +155,48 @@ TEST(BvhTest, RejectsValueErrorsAnywhereInTheFile) {
       EXPECT_FALSE(m.ok()) << "cut at " << cut;
     }
   }
+}
+
+}  // namespace
+}  // namespace stylus::motion
+
+namespace stylus::motion {
+namespace {
+
+TEST(BvhTest, RandomMutationsNeverCrash) {
+  std::ifstream in(testing::FixturePath("bvh/good/mixed_orders_crlf.bvh"), std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  std::mt19937 rng(42);
+  const std::string alphabet = "0123456789.-+eE \t\r\n{}#ABCxyzJOINTEnd\x00\xff";
+  int rejected = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::string s = text;
+    const int edits = 1 + trial % 4;
+    for (int e = 0; e < edits; ++e) {
+      const size_t at = rng() % s.size();
+      switch (rng() % 3) {
+        case 0:
+          s[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 1:
+          s.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          s.insert(at, 1, alphabet[rng() % alphabet.size()]);
+      }
+    }
+    absl::StatusOr<Motion> m = ParseBvh(s, "mutant");
+    if (!m.ok()) {
+      ++rejected;
+      EXPECT_EQ(m.status().code(), absl::StatusCode::kInvalidArgument);
+      EXPECT_EQ(m.status().message().rfind("mutant:", 0), 0u) << m.status();
+    } else {
+      EXPECT_EQ(m->values.size(), static_cast<size_t>(m->num_frames) * m->skeleton.num_channels());
+    }
+  }
+  EXPECT_GT(rejected, 1000);  // Most mutations break the file.
 }
 
 }  // namespace

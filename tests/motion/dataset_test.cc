@@ -36,7 +36,8 @@ TEST(DatasetTest, SplitIsDeterministicStratifiedAndIndependentOfOtherFiles) {
   std::vector<std::string> files;
   for (const char* style : {"old", "young"}) {
     for (int take = 1; take <= 10; ++take) {
-      files.push_back(std::string("dataset-2_walk_") + style + "_" + (take < 10 ? "00" : "0") + std::to_string(take) + ".bvh");
+      files.push_back(std::string("dataset-2_walk_") + style + "_" + (take < 10 ? "00" : "0") +
+                      std::to_string(take) + ".bvh");
     }
   }
   const std::string dir = MakeTree("ds_a", files);
@@ -55,14 +56,17 @@ TEST(DatasetTest, SplitIsDeterministicStratifiedAndIndependentOfOtherFiles) {
   ASSERT_TRUE(b.ok());
   EXPECT_EQ(b->skipped.size(), 1u);
   std::set<std::string> held_a, held_b;
-  for (const ClipEntry* c : a->Split(true)) held_a.insert(std::filesystem::path(c->path).filename());
-  for (const ClipEntry* c : b->Split(true)) held_b.insert(std::filesystem::path(c->path).filename());
+  for (const ClipEntry* c : a->Split(true))
+    held_a.insert(std::filesystem::path(c->path).filename());
+  for (const ClipEntry* c : b->Split(true))
+    held_b.insert(std::filesystem::path(c->path).filename());
   EXPECT_EQ(held_a, held_b);
 
   // Another seed picks other takes.
   absl::StatusOr<DatasetIndex> c = IndexDataset({dir}, {0.1, 12345});
   std::set<std::string> held_c;
-  for (const ClipEntry* e : c->Split(true)) held_c.insert(std::filesystem::path(e->path).filename());
+  for (const ClipEntry* e : c->Split(true))
+    held_c.insert(std::filesystem::path(e->path).filename());
   EXPECT_NE(held_a, held_c);
 }
 
@@ -80,9 +84,11 @@ TEST(DatasetTest, BandaiSplitHoldsOutAboutTenPercentCoveringEveryContentAndStyle
   EXPECT_LT(test, total * 14 / 100);
   // Every content and every style with at least 5 clips has some held out.
   std::map<std::string, int> content_clips, style_clips;
-  for (const ClipEntry& c : index->clips) ++content_clips[c.label.content], ++style_clips[c.label.style];
+  for (const ClipEntry& c : index->clips)
+    ++content_clips[c.label.content], ++style_clips[c.label.style];
   std::set<std::string> contents, styles;
-  for (const ClipEntry* c : index->Split(true)) contents.insert(c->label.content), styles.insert(c->label.style);
+  for (const ClipEntry* c : index->Split(true))
+    contents.insert(c->label.content), styles.insert(c->label.style);
   for (const auto& [name, n] : content_clips) EXPECT_TRUE(n < 5 || contents.count(name)) << name;
   for (const auto& [name, n] : style_clips) EXPECT_TRUE(n < 5 || styles.count(name)) << name;
   absl::StatusOr<DatasetIndex> again = IndexDataset({dir + "/dataset-2", dir + "/dataset-1"});

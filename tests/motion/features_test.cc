@@ -48,7 +48,8 @@ TEST(FeaturesTest, QuaternionsStayInOneHemisphere) {
     for (int j = 0; j < layout.num_joints; ++j) {
       const float* a = f->row(t - 1) + layout.rotation(j);
       const float* b = f->row(t) + layout.rotation(j);
-      EXPECT_GE(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], 0) << "frame " << t << " joint " << j;
+      EXPECT_GE(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], 0)
+          << "frame " << t << " joint " << j;
     }
   }
 }
@@ -59,8 +60,8 @@ TEST(FeaturesTest, FeaturesToMotionToFeaturesIsIdentity) {
     const Fixture fx = Walk(style);
     absl::StatusOr<FeatureClip> f1 = ExtractFeatures(fx.motion, fx.roles);
     ASSERT_TRUE(f1.ok());
-    absl::StatusOr<Motion> m = MotionFromFeatures(*f1, fx.motion.skeleton, fx.roles, fx.motion.frame_time,
-                                                  {3, -2, 0.7});
+    absl::StatusOr<Motion> m =
+        MotionFromFeatures(*f1, fx.motion.skeleton, fx.roles, fx.motion.frame_time, {3, -2, 0.7});
     ASSERT_TRUE(m.ok()) << m.status();
     absl::StatusOr<FeatureClip> f2 = ExtractFeatures(*m, fx.roles);
     ASSERT_TRUE(f2.ok());
@@ -76,8 +77,8 @@ TEST(FeaturesTest, MotionRebuiltFromFeaturesMatchesTheOriginal) {
   const Fixture fx = Walk("happy,turn=25");
   absl::StatusOr<FeatureClip> f = ExtractFeatures(fx.motion, fx.roles);
   ASSERT_TRUE(f.ok());
-  absl::StatusOr<Motion> m = MotionFromFeatures(*f, fx.motion.skeleton, fx.roles, fx.motion.frame_time,
-                                                RootAt(fx.motion, fx.roles, 0));
+  absl::StatusOr<Motion> m = MotionFromFeatures(
+      *f, fx.motion.skeleton, fx.roles, fx.motion.frame_time, RootAt(fx.motion, fx.roles, 0));
   ASSERT_TRUE(m.ok());
   EXPECT_LT(MaxPositionDifference(fx.motion, *m), 0.05);
 }

@@ -10,7 +10,8 @@ namespace {
 
 void ExpectMatNear(const Mat3& a, const Mat3& b, double tol) {
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) EXPECT_NEAR(a.m[i][j], b.m[i][j], tol) << "element " << i << "," << j;
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(a.m[i][j], b.m[i][j], tol) << "element " << i << "," << j;
 }
 
 // Textbook elementary matrices, written out independently of AxisMat.
@@ -30,7 +31,8 @@ TEST(RotationTest, EulerOrdersMatchTextbookMatrixProducts) {
     const std::string name = order.Name();
     for (int trial = 0; trial < 50; ++trial) {
       const Vec3 e{angle(rng), angle(rng) / 2, angle(rng)};
-      const Mat3 expected = Textbook(name[0], e[0]) * Textbook(name[1], e[1]) * Textbook(name[2], e[2]);
+      const Mat3 expected =
+          Textbook(name[0], e[0]) * Textbook(name[1], e[1]) * Textbook(name[2], e[2]);
       ExpectMatNear(EulerToMat(e, order), expected, 1e-12);
       ExpectMatNear(QuatToMat(EulerToQuat(e, order)), expected, 1e-12);
     }

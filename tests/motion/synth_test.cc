@@ -59,7 +59,8 @@ TEST(SynthTest, KnobsChangeTheMotion) {
     const Vec3 d = pos.back()[roles.pelvis] - pos.front()[roles.pelvis];
     double stoop = 0;  // Head ahead of the pelvis (the walk heads along +Z).
     for (const auto& p : pos) stoop += p[5].z - p[roles.pelvis].z;
-    return std::pair{std::hypot(d.x, d.z) / ((m.num_frames - 1) * m.frame_time), stoop / pos.size()};
+    return std::pair{std::hypot(d.x, d.z) / ((m.num_frames - 1) * m.frame_time),
+                     stoop / pos.size()};
   };
   const auto normal = mean_speed_and_height("normal");
   const auto old = mean_speed_and_height("old");

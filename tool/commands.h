@@ -17,6 +17,8 @@ int Features(const Argv& argv);
 int DatasetStats(const Argv& argv);
 int Synth(const Argv& argv);
 int Render(const Argv& argv);
+int Train(const Argv& argv);
+int Transfer(const Argv& argv);
 
 }  // namespace stylus::tool
 

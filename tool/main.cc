@@ -23,6 +23,8 @@ const Command kCommands[] = {
     {"dataset-stats", stylus::tool::DatasetStats, "clips, frames and counts per content and style"},
     {"synth", stylus::tool::Synth, "synthesize a styled walk or run on the Bandai skeleton"},
     {"render", stylus::tool::Render, "draw a clip as a filmstrip of stick figures (SVG)"},
+    {"train", stylus::tool::Train, "train a style-transfer model (family contrastive)"},
+    {"transfer", stylus::tool::Transfer, "transfer a style clip onto a content clip with a model"},
 };
 
 void Usage(FILE* out) {

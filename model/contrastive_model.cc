@@ -1,0 +1,177 @@
+#include "model/contrastive_model.h"
+
+#include <torch/torch.h>
+
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "model/contrastive_net.h"
+#include "motion/features.h"
+#include "motion/windowing.h"
+
+namespace stylus::model {
+
+struct ContrastiveModel::Impl {
+  std::string dir;
+  PackageContents package;
+  ContrastiveNet net{nullptr};
+
+  absl::Status Internal(const std::exception& e) const {
+    return absl::InternalError(absl::StrCat("model ", dir, ": ", e.what()));
+  }
+
+  // Normalized features of a clip, padded to at least one window.
+  absl::StatusOr<motion::FeatureClip> Features(const motion::Motion& clip, const std::string& what) const {
+    if (absl::Status s = CheckClipFitsModel(clip, package, what); !s.ok()) return s;
+    absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, package.roles);
+    if (!f.ok()) return f.status();
+    package.norm.Normalize(&*f);
+    const int window = package.config.window;
+    if (f->frames < window) {
+      const std::vector<float> last(f->row(f->frames - 1), f->row(f->frames - 1) + f->dim);
+      while (f->frames < window) {
+        f->values.insert(f->values.end(), last.begin(), last.end());
+        ++f->frames;
+      }
+    }
+    return f;
+  }
+
+  std::vector<int> Starts(int frames) const {
+    return *motion::WindowStarts(frames, {package.config.window, package.config.hop}, /*cover_tail=*/true);
+  }
+
+  // (windows, dim, T) tensor of the given window starts.
+  torch::Tensor Windows(const motion::FeatureClip& f, const std::vector<int>& starts) const {
+    const int t = package.config.window, d = f.dim;
+    torch::Tensor x = torch::empty({static_cast<int64_t>(starts.size()), d, t});
+    auto a = x.accessor<float, 3>();
+    for (size_t w = 0; w < starts.size(); ++w)
+      for (int i = 0; i < t; ++i)
+        for (int k = 0; k < d; ++k) a[w][k][i] = f.row(starts[w] + i)[k];
+    return x;
+  }
+};
+
+ContrastiveModel::ContrastiveModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+ContrastiveModel::~ContrastiveModel() = default;
+const PackageContents& ContrastiveModel::package() const { return impl_->package; }
+const std::string& ContrastiveModel::dir() const { return impl_->dir; }
+
+absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(const std::string& dir) {
+  absl::StatusOr<PackageContents> package = ReadPackage(dir);
+  if (!package.ok()) return package.status();
+  auto impl = std::make_unique<Impl>();
+  impl->dir = dir;
+  impl->package = *std::move(package);
+  try {
+    impl->net = ContrastiveNet(impl->package.config);
+    std::vector<std::vector<int64_t>> expected;
+    for (const auto& p : impl->net->named_parameters()) expected.push_back(p.value().sizes().vec());
+    torch::load(impl->net, impl->package.weights_path);
+    // torch::load adopts whatever shapes the archive holds: check them.
+    size_t i = 0;
+    for (const auto& p : impl->net->named_parameters()) {
+      if (i >= expected.size() || p.value().sizes().vec() != expected[i]) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            impl->package.weights_path, ": parameter '", p.key(), "' does not have the shape config.txt implies"));
+      }
+      ++i;
+    }
+    impl->net->eval();
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    what = what.substr(0, what.find('\n'));
+    return absl::InvalidArgumentError(absl::StrCat(impl->package.weights_path,
+                                                   ": cannot load weights (corrupt, or made for another "
+                                                   "configuration): ", what));
+  }
+  return std::unique_ptr<ContrastiveModel>(new ContrastiveModel(std::move(impl)));
+}
+
+absl::StatusOr<StyleCode> ContrastiveModel::EncodeStyle(const motion::Motion& clip) const {
+  absl::StatusOr<motion::FeatureClip> f = impl_->Features(clip, "style clip");
+  if (!f.ok()) return f.status();
+  try {
+    c10::InferenceMode guard;
+    const torch::Tensor s = impl_->net->style(impl_->Windows(*f, impl_->Starts(f->frames))).mean(0).contiguous();
+    return StyleCode{std::vector<float>(s.data_ptr<float>(), s.data_ptr<float>() + s.numel())};
+  } catch (const std::exception& e) {
+    return impl_->Internal(e);
+  }
+}
+
+absl::StatusOr<motion::Motion> ContrastiveModel::Transfer(const motion::Motion& content, const StyleCode& style) const {
+  return Interpolate(content, {style}, StyleWeights{{1.0}, {}});
+}
+
+absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motion& content,
+                                                             const std::vector<StyleCode>& styles,
+                                                             const StyleWeights& weights) const {
+  const ContrastiveConfig& config = impl_->package.config;
+  if (styles.empty()) return absl::InvalidArgumentError("no style given");
+  for (const StyleCode& s : styles) {
+    if (static_cast<int>(s.values.size()) != config.channels) {
+      return absl::InvalidArgumentError(absl::StrCat("style code has ", s.values.size(), " values; this model's have ",
+                                                     config.channels));
+    }
+  }
+  const bool per_frame = !weights.per_frame.empty();
+  if (per_frame && static_cast<int>(weights.per_frame.size()) != content.num_frames) {
+    return absl::InvalidArgumentError(absl::StrCat("weight schedule has ", weights.per_frame.size(),
+                                                   " rows; the content clip has ", content.num_frames, " frames"));
+  }
+  for (const auto& row : per_frame ? weights.per_frame : std::vector<std::vector<double>>{weights.fixed}) {
+    if (row.size() != styles.size()) {
+      return absl::InvalidArgumentError(absl::StrCat("got ", row.size(), " weights for ", styles.size(), " styles"));
+    }
+    for (double w : row) {
+      if (!std::isfinite(w)) return absl::InvalidArgumentError("style weights must be finite");
+    }
+  }
+  absl::StatusOr<motion::FeatureClip> f = impl_->Features(content, "content clip");
+  if (!f.ok()) return f.status();
+  const std::vector<int> starts = impl_->Starts(f->frames);
+  const int t = config.window, d = f->dim, overlap = config.window - config.hop;
+  motion::FeatureClip out;
+  out.frames = f->frames;
+  out.dim = d;
+  out.values.assign(f->values.size(), 0.f);
+  std::vector<float> weight_sum(f->frames, 0.f);
+  try {
+    c10::InferenceMode guard;
+    torch::Tensor codes = torch::empty({static_cast<int64_t>(starts.size()), config.channels});
+    for (size_t w = 0; w < starts.size(); ++w) {
+      const int centre = std::min(content.num_frames - 1, starts[w] + t / 2);
+      const std::vector<double>& mix = per_frame ? weights.per_frame[centre] : weights.fixed;
+      for (int c = 0; c < config.channels; ++c) {
+        double v = 0;
+        for (size_t k = 0; k < styles.size(); ++k) v += mix[k] * styles[k].values[c];
+        codes[w][c] = static_cast<float>(v);
+      }
+    }
+    const torch::Tensor y = impl_->net->decode(impl_->net->content(impl_->Windows(*f, starts)), codes).contiguous();
+    auto a = y.accessor<float, 3>();
+    for (size_t w = 0; w < starts.size(); ++w) {
+      for (int i = 0; i < t; ++i) {
+        // Linear ramps over the overlaps, so neighbouring windows cross-fade.
+        const float fade = std::min({1.f, (i + 1.f) / (overlap + 1.f), (t - i) / (overlap + 1.f)});
+        float* row = out.row(starts[w] + i);
+        for (int k = 0; k < d; ++k) row[k] += fade * a[w][k][i];
+        weight_sum[starts[w] + i] += fade;
+      }
+    }
+  } catch (const std::exception& e) {
+    return impl_->Internal(e);
+  }
+  for (int i = 0; i < out.frames; ++i) {
+    for (int k = 0; k < d; ++k) out.row(i)[k] /= weight_sum[i];
+  }
+  out.frames = content.num_frames;  // Drop padding.
+  out.values.resize(static_cast<size_t>(out.frames) * d);
+  impl_->package.norm.Denormalize(&out);
+  return motion::MotionFromFeatures(out, content.skeleton, impl_->package.roles, content.frame_time,
+                                    motion::RootAt(content, impl_->package.roles, 0));
+}
+
+}  // namespace stylus::model

@@ -1,0 +1,68 @@
+// Inference with a trained `contrastive` model: encode a style, transfer it onto
+// a content clip of any length, interpolate between styles.
+//
+// Thread-safety: after Load, all const methods may be called concurrently; each
+// runs its forward passes under c10::InferenceMode on the calling thread.
+// Errors: INVALID_ARGUMENT for a clip the model cannot take (another skeleton
+// or frame rate, non-finite values, no frames, bad weights); INTERNAL when
+// LibTorch fails (the message names the model).
+#ifndef STYLUS_MODEL_CONTRASTIVE_MODEL_H_
+#define STYLUS_MODEL_CONTRASTIVE_MODEL_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "model/package.h"
+#include "motion/motion.h"
+
+namespace stylus::model {
+
+// A style vector (config.channels values) from EncodeStyle; style codes of one
+// model can be blended linearly.
+struct StyleCode {
+  std::vector<float> values;
+};
+
+// How styles mix over a clip: `fixed` (one weight per style) for the whole clip,
+// or `per_frame` (one row of weights per content frame) when not empty.
+struct StyleWeights {
+  std::vector<double> fixed;
+  std::vector<std::vector<double>> per_frame;
+};
+
+class ContrastiveModel {
+ public:
+  // Reads and validates the package in `dir` (see package.h) and its weights.
+  // NOT_FOUND for a missing file; INVALID_ARGUMENT (naming the file) for a
+  // corrupt or mismatched one.
+  static absl::StatusOr<std::unique_ptr<ContrastiveModel>> Load(const std::string& dir);
+  ~ContrastiveModel();
+
+  const PackageContents& package() const;
+  const std::string& dir() const;
+
+  // The mean style code over the clip's windows (clips shorter than a window
+  // are padded by repeating their last frame).
+  absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const;
+
+  // The content clip re-generated with `style`: same skeleton, channel layout,
+  // frame count and frame rate; overlapping windows are cross-faded, and the
+  // root starts where the content's does.
+  absl::StatusOr<motion::Motion> Transfer(const motion::Motion& content, const StyleCode& style) const;
+
+  // Transfer with a blend of `styles`: each window uses sum_k w_k s_k, the
+  // weights taken at the window's centre frame.
+  absl::StatusOr<motion::Motion> Interpolate(const motion::Motion& content, const std::vector<StyleCode>& styles,
+                                             const StyleWeights& weights) const;
+
+ private:
+  struct Impl;
+  explicit ContrastiveModel(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CONTRASTIVE_MODEL_H_

@@ -1,0 +1,43 @@
+// Training of the `contrastive` family: self-supervised (no labels), with
+// periodic checkpoints, resumable, deterministic for a seed.
+#ifndef STYLUS_MODEL_CONTRASTIVE_TRAINER_H_
+#define STYLUS_MODEL_CONTRASTIVE_TRAINER_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "model/contrastive_config.h"
+
+namespace stylus::model {
+
+struct LossRecord {
+  int iteration = 0;
+  double rec = 0, gan = 0, nce = 0, tri = 0, disc = 0, total = 0;
+};
+
+struct TrainOptions {
+  std::vector<std::string> data;  // Directories (training split) or .bvh files.
+  std::string out;                // Package directory, e.g. models/contrastive/v1.
+  ContrastiveConfig config;       // dim is filled from the data.
+  bool resume = false;            // Continue from out/checkpoint if present.
+  int checkpoint_every = 500;     // Iterations; also rewrites the package.
+  int log_every = 50;
+  int threads = 0;                // LibTorch intra-op threads; 0 = all cores.
+  std::string commit;             // Recorded in config.txt.
+  // Progress lines (default: stderr).
+  std::function<void(const std::string&)> log;
+  // Called with each logged average (tests read the curve through it).
+  std::function<void(const LossRecord&)> on_record;
+};
+
+// Trains to options.config.iterations, writing the package (config.txt,
+// norm.txt, skeleton.bvh, weights.pt, loss.csv) at every checkpoint and at
+// the end. FAILED_PRECONDITION when `resume` is set but the checkpoint was
+// made with another configuration; INVALID_ARGUMENT for bad data.
+absl::Status TrainContrastive(const TrainOptions& options);
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CONTRASTIVE_TRAINER_H_

@@ -1,0 +1,98 @@
+#include "model/package.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "motion/bvh.h"
+#include "motion/features.h"
+
+namespace stylus::model {
+
+namespace fs = std::filesystem;
+
+absl::Status WriteFileAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) return absl::PermissionDeniedError(absl::StrCat(path, ": cannot open for writing"));
+    f << text;
+    f.close();
+    if (!f) return absl::InternalError(absl::StrCat(path, ": write failed"));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    return absl::InternalError(absl::StrCat(path, ": cannot move the written file into place"));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<PackageContents> ReadPackage(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return absl::NotFoundError(absl::StrCat(dir, ": no such model directory"));
+  PackageContents p;
+  const std::string config_path = dir + "/config.txt";
+  std::ifstream f(config_path);
+  if (!f) return absl::NotFoundError(absl::StrCat(config_path, ": missing"));
+  std::stringstream ss;
+  ss << f.rdbuf();
+  absl::StatusOr<ContrastiveConfig> config = ContrastiveConfig::Parse(ss.str(), config_path);
+  if (!config.ok()) return config.status();
+  p.config = *config;
+  absl::StatusOr<motion::NormStats> norm = motion::NormStats::Load(dir + "/norm.txt");
+  if (!norm.ok()) return norm.status();
+  p.norm = *std::move(norm);
+  absl::StatusOr<motion::Motion> rest = motion::ReadBvhFile(dir + "/skeleton.bvh");
+  if (!rest.ok()) return rest.status();
+  p.skeleton = rest->skeleton;
+  p.frame_time = rest->frame_time;
+  absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(p.skeleton);
+  if (!roles.ok()) return absl::InvalidArgumentError(absl::StrCat(dir, "/skeleton.bvh: ", roles.status().message()));
+  p.roles = *roles;
+  const int dim = motion::FeatureLayout(p.skeleton.num_joints()).dim();
+  if (p.config.dim != dim || p.norm.dim() != dim) {
+    return absl::InvalidArgumentError(absl::StrCat(dir, ": feature widths disagree: config.txt says ", p.config.dim,
+                                                   ", norm.txt has ", p.norm.dim(), ", skeleton.bvh implies ", dim));
+  }
+  p.weights_path = dir + "/weights.pt";
+  if (!fs::is_regular_file(p.weights_path, ec)) return absl::NotFoundError(absl::StrCat(p.weights_path, ": missing"));
+  return p;
+}
+
+absl::Status WritePackageFiles(const std::string& dir, const ContrastiveConfig& config,
+                               const motion::NormStats& norm, const motion::Skeleton& skeleton,
+                               double frame_time) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return absl::PermissionDeniedError(absl::StrCat(dir, ": cannot create: ", ec.message()));
+  if (absl::Status s = WriteFileAtomically(dir + "/config.txt", config.Serialize()); !s.ok()) return s;
+  if (absl::Status s = norm.Save(dir + "/norm.txt"); !s.ok()) return s;
+  return motion::WriteBvhFile(motion::RestMotion(skeleton, 1, frame_time), dir + "/skeleton.bvh");
+}
+
+absl::Status CheckClipFitsModel(const motion::Motion& clip, const PackageContents& package,
+                                const std::string& what) {
+  if (clip.num_frames <= 0) return absl::InvalidArgumentError(what + " has no frames");
+  const std::string mismatch = clip.skeleton.DescribeMismatch(package.skeleton);
+  if (!mismatch.empty()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(what, " is on another skeleton than the model's: ", mismatch));
+  }
+  const double fps = clip.fps(), model_fps = 1.0 / package.frame_time;
+  if (!(std::fabs(fps - model_fps) <= 0.01 * model_fps)) {
+    return absl::InvalidArgumentError(absl::StrCat(what, " is at ", fps, " fps; the model expects ", model_fps,
+                                                   " fps (resample the clip first)"));
+  }
+  for (size_t i = 0; i < clip.values.size(); ++i) {
+    if (!std::isfinite(clip.values[i])) {
+      const int channels = clip.skeleton.num_channels();
+      return absl::InvalidArgumentError(absl::StrCat(what, ": frame ", i / channels, ", channel ", i % channels,
+                                                     " is not a finite number"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace stylus::model

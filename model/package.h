@@ -1,0 +1,52 @@
+// Model packages on disk: models/<name>/<version>/ holding
+//   config.txt   family, window, channel layout, data, iterations, commit
+//   norm.txt     per-channel feature normalization (motion::NormStats)
+//   skeleton.bvh the skeleton trained on (one rest frame; its frame time is the
+//                model's frame rate)
+//   weights.pt   network weights (LibTorch archive; read by the model itself)
+//   loss.csv     the training curve (optional)
+#ifndef STYLUS_MODEL_PACKAGE_H_
+#define STYLUS_MODEL_PACKAGE_H_
+
+#include <string>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "model/contrastive_config.h"
+#include "motion/humanoid.h"
+#include "motion/motion.h"
+#include "motion/normalization.h"
+
+namespace stylus::model {
+
+struct PackageContents {
+  ContrastiveConfig config;
+  motion::NormStats norm;
+  motion::Skeleton skeleton;
+  double frame_time = 1.0 / 30;
+  motion::HumanoidRoles roles;
+  std::string weights_path;
+};
+
+// Reads and cross-checks everything but the weights: NOT_FOUND for a missing
+// file, INVALID_ARGUMENT (naming the file) for a malformed one or when the
+// feature width of config, statistics and skeleton disagree.
+absl::StatusOr<PackageContents> ReadPackage(const std::string& dir);
+
+// Writes config.txt, norm.txt and skeleton.bvh into `dir` (created if needed).
+absl::Status WritePackageFiles(const std::string& dir, const ContrastiveConfig& config,
+                               const motion::NormStats& norm, const motion::Skeleton& skeleton,
+                               double frame_time);
+
+// Writes `text` to `path` through a temporary file renamed into place.
+absl::Status WriteFileAtomically(const std::string& path, const std::string& text);
+
+// INVALID_ARGUMENT unless `clip` can be fed to a model of `package`: same joint
+// names, hierarchy and channel layout, the same frame rate (within 1%), finite
+// values, at least one frame. `what` names the clip in the message.
+absl::Status CheckClipFitsModel(const motion::Motion& clip, const PackageContents& package,
+                                const std::string& what);
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_PACKAGE_H_

@@ -1,0 +1,82 @@
+#include "model/training_set.h"
+
+#include <cmath>
+
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+#include "motion/bvh.h"
+#include "motion/dataset.h"
+
+namespace stylus::model {
+
+void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out) const {
+  const int d = dim();
+  out->resize(static_cast<size_t>(count) * d * length);
+  std::uniform_int_distribution<size_t> pick(0, windows.size() - 1);
+  for (int b = 0; b < count; ++b) {
+    const Window& w = windows[pick(*rng)];
+    const motion::FeatureClip& clip = clips[w.clip];
+    float* dst = out->data() + static_cast<size_t>(b) * d * length;
+    for (int t = 0; t < length; ++t) {
+      const float* row = clip.row(w.start + t);
+      for (int k = 0; k < d; ++k) dst[static_cast<size_t>(k) * length + t] = row[k];
+    }
+  }
+}
+
+absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
+                                            const motion::WindowSpec& spec,
+                                            const std::function<void(int, int)>& progress) {
+  std::vector<std::string> paths, dirs;
+  for (const std::string& s : sources) (absl::EndsWith(s, ".bvh") ? paths : dirs).push_back(s);
+  if (!dirs.empty()) {
+    absl::StatusOr<motion::DatasetIndex> index = motion::IndexDataset(dirs);
+    if (!index.ok()) return index.status();
+    for (const motion::ClipEntry* c : index->Split(false)) paths.push_back(c->path);
+  }
+  if (paths.empty()) return absl::InvalidArgumentError("no training clips");
+  TrainingSet set;
+  std::vector<const motion::FeatureClip*> raw;
+  for (size_t i = 0; i < paths.size(); ++i) {
+    absl::StatusOr<motion::Motion> m = motion::ReadBvhFile(paths[i]);
+    if (!m.ok()) return m.status();
+    if (i == 0) {
+      set.skeleton = m->skeleton;
+      set.frame_time = m->frame_time;
+      absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(m->skeleton);
+      if (!roles.ok()) return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", roles.status().message()));
+      set.roles = *roles;
+    } else {
+      const std::string mismatch = m->skeleton.DescribeMismatch(set.skeleton);
+      if (!mismatch.empty()) {
+        return absl::InvalidArgumentError(absl::StrCat(paths[i], ": another skeleton than ", paths[0], ": ", mismatch));
+      }
+      if (std::fabs(m->frame_time - set.frame_time) > 0.01 * set.frame_time) {
+        return absl::InvalidArgumentError(absl::StrCat(paths[i], ": frame time ", m->frame_time, " differs from ",
+                                                       set.frame_time, " of ", paths[0]));
+      }
+    }
+    absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(*m, set.roles);
+    if (!f.ok()) return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", f.status().message()));
+    set.clips.push_back(*std::move(f));
+    set.paths.push_back(paths[i]);
+    if (progress) progress(static_cast<int>(i + 1), static_cast<int>(paths.size()));
+  }
+  for (const auto& c : set.clips) raw.push_back(&c);
+  const motion::FeatureLayout layout(set.skeleton.num_joints());
+  absl::StatusOr<motion::NormStats> norm = motion::NormStats::Compute(raw, layout.ChannelNames(set.skeleton, set.roles));
+  if (!norm.ok()) return norm.status();
+  set.norm = *std::move(norm);
+  for (size_t i = 0; i < set.clips.size(); ++i) {
+    set.norm.Normalize(&set.clips[i]);
+    absl::StatusOr<std::vector<int>> starts = motion::WindowStarts(set.clips[i].frames, spec);
+    if (!starts.ok()) return starts.status();
+    for (int s : *starts) set.windows.push_back({static_cast<int>(i), s});
+  }
+  if (set.windows.empty()) {
+    return absl::InvalidArgumentError(absl::StrCat("no clip is at least ", spec.length, " frames long"));
+  }
+  return set;
+}
+
+}  // namespace stylus::model

@@ -1,0 +1,46 @@
+// Normalized feature windows for training, loaded from BVH clips.
+#ifndef STYLUS_MODEL_TRAINING_SET_H_
+#define STYLUS_MODEL_TRAINING_SET_H_
+
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "motion/features.h"
+#include "motion/humanoid.h"
+#include "motion/normalization.h"
+#include "motion/windowing.h"
+
+namespace stylus::model {
+
+struct TrainingSet {
+  motion::Skeleton skeleton;  // Of the first clip; all clips share its topology.
+  double frame_time = 1.0 / 30;
+  motion::HumanoidRoles roles;
+  motion::NormStats norm;                  // Computed over these clips.
+  std::vector<motion::FeatureClip> clips;  // Normalized.
+  std::vector<std::string> paths;
+  struct Window {
+    int clip, start;
+  };
+  std::vector<Window> windows;
+  int dim() const { return norm.dim(); }
+
+  // Copies `count` windows of `length` frames, chosen uniformly by `rng`, into
+  // `out` as (count, dim, length), channels first.
+  void SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out) const;
+};
+
+// Loads the training split of `sources` (directories are indexed and split as
+// motion::IndexDataset does; .bvh paths are taken whole). `progress` (may be
+// empty) is told how many clips are loaded. INVALID_ARGUMENT names a clip on
+// another skeleton or frame rate, or a clip that fails to parse.
+absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
+                                            const motion::WindowSpec& windows,
+                                            const std::function<void(int, int)>& progress = {});
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_TRAINING_SET_H_

@@ -1,0 +1,194 @@
+// Training, packaging and inference of a tiny contrastive model on synthesized
+// clips (no dataset needed; runs in seconds).
+#include "model/contrastive_model.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include "gtest/gtest.h"
+#include "model/contrastive_trainer.h"
+#include "motion/bvh.h"
+#include "motion/kinematics.h"
+#include "motion/synth.h"
+
+namespace stylus::model {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Dir(const std::string& name) {
+  const std::string d = ::testing::TempDir() + "/contrastive_" + name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// Four styled walks written as BVH.
+std::vector<std::string> FourClips() {
+  static std::vector<std::string> paths;
+  if (!paths.empty()) return paths;
+  const std::string dir = Dir("clips");
+  for (const char* style : {"normal,frames=64", "old,frames=64", "run,frames=64", "proud,frames=64,turn=30"}) {
+    const std::string path = dir + "/" + std::string(style).substr(0, std::string(style).find(',')) + ".bvh";
+    EXPECT_TRUE(motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(style)), path).ok());
+    paths.push_back(path);
+  }
+  return paths;
+}
+
+TrainOptions TinyOptions(const std::string& out, int iterations) {
+  TrainOptions o;
+  o.data = FourClips();
+  o.out = out;
+  o.config.channels = 16;
+  o.config.window = 16;
+  o.config.hop = 12;
+  o.config.batch = 8;
+  o.config.lr = 2e-3;
+  o.config.iterations = iterations;
+  o.config.seed = 7;
+  o.log_every = 10;
+  o.checkpoint_every = 40;
+  o.threads = 1;
+  o.log = [](const std::string&) {};
+  return o;
+}
+
+motion::Motion Clip(int i) { return *motion::ReadBvhFile(FourClips()[i]); }
+
+TEST(ContrastiveModelTest, TinyModelOverfitsFourClips) {
+  // Without the adversarial term (whose game need not settle in 300 steps),
+  // the reconstruction of four clips must fall well below where it starts.
+  TrainOptions o = TinyOptions(Dir("overfit"), 300);
+  o.config.alpha = 0;
+  std::vector<LossRecord> curve;
+  o.on_record = [&](const LossRecord& r) { curve.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(o).ok());
+  ASSERT_EQ(curve.size(), 30u);
+  for (const auto& r : curve) std::printf("%d rec %.4f gan %.4f nce %.4f tri %.4f\n", r.iteration, r.rec, r.gan, r.nce, r.tri);
+  EXPECT_LT(curve.back().rec, 0.5 * curve.front().rec) << curve.front().rec << " -> " << curve.back().rec;
+  for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh", "weights.pt", "loss.csv"}) {
+    EXPECT_TRUE(fs::exists(o.out + "/" + f)) << f;
+  }
+}
+
+TEST(ContrastiveModelTest, TrainingIsDeterministicAndResumable) {
+  // Two runs with one seed agree; a run killed at its checkpoint and resumed
+  // ends where an uninterrupted run ends.
+  std::vector<LossRecord> a, b, c;
+  TrainOptions oa = TinyOptions(Dir("det_a"), 80);
+  oa.on_record = [&](const LossRecord& r) { a.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(oa).ok());
+  TrainOptions ob = TinyOptions(Dir("det_b"), 40);
+  ob.on_record = [&](const LossRecord& r) { b.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(ob).ok());
+  for (size_t i = 0; i < b.size(); ++i) EXPECT_DOUBLE_EQ(a[i].total, b[i].total) << i;
+  TrainOptions oc = TinyOptions(ob.out, 80);
+  oc.resume = true;
+  oc.on_record = [&](const LossRecord& r) { c.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(oc).ok());
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_NEAR(c.back().total, a.back().total, 1e-4 * std::fabs(a.back().total));
+  // Resuming with another configuration is refused.
+  TrainOptions od = TinyOptions(ob.out, 120);
+  od.config.channels = 8;
+  od.resume = true;
+  EXPECT_EQ(TrainContrastive(od).code(), absl::StatusCode::kFailedPrecondition);
+}
+
+class TrainedModelTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new std::string(Dir("trained"));
+    ASSERT_TRUE(TrainContrastive(TinyOptions(*dir_, 40)).ok());
+  }
+  static std::string* dir_;
+};
+std::string* TrainedModelTest::dir_ = nullptr;
+
+TEST_F(TrainedModelTest, TransferKeepsLayoutAndLengthForAnyLength) {
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(*dir_);
+  ASSERT_TRUE(m.ok()) << m.status();
+  const StyleCode style = *(*m)->EncodeStyle(Clip(1));
+  EXPECT_EQ(style.values.size(), 16u);
+  for (int frames : {5, 16, 17, 64, 101}) {
+    const motion::Motion content = *motion::Synthesize(*motion::ParseSynthStyle("normal,frames=" + std::to_string(frames)));
+    absl::StatusOr<motion::Motion> out = (*m)->Transfer(content, style);
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(out->num_frames, frames);
+    EXPECT_TRUE(out->skeleton.SameTopology(content.skeleton));
+    EXPECT_TRUE(motion::ParseBvh(motion::FormatBvh(*out), "out").ok());
+  }
+}
+
+TEST_F(TrainedModelTest, SaveLoadGivesIdenticalOutputs) {
+  auto a = *ContrastiveModel::Load(*dir_);
+  auto b = *ContrastiveModel::Load(*dir_);
+  const motion::Motion out_a = *a->Transfer(Clip(0), *a->EncodeStyle(Clip(2)));
+  const motion::Motion out_b = *b->Transfer(Clip(0), *b->EncodeStyle(Clip(2)));
+  EXPECT_EQ(out_a.values, out_b.values);
+}
+
+TEST_F(TrainedModelTest, InterpolationEndpointsEqualTransfer) {
+  auto m = *ContrastiveModel::Load(*dir_);
+  const StyleCode a = *m->EncodeStyle(Clip(1)), b = *m->EncodeStyle(Clip(2));
+  const motion::Motion content = Clip(0);
+  const motion::Motion ta = *m->Transfer(content, a), tb = *m->Transfer(content, b);
+  const motion::Motion w0 = *m->Interpolate(content, {a, b}, {{1.0, 0.0}, {}});
+  const motion::Motion w1 = *m->Interpolate(content, {a, b}, {{0.0, 1.0}, {}});
+  EXPECT_LT(motion::MaxPositionDifference(w0, ta), 1e-4);
+  EXPECT_LT(motion::MaxPositionDifference(w1, tb), 1e-4);
+  EXPECT_GT(motion::MaxPositionDifference(ta, tb), 1e-3);  // The styles differ.
+  // A per-frame schedule that holds style A matches transfer with A.
+  StyleWeights hold_a;
+  hold_a.per_frame.assign(content.num_frames, {1.0, 0.0});
+  EXPECT_LT(motion::MaxPositionDifference(*m->Interpolate(content, {a, b}, hold_a), ta), 1e-4);
+  // Bad schedules are errors.
+  StyleWeights short_schedule;
+  short_schedule.per_frame.assign(3, {1.0, 0.0});
+  EXPECT_EQ(m->Interpolate(content, {a, b}, short_schedule).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_FALSE(m->Interpolate(content, {a, b}, {{1.0}, {}}).ok());
+}
+
+TEST_F(TrainedModelTest, RejectsClipsTheModelCannotTake) {
+  auto m = *ContrastiveModel::Load(*dir_);
+  motion::Motion fast = Clip(0);
+  fast.frame_time = 1.0 / 120;
+  const absl::Status s = m->EncodeStyle(fast).status();
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("120 fps"), std::string::npos) << s;
+  motion::Motion nan = Clip(0);
+  nan.values[40] = std::nan("");
+  EXPECT_NE(m->EncodeStyle(nan).status().message().find("not a finite number"), std::string::npos);
+  const motion::Motion other = *motion::ReadBvhFile(std::string(STYLUS_SOURCE_DIR) + "/tests/fixtures/bvh/good/three_joint.bvh");
+  EXPECT_NE(m->EncodeStyle(other).status().message().find("another skeleton"), std::string::npos);
+}
+
+TEST_F(TrainedModelTest, CorruptOrMissingFilesAreClearErrors) {
+  const std::string copy = Dir("corrupt");
+  fs::copy(*dir_, copy, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  {  // Truncate the weights.
+    std::ofstream w(copy + "/weights.pt", std::ios::trunc | std::ios::binary);
+    w << "not a torch archive";
+  }
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(copy);
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(m.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(m.status().message().find("weights.pt: cannot load weights"), std::string::npos) << m.status();
+  fs::remove(copy + "/norm.txt");
+  EXPECT_EQ(ContrastiveModel::Load(copy).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(ContrastiveModel::Load("/no/such/model").status().code(), absl::StatusCode::kNotFound);
+  // Weights of another width.
+  const std::string other = Dir("other");
+  fs::copy(*dir_, other, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  std::ifstream in(other + "/config.txt");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  text.replace(text.find("channels = 16"), 13, "channels = 12");
+  std::ofstream(other + "/config.txt", std::ios::trunc) << text;
+  EXPECT_EQ(ContrastiveModel::Load(other).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace stylus::model

@@ -1,0 +1,146 @@
+// train and transfer.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "model/contrastive_model.h"
+#include "model/contrastive_trainer.h"
+#include "motion/bvh.h"
+#include "tool/cli_support.h"
+
+namespace stylus::tool {
+
+int Train(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool train --family contrastive --data DIR... --out models/contrastive/VERSION\n"
+      "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
+      "         [--no-nce] [--no-tri] [--seed S] [--resume] [--threads N]\n"
+      "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
+      "Trains a style-transfer model on the training split of each DIR (or on\n"
+      ".bvh files given directly) without using any label. Prints the losses,\n"
+      "it/s and ETA; every --checkpoint-every iterations writes a checkpoint and a\n"
+      "usable package (config.txt, norm.txt, skeleton.bvh, weights.pt, loss.csv)\n"
+      "into --out. --resume continues from that checkpoint after a kill.\n";
+  int code = 0;
+  auto args = ParseOrExit("train", argv,
+                          {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma", "seed",
+                            "threads", "checkpoint-every", "log-every", "commit"},
+                           {"no-nce", "no-tri", "resume"}},
+                          kHelp, &code);
+  if (!args) return code;
+  if (args->Get("family", "contrastive") != "contrastive") {
+    return Fail("train", absl::InvalidArgumentError("--family: only 'contrastive' is implemented so far"));
+  }
+  model::TrainOptions opt;
+  for (const std::string& d : args->All("data")) {
+    for (absl::string_view part : absl::StrSplit(d, ',', absl::SkipEmpty())) opt.data.emplace_back(part);
+  }
+  for (const std::string& p : args->positional) opt.data.push_back(p);
+  opt.out = args->Get("out");
+  if (opt.data.empty() || opt.out.empty()) {
+    std::fprintf(stderr, "stylus-tool train: --data and --out are required\n\n%s", kHelp);
+    return 2;
+  }
+  model::ContrastiveConfig& c = opt.config;
+  absl::StatusOr<int> iters = args->GetInt("iters", c.iterations), batch = args->GetInt("batch", c.batch);
+  absl::StatusOr<int> seed = args->GetInt("seed", static_cast<int>(c.seed)), threads = args->GetInt("threads", 0);
+  absl::StatusOr<int> ckpt = args->GetInt("checkpoint-every", 500), log_every = args->GetInt("log-every", 50);
+  absl::StatusOr<double> lr = args->GetDouble("lr", c.lr), alpha = args->GetDouble("alpha", c.alpha);
+  absl::StatusOr<double> beta = args->GetDouble("beta", c.beta), gamma = args->GetDouble("gamma", c.gamma);
+  for (const absl::Status& s : {iters.status(), batch.status(), seed.status(), threads.status(), ckpt.status(),
+                                log_every.status(), lr.status(), alpha.status(), beta.status(), gamma.status()}) {
+    if (!s.ok()) return Fail("train", s);
+  }
+  c.iterations = *iters, c.batch = *batch, c.seed = *seed, c.lr = *lr, c.alpha = *alpha, c.beta = *beta,
+  c.gamma = *gamma;
+  c.use_nce = !args->switches.count("no-nce");
+  c.use_tri = !args->switches.count("no-tri");
+  opt.threads = *threads;
+  opt.checkpoint_every = *ckpt;
+  opt.log_every = *log_every;
+  opt.resume = args->switches.count("resume") > 0;
+  opt.commit = args->Get("commit");
+  if (absl::Status s = model::TrainContrastive(opt); !s.ok()) return Fail("train", s);
+  absl::PrintF("model written to %s\n", opt.out);
+  return 0;
+}
+
+namespace {
+
+std::string Stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+
+absl::Status TransferOne(const model::ContrastiveModel& m, const std::string& content_path,
+                         const std::string& style_path, const std::string& out_path) {
+  absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(content_path);
+  if (!content.ok()) return content.status();
+  absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(style_path);
+  if (!style.ok()) return style.status();
+  absl::StatusOr<model::StyleCode> code = m.EncodeStyle(*style);
+  if (!code.ok()) return absl::Status(code.status().code(), absl::StrCat(style_path, ": ", code.status().message()));
+  absl::StatusOr<motion::Motion> out = m.Transfer(*content, *code);
+  if (!out.ok()) return absl::Status(out.status().code(), absl::StrCat(content_path, ": ", out.status().message()));
+  return motion::WriteBvhFile(*out, out_path);
+}
+
+}  // namespace
+
+int Transfer(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool transfer --model DIR --content C.bvh --style S.bvh -o OUT.bvh\n"
+      "       stylus-tool transfer --model DIR --pairs PAIRS.csv --out-dir DIR\n\n"
+      "Gives the content clip the style of the style clip and writes the result as\n"
+      "BVH on the content's skeleton. The batch form loads the model once and\n"
+      "transfers every row of PAIRS.csv (columns content_bvh,style_bvh; a header\n"
+      "line is allowed) into DIR/<content>__<style>.bvh; a failed row is reported\n"
+      "and the others still run (exit 1 if any failed).\n";
+  int code = 0;
+  auto args = ParseOrExit("transfer", argv, {{"model", "content", "style", "out", "pairs", "out-dir", "threads"}, {}},
+                          kHelp, &code);
+  if (!args) return code;
+  const bool batch = args->Has("pairs");
+  if (!args->Has("model") || (batch ? !args->Has("out-dir")
+                                    : (!args->Has("content") || !args->Has("style") || !args->Has("out")))) {
+    std::fprintf(stderr, "stylus-tool transfer: missing arguments\n\n%s", kHelp);
+    return 2;
+  }
+  absl::StatusOr<std::unique_ptr<model::ContrastiveModel>> m = model::ContrastiveModel::Load(args->Get("model"));
+  if (!m.ok()) return Fail("transfer", m.status());
+  if (!batch) {
+    if (absl::Status s = TransferOne(**m, args->Get("content"), args->Get("style"), args->Get("out")); !s.ok()) {
+      return Fail("transfer", s);
+    }
+    absl::PrintF("wrote %s\n", args->Get("out"));
+    return 0;
+  }
+  std::ifstream csv(args->Get("pairs"));
+  if (!csv) return Fail("transfer", absl::NotFoundError(args->Get("pairs") + ": cannot open"));
+  std::filesystem::create_directories(args->Get("out-dir"));
+  std::string line;
+  int line_no = 0, ok = 0, failed = 0;
+  while (std::getline(csv, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || (line_no == 1 && line.rfind("content_bvh", 0) == 0)) continue;
+    std::vector<std::string> cols = absl::StrSplit(line, ',');
+    if (cols.size() != 2) {
+      std::fprintf(stderr, "%s:%d: expected content_bvh,style_bvh\n", args->Get("pairs").c_str(), line_no);
+      ++failed;
+      continue;
+    }
+    const std::string out = absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
+    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out); !s.ok()) {
+      std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no, std::string(s.message()).c_str());
+      ++failed;
+      continue;
+    }
+    absl::PrintF("wrote %s\n", out);
+    ++ok;
+  }
+  absl::PrintF("%d transferred, %d failed\n", ok, failed);
+  return failed ? 1 : 0;
+}
+
+}  // namespace stylus::tool

@@ -47,6 +47,31 @@ check "features non-humanoid" 1 "not a recognizable humanoid" -- "$tool" feature
 check "render" 0 "wrote .*walk.svg" -- "$tool" render "$work/old.bvh" -o "$work/walk.svg"
 check "render svg" 0 "<svg" -- cat "$work/walk.svg"
 check "dataset-stats missing dir" 1 "not a directory" -- "$tool" dataset-stats "$work/none"
+# Training and transfer on synthesized clips (a few iterations: the plumbing,
+# not the quality, which model_tests and the evaluation cover).
+for cmd in train transfer; do
+  check "$cmd --help" 0 "usage: stylus-tool $cmd" -- "$tool" "$cmd" --help
+done
+"$tool" synth --style proud,frames=40 -o "$work/proud.bvh" >/dev/null
+check "train" 0 "iter 6/6 .*it/s .*ETA" -- "$tool" train --data "$work/old.bvh" --data "$work/proud.bvh" \
+  --out "$work/model" --iters 6 --batch 2 --log-every 3 --checkpoint-every 3 --threads 1
+check "train loss curve" 0 "^6,[0-9.]+," -- cat "$work/model/loss.csv"
+check "train resume" 0 "resumed from .* at iteration 6" -- "$tool" train --data "$work/old.bvh" \
+  --data "$work/proud.bvh" --out "$work/model" --iters 9 --batch 2 --log-every 3 --checkpoint-every 3 \
+  --threads 1 --resume
+check "train bad family" 1 "only 'contrastive'" -- "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/m2"
+check "transfer" 0 "wrote .*styled.bvh" -- "$tool" transfer --model "$work/model" --content "$work/old.bvh" \
+  --style "$work/proud.bvh" -o "$work/styled.bvh"
+check "transfer output" 0 "frames: 45" -- "$tool" bvh-info "$work/styled.bvh"
+check "transfer wrong skeleton" 1 "another skeleton" -- "$tool" transfer --model "$work/model" \
+  --content "$good" --style "$work/proud.bvh" -o "$work/x.bvh"
+check "transfer no model" 1 "no such model directory" -- "$tool" transfer --model "$work/none" \
+  --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.bvh"
+printf 'content_bvh,style_bvh\n%s,%s\n%s,%s\n' "$work/old.bvh" "$work/proud.bvh" "$good" "$work/old.bvh" > "$work/pairs.csv"
+check "transfer batch" 1 "1 transferred, 1 failed" -- "$tool" transfer --model "$work/model" \
+  --pairs "$work/pairs.csv" --out-dir "$work/batch"
+check "transfer batch output" 0 "frames: 45" -- "$tool" bvh-info "$work/batch/old__proud.bvh"
+
 for s in walk_normal walk_old run; do
   check "sample $s" 0 "joints: 22" -- "$tool" bvh-info "$src/samples/$s.bvh"
 done

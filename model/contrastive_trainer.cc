@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <thread>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -15,6 +14,7 @@
 #include "absl/strings/str_split.h"
 #include "model/contrastive_net.h"
 #include "model/package.h"
+#include "model/runtime.h"
 #include "model/training_set.h"
 
 namespace stylus::model {
@@ -200,7 +200,7 @@ struct Trainer {
   }
 
   absl::Status Run() {
-    at::set_num_threads(opt.threads > 0 ? opt.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+    SetComputeThreads(opt.threads);
     const auto t_load = Clock::now();
     absl::StatusOr<TrainingSet> loaded = LoadTrainingSet(opt.data, {config.window, config.hop});
     if (!loaded.ok()) return loaded.status();

@@ -8,6 +8,7 @@
 #include "absl/strings/str_split.h"
 #include "model/contrastive_model.h"
 #include "model/contrastive_trainer.h"
+#include "model/runtime.h"
 #include "motion/bvh.h"
 #include "tool/cli_support.h"
 
@@ -95,7 +96,8 @@ int Transfer(const Argv& argv) {
       "BVH on the content's skeleton. The batch form loads the model once and\n"
       "transfers every row of PAIRS.csv (columns content_bvh,style_bvh; a header\n"
       "line is allowed) into DIR/<content>__<style>.bvh; a failed row is reported\n"
-      "and the others still run (exit 1 if any failed).\n";
+      "and the others still run (exit 1 if any failed). --threads N sets the\n"
+      "compute threads (default: one per core).\n";
   int code = 0;
   auto args = ParseOrExit("transfer", argv, {{"model", "content", "style", "out", "pairs", "out-dir", "threads"}, {}},
                           kHelp, &code);
@@ -106,6 +108,9 @@ int Transfer(const Argv& argv) {
     std::fprintf(stderr, "stylus-tool transfer: missing arguments\n\n%s", kHelp);
     return 2;
   }
+  absl::StatusOr<int> threads = args->GetInt("threads", 0);
+  if (!threads.ok()) return Fail("transfer", threads.status());
+  model::SetComputeThreads(*threads);
   absl::StatusOr<std::unique_ptr<model::ContrastiveModel>> m = model::ContrastiveModel::Load(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {

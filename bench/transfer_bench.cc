@@ -1,0 +1,67 @@
+// Transfer speed of a model package: seconds per 1000 frames of content with
+// one compute thread and with two, each also as a ratio to the baseline measured
+// in the same run: feature extraction plus motion reconstruction of the same
+// clip without the network (the part of a transfer that is not inference).
+// Usage: transfer_bench [MODEL_DIR] [--frames N] [--reps N]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "model/contrastive_model.h"
+#include "model/runtime.h"
+#include "motion/features.h"
+#include "motion/synth.h"
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v1";
+  int frames = 1000, reps = 5;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--help")) {
+      std::printf("usage: transfer_bench [MODEL_DIR] [--frames N] [--reps N]\n");
+      return 0;
+    }
+    if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) {
+      frames = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) {
+      reps = std::max(1, std::atoi(argv[++i]));
+    } else {
+      dir = argv[i];
+    }
+  }
+  auto model = stylus::model::ContrastiveModel::Load(dir);
+  if (!model.ok()) {
+    std::fprintf(stderr, "transfer_bench: %s\n", std::string(model.status().message()).c_str());
+    return 1;
+  }
+  const auto content = *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("normal,frames=" + std::to_string(frames)));
+  const auto style_clip = *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("old,frames=120"));
+  const auto& roles = (*model)->package().roles;
+  std::printf("model %s, content %d frames, best of %d\n", dir.c_str(), frames, reps);
+  std::printf("%-34s %10s %14s %10s\n", "stage", "threads", "s/1000 frames", "x baseline");
+  for (int threads : {1, 2}) {
+    stylus::model::SetComputeThreads(threads);
+    double base = 1e9, transfer = 1e9;
+    for (int r = 0; r < reps; ++r) {
+      auto t0 = Clock::now();
+      const auto f = *stylus::motion::ExtractFeatures(content, roles);
+      const auto m = *stylus::motion::MotionFromFeatures(f, content.skeleton, roles, content.frame_time);
+      base = std::min(base, Since(t0));
+      t0 = Clock::now();
+      const auto code = *(*model)->EncodeStyle(style_clip);
+      const auto out = *(*model)->Transfer(content, code);
+      transfer = std::min(transfer, Since(t0));
+      if (out.num_frames != m.num_frames) return 1;
+    }
+    const double k = 1000.0 / frames;
+    std::printf("%-34s %10d %14.4f %10.2f\n", "baseline (features + rebuild)", threads, base * k, 1.0);
+    std::printf("%-34s %10d %14.4f %10.2f\n", "transfer (encode style + transfer)", threads, transfer * k, transfer / base);
+  }
+  return 0;
+}

@@ -16,7 +16,9 @@
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -40,8 +42,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "transfer_bench: %s\n", std::string(model.status().message()).c_str());
     return 1;
   }
-  const auto content = *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("normal,frames=" + std::to_string(frames)));
-  const auto style_clip = *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("old,frames=120"));
+  const auto content = *stylus::motion::Synthesize(
+      *stylus::motion::ParseSynthStyle("normal,frames=" + std::to_string(frames)));
+  const auto style_clip =
+      *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("old,frames=120"));
   const auto& roles = (*model)->package().roles;
   std::printf("model %s, content %d frames, best of %d\n", dir.c_str(), frames, reps);
   std::printf("%-34s %10s %14s %10s\n", "stage", "threads", "s/1000 frames", "x baseline");
@@ -51,7 +55,8 @@ int main(int argc, char** argv) {
     for (int r = 0; r < reps; ++r) {
       auto t0 = Clock::now();
       const auto f = *stylus::motion::ExtractFeatures(content, roles);
-      const auto m = *stylus::motion::MotionFromFeatures(f, content.skeleton, roles, content.frame_time);
+      const auto m =
+          *stylus::motion::MotionFromFeatures(f, content.skeleton, roles, content.frame_time);
       base = std::min(base, Since(t0));
       t0 = Clock::now();
       const auto code = *(*model)->EncodeStyle(style_clip);
@@ -60,8 +65,10 @@ int main(int argc, char** argv) {
       if (out.num_frames != m.num_frames) return 1;
     }
     const double k = 1000.0 / frames;
-    std::printf("%-34s %10d %14.4f %10.2f\n", "baseline (features + rebuild)", threads, base * k, 1.0);
-    std::printf("%-34s %10d %14.4f %10.2f\n", "transfer (encode style + transfer)", threads, transfer * k, transfer / base);
+    std::printf("%-34s %10d %14.4f %10.2f\n", "baseline (features + rebuild)", threads, base * k,
+                1.0);
+    std::printf("%-34s %10d %14.4f %10.2f\n", "transfer (encode style + transfer)", threads,
+                transfer * k, transfer / base);
   }
   return 0;
 }

@@ -64,7 +64,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     };
     absl::Status s;
     if (key == "family") {
-      if (value != "contrastive") return error("family must be 'contrastive', found '" + value + "'");
+      if (value != "contrastive")
+        return error("family must be 'contrastive', found '" + value + "'");
     } else if (key == "window") {
       s = to_int(&c.window, 4, 4096);
       if (s.ok() && c.window % 2) s = error("window must be even");

@@ -13,11 +13,11 @@ namespace stylus::model {
 
 struct ContrastiveConfig {
   // Data and architecture.
-  int window = 32;    // T frames per window.
-  int hop = 24;       // Window stride (overlap T/4).
-  int dim = 0;        // Feature channels d (set from the data).
-  int channels = 144; // Width of codes and hidden layers.
-  int res_kernel = 3; // Kernel of the residual blocks' convolutions.
+  int window = 32;     // T frames per window.
+  int hop = 24;        // Window stride (overlap T/4).
+  int dim = 0;         // Feature channels d (set from the data).
+  int channels = 144;  // Width of codes and hidden layers.
+  int res_kernel = 3;  // Kernel of the residual blocks' convolutions.
   // Loss weights: L = L_rec + a L_gan + b L_nce + c L_tri.
   double alpha = 1.0, beta = 0.3, gamma = 0.3;
   double margin = 1.0;       // Triplet margin.
@@ -30,14 +30,15 @@ struct ContrastiveConfig {
   uint64_t seed = 1;
   // Provenance (filled by training).
   std::string family = "contrastive";
-  std::string data;     // Data directories trained on.
-  std::string commit;   // Source commit of the trainer.
+  std::string data;    // Data directories trained on.
+  std::string commit;  // Source commit of the trainer.
   int trained_iterations = 0;
 
   std::string Serialize() const;
   // INVALID_ARGUMENT naming `source` and the line of a malformed or
   // out-of-range entry; unknown keys are errors too.
-  static absl::StatusOr<ContrastiveConfig> Parse(const std::string& text, const std::string& source);
+  static absl::StatusOr<ContrastiveConfig> Parse(const std::string& text,
+                                                 const std::string& source);
 };
 
 }  // namespace stylus::model

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "model/contrastive_net.h"
+#include "model/window_tensor.h"
 #include "motion/features.h"
 #include "motion/windowing.h"
 
@@ -21,35 +22,23 @@ struct ContrastiveModel::Impl {
   }
 
   // Normalized features of a clip, padded to at least one window.
-  absl::StatusOr<motion::FeatureClip> Features(const motion::Motion& clip, const std::string& what) const {
+  absl::StatusOr<motion::FeatureClip> Features(const motion::Motion& clip,
+                                               const std::string& what) const {
     if (absl::Status s = CheckClipFitsModel(clip, package, what); !s.ok()) return s;
     absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, package.roles);
     if (!f.ok()) return f.status();
     package.norm.Normalize(&*f);
-    const int window = package.config.window;
-    if (f->frames < window) {
-      const std::vector<float> last(f->row(f->frames - 1), f->row(f->frames - 1) + f->dim);
-      while (f->frames < window) {
-        f->values.insert(f->values.end(), last.begin(), last.end());
-        ++f->frames;
-      }
-    }
+    PadToLength(&*f, package.config.window);
     return f;
   }
 
   std::vector<int> Starts(int frames) const {
-    return *motion::WindowStarts(frames, {package.config.window, package.config.hop}, /*cover_tail=*/true);
+    return *motion::WindowStarts(frames, {package.config.window, package.config.hop},
+                                 /*cover_tail=*/true);
   }
 
-  // (windows, dim, T) tensor of the given window starts.
   torch::Tensor Windows(const motion::FeatureClip& f, const std::vector<int>& starts) const {
-    const int t = package.config.window, d = f.dim;
-    torch::Tensor x = torch::empty({static_cast<int64_t>(starts.size()), d, t});
-    auto a = x.accessor<float, 3>();
-    for (size_t w = 0; w < starts.size(); ++w)
-      for (int i = 0; i < t; ++i)
-        for (int k = 0; k < d; ++k) a[w][k][i] = f.row(starts[w] + i)[k];
-    return x;
+    return WindowTensor(f, starts, package.config.window);
   }
 };
 
@@ -73,8 +62,9 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(const s
     size_t i = 0;
     for (const auto& p : impl->net->named_parameters()) {
       if (i >= expected.size() || p.value().sizes().vec() != expected[i]) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            impl->package.weights_path, ": parameter '", p.key(), "' does not have the shape config.txt implies"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(impl->package.weights_path, ": parameter '", p.key(),
+                         "' does not have the shape config.txt implies"));
       }
       ++i;
     }
@@ -82,9 +72,11 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(const s
   } catch (const std::exception& e) {
     std::string what = e.what();
     what = what.substr(0, what.find('\n'));
-    return absl::InvalidArgumentError(absl::StrCat(impl->package.weights_path,
-                                                   ": cannot load weights (corrupt, or made for another "
-                                                   "configuration): ", what));
+    return absl::InvalidArgumentError(
+        absl::StrCat(impl->package.weights_path,
+                     ": cannot load weights (corrupt, or made for another "
+                     "configuration): ",
+                     what));
   }
   return std::unique_ptr<ContrastiveModel>(new ContrastiveModel(std::move(impl)));
 }
@@ -94,14 +86,16 @@ absl::StatusOr<StyleCode> ContrastiveModel::EncodeStyle(const motion::Motion& cl
   if (!f.ok()) return f.status();
   try {
     c10::InferenceMode guard;
-    const torch::Tensor s = impl_->net->style(impl_->Windows(*f, impl_->Starts(f->frames))).mean(0).contiguous();
+    const torch::Tensor s =
+        impl_->net->style(impl_->Windows(*f, impl_->Starts(f->frames))).mean(0).contiguous();
     return StyleCode{std::vector<float>(s.data_ptr<float>(), s.data_ptr<float>() + s.numel())};
   } catch (const std::exception& e) {
     return impl_->Internal(e);
   }
 }
 
-absl::StatusOr<motion::Motion> ContrastiveModel::Transfer(const motion::Motion& content, const StyleCode& style) const {
+absl::StatusOr<motion::Motion> ContrastiveModel::Transfer(const motion::Motion& content,
+                                                          const StyleCode& style) const {
   return Interpolate(content, {style}, StyleWeights{{1.0}, {}});
 }
 
@@ -112,18 +106,21 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
   if (styles.empty()) return absl::InvalidArgumentError("no style given");
   for (const StyleCode& s : styles) {
     if (static_cast<int>(s.values.size()) != config.channels) {
-      return absl::InvalidArgumentError(absl::StrCat("style code has ", s.values.size(), " values; this model's have ",
-                                                     config.channels));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "style code has ", s.values.size(), " values; this model's have ", config.channels));
     }
   }
   const bool per_frame = !weights.per_frame.empty();
   if (per_frame && static_cast<int>(weights.per_frame.size()) != content.num_frames) {
     return absl::InvalidArgumentError(absl::StrCat("weight schedule has ", weights.per_frame.size(),
-                                                   " rows; the content clip has ", content.num_frames, " frames"));
+                                                   " rows; the content clip has ",
+                                                   content.num_frames, " frames"));
   }
-  for (const auto& row : per_frame ? weights.per_frame : std::vector<std::vector<double>>{weights.fixed}) {
+  for (const auto& row :
+       per_frame ? weights.per_frame : std::vector<std::vector<double>>{weights.fixed}) {
     if (row.size() != styles.size()) {
-      return absl::InvalidArgumentError(absl::StrCat("got ", row.size(), " weights for ", styles.size(), " styles"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("got ", row.size(), " weights for ", styles.size(), " styles"));
     }
     for (double w : row) {
       if (!std::isfinite(w)) return absl::InvalidArgumentError("style weights must be finite");
@@ -150,7 +147,8 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
         codes[w][c] = static_cast<float>(v);
       }
     }
-    const torch::Tensor y = impl_->net->decode(impl_->net->content(impl_->Windows(*f, starts)), codes).contiguous();
+    const torch::Tensor y =
+        impl_->net->decode(impl_->net->content(impl_->Windows(*f, starts)), codes).contiguous();
     auto a = y.accessor<float, 3>();
     for (size_t w = 0; w < starts.size(); ++w) {
       for (int i = 0; i < t; ++i) {

@@ -50,11 +50,13 @@ class ContrastiveModel {
   // The content clip re-generated with `style`: same skeleton, channel layout,
   // frame count and frame rate; overlapping windows are cross-faded, and the
   // root starts where the content's does.
-  absl::StatusOr<motion::Motion> Transfer(const motion::Motion& content, const StyleCode& style) const;
+  absl::StatusOr<motion::Motion> Transfer(const motion::Motion& content,
+                                          const StyleCode& style) const;
 
   // Transfer with a blend of `styles`: each window uses sum_k w_k s_k, the
   // weights taken at the window's centre frame.
-  absl::StatusOr<motion::Motion> Interpolate(const motion::Motion& content, const std::vector<StyleCode>& styles,
+  absl::StatusOr<motion::Motion> Interpolate(const motion::Motion& content,
+                                             const std::vector<StyleCode>& styles,
                                              const StyleWeights& weights) const;
 
  private:

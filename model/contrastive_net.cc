@@ -70,8 +70,10 @@ torch::Tensor AdaInBlockImpl::forward(const torch::Tensor& x, const torch::Tenso
 }
 
 GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) {
-  mlp = register_module("mlp", nn::Sequential(nn::Linear(c.channels, c.channels), nn::LeakyReLU(nn::LeakyReLUOptions().negative_slope(0.2)),
-                                              nn::Linear(c.channels, 4 * 4 * c.channels)));
+  mlp = register_module("mlp",
+                        nn::Sequential(nn::Linear(c.channels, c.channels),
+                                       nn::LeakyReLU(nn::LeakyReLUOptions().negative_slope(0.2)),
+                                       nn::Linear(c.channels, 4 * 4 * c.channels)));
   blocks = register_module("blocks", nn::ModuleList());
   for (int i = 0; i < 4; ++i) blocks->push_back(AdaInBlock(c.channels, c.res_kernel));
   up_conv = register_module("up_conv", Conv(c.channels, c.channels, 7));
@@ -81,19 +83,24 @@ GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) 
 torch::Tensor GeneratorImpl::forward(const torch::Tensor& content, const torch::Tensor& style) {
   const auto params = mlp->forward(style).split(4 * channels, 1);
   torch::Tensor x = content;
-  for (size_t i = 0; i < blocks->size(); ++i) x = blocks[i]->as<AdaInBlock>()->forward(x, params[i]);
-  x = F::interpolate(x, F::InterpolateFuncOptions().scale_factor(std::vector<double>{2.0}).mode(torch::kNearest));
+  for (size_t i = 0; i < blocks->size(); ++i)
+    x = blocks[i]->as<AdaInBlock>()->forward(x, params[i]);
+  x = F::interpolate(
+      x, F::InterpolateFuncOptions().scale_factor(std::vector<double>{2.0}).mode(torch::kNearest));
   x = LeakyRelu(up_conv->forward(x));
   return out_conv->forward(x);
 }
 
 DiscriminatorImpl::DiscriminatorImpl(const ContrastiveConfig& c) {
   const auto lrelu = nn::LeakyReLUOptions().negative_slope(0.2);
-  mlp = register_module("mlp", nn::Sequential(nn::Flatten(), nn::Linear(c.dim * c.window, 256), nn::LeakyReLU(lrelu),
-                                              nn::Linear(256, 128), nn::LeakyReLU(lrelu), nn::Linear(128, 1)));
+  mlp = register_module(
+      "mlp", nn::Sequential(nn::Flatten(), nn::Linear(c.dim * c.window, 256), nn::LeakyReLU(lrelu),
+                            nn::Linear(256, 128), nn::LeakyReLU(lrelu), nn::Linear(128, 1)));
 }
 
-torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) { return mlp->forward(x).squeeze(1); }
+torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) {
+  return mlp->forward(x).squeeze(1);
+}
 
 ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c) {
   content_encoder = register_module("content_encoder", Encoder(c, /*instance_norm=*/true));
@@ -106,8 +113,8 @@ torch::Tensor ReconstructionLoss(const torch::Tensor& output, const torch::Tenso
   return (output - target).abs().mean();
 }
 
-torch::Tensor NceLoss(const torch::Tensor& generated, const torch::Tensor& target, const torch::Tensor& w,
-                      double temperature) {
+torch::Tensor NceLoss(const torch::Tensor& generated, const torch::Tensor& target,
+                      const torch::Tensor& w, double temperature) {
   const torch::Tensor q = F::normalize(generated, F::NormalizeFuncOptions().dim(1));  // (B, C, L)
   const torch::Tensor k = F::normalize(target, F::NormalizeFuncOptions().dim(1));
   // logits[b, i, j] = q[b,:,i]^T W k[b,:,j]
@@ -117,16 +124,20 @@ torch::Tensor NceLoss(const torch::Tensor& generated, const torch::Tensor& targe
   return F::cross_entropy(logits.reshape({b * l, l}), labels);
 }
 
-torch::Tensor TripletLoss(const torch::Tensor& anchor, const torch::Tensor& positive, const torch::Tensor& negative,
-                          double margin) {
+torch::Tensor TripletLoss(const torch::Tensor& anchor, const torch::Tensor& positive,
+                          const torch::Tensor& negative, double margin) {
   const auto unit = F::NormalizeFuncOptions().dim(1);
-  const torch::Tensor a = F::normalize(anchor, unit), p = F::normalize(positive, unit), n = F::normalize(negative, unit);
+  const torch::Tensor a = F::normalize(anchor, unit), p = F::normalize(positive, unit),
+                      n = F::normalize(negative, unit);
   return torch::relu((a - p).norm(2, 1) - (a - n).norm(2, 1) + margin).mean();
 }
 
-torch::Tensor GeneratorGanLoss(const torch::Tensor& fake_logits) { return F::softplus(-fake_logits).mean(); }
+torch::Tensor GeneratorGanLoss(const torch::Tensor& fake_logits) {
+  return F::softplus(-fake_logits).mean();
+}
 
-torch::Tensor DiscriminatorGanLoss(const torch::Tensor& real_logits, const torch::Tensor& fake_logits) {
+torch::Tensor DiscriminatorGanLoss(const torch::Tensor& real_logits,
+                                   const torch::Tensor& fake_logits) {
   return F::softplus(-real_logits).mean() + F::softplus(fake_logits).mean();
 }
 

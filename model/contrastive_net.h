@@ -66,7 +66,9 @@ struct ContrastiveNetImpl : torch::nn::Module {
   torch::Tensor content(const torch::Tensor& x) { return content_encoder->forward(x); }
   // (B, C): temporal mean of the style encoder's output.
   torch::Tensor style(const torch::Tensor& x) { return style_encoder->forward(x).mean(2); }
-  torch::Tensor decode(const torch::Tensor& c, const torch::Tensor& s) { return generator->forward(c, s); }
+  torch::Tensor decode(const torch::Tensor& c, const torch::Tensor& s) {
+    return generator->forward(c, s);
+  }
   Encoder content_encoder{nullptr}, style_encoder{nullptr};
   Generator generator{nullptr};
   torch::Tensor nce_w;
@@ -78,14 +80,15 @@ torch::Tensor ReconstructionLoss(const torch::Tensor& output, const torch::Tenso
 // InfoNCE over every time step i of the content codes: query column i of
 // `generated`, positive column i of `target`, negatives its other columns;
 // similarity q^T W k / temperature on unit-length columns.
-torch::Tensor NceLoss(const torch::Tensor& generated, const torch::Tensor& target, const torch::Tensor& w,
-                      double temperature);
+torch::Tensor NceLoss(const torch::Tensor& generated, const torch::Tensor& target,
+                      const torch::Tensor& w, double temperature);
 // Triplet hinge on unit-length style codes.
 torch::Tensor TripletLoss(const torch::Tensor& anchor, const torch::Tensor& positive,
                           const torch::Tensor& negative, double margin);
 // Non-saturating GAN: the generator's loss, and the discriminator's.
 torch::Tensor GeneratorGanLoss(const torch::Tensor& fake_logits);
-torch::Tensor DiscriminatorGanLoss(const torch::Tensor& real_logits, const torch::Tensor& fake_logits);
+torch::Tensor DiscriminatorGanLoss(const torch::Tensor& real_logits,
+                                   const torch::Tensor& fake_logits);
 
 }  // namespace stylus::model
 

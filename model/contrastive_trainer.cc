@@ -25,8 +25,8 @@ using Clock = std::chrono::steady_clock;
 
 std::string CsvHeader() { return "iteration,rec,gan,nce,tri,disc,total\n"; }
 std::string CsvRow(const LossRecord& r) {
-  return absl::StrFormat("%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", r.iteration, r.rec, r.gan, r.nce, r.tri, r.disc,
-                         r.total);
+  return absl::StrFormat("%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", r.iteration, r.rec, r.gan, r.nce,
+                         r.tri, r.disc, r.total);
 }
 
 // Everything a resumed run needs, besides the tensors.
@@ -79,7 +79,8 @@ struct Trainer {
   torch::Tensor Batch() {
     std::vector<float> buf;
     data.SampleBatch(config.batch, config.window, &rng, &buf);
-    return torch::from_blob(buf.data(), {config.batch, config.dim, config.window}, torch::kFloat32).clone();
+    return torch::from_blob(buf.data(), {config.batch, config.dim, config.window}, torch::kFloat32)
+        .clone();
   }
 
   LossRecord Step() {
@@ -87,13 +88,15 @@ struct Trainer {
     const torch::Tensor c_t = net->content(x_t), s_t = net->style(x_t);
     const torch::Tensor c_s = net->content(x_s), s_s = net->style(x_s);
     const torch::Tensor rec = (ReconstructionLoss(net->decode(c_t, s_t), x_t) +
-                               ReconstructionLoss(net->decode(c_s, s_s), x_s)) / 2;
+                               ReconstructionLoss(net->decode(c_s, s_s), x_s)) /
+                              2;
     const torch::Tensor x_g = net->decode(c_t, s_s);
     LossRecord r;
     torch::Tensor total = rec;
     if (config.alpha > 0) {
       opt_d->zero_grad();
-      const torch::Tensor d_loss = DiscriminatorGanLoss(disc->forward(x_s), disc->forward(x_g.detach()));
+      const torch::Tensor d_loss =
+          DiscriminatorGanLoss(disc->forward(x_s), disc->forward(x_g.detach()));
       d_loss.backward();
       opt_d->step();
       r.disc = d_loss.item<double>();
@@ -137,8 +140,12 @@ struct Trainer {
     rng_text << rng;
     std::string csv = CsvHeader();
     for (const LossRecord& r : state.curve) csv += CsvRow(r);
-    if (absl::Status s = WriteFileAtomically(tmp + "/state.txt", absl::StrCat(state.iteration, "\n", rng_text.str(), "\n")); !s.ok()) return s;
-    if (absl::Status s = WriteFileAtomically(tmp + "/config.txt", config.Serialize()); !s.ok()) return s;
+    if (absl::Status s = WriteFileAtomically(
+            tmp + "/state.txt", absl::StrCat(state.iteration, "\n", rng_text.str(), "\n"));
+        !s.ok())
+      return s;
+    if (absl::Status s = WriteFileAtomically(tmp + "/config.txt", config.Serialize()); !s.ok())
+      return s;
     if (absl::Status s = WriteFileAtomically(tmp + "/loss.csv", csv); !s.ok()) return s;
     // Swap in the new checkpoint: the old one stays until the new is complete.
     fs::remove_all(dir + ".old", ec);
@@ -152,7 +159,9 @@ struct Trainer {
   absl::Status WritePackage(const std::string& csv) {
     ContrastiveConfig c = config;
     c.trained_iterations = state.iteration;
-    if (absl::Status s = WritePackageFiles(opt.out, c, data.norm, data.skeleton, data.frame_time); !s.ok()) return s;
+    if (absl::Status s = WritePackageFiles(opt.out, c, data.norm, data.skeleton, data.frame_time);
+        !s.ok())
+      return s;
     try {
       torch::save(net, opt.out + "/weights.pt.tmp");
     } catch (const std::exception& e) {
@@ -173,14 +182,16 @@ struct Trainer {
     std::ifstream f(dir + "/config.txt");
     std::stringstream ss;
     ss << f.rdbuf();
-    absl::StatusOr<ContrastiveConfig> saved = ContrastiveConfig::Parse(ss.str(), dir + "/config.txt");
+    absl::StatusOr<ContrastiveConfig> saved =
+        ContrastiveConfig::Parse(ss.str(), dir + "/config.txt");
     if (!saved.ok()) return saved.status();
     ContrastiveConfig a = *saved, b = config;
     a.iterations = b.iterations = 0;  // A resumed run may go longer.
     a.trained_iterations = b.trained_iterations = 0;
     if (a.Serialize() != b.Serialize()) {
       return absl::FailedPreconditionError(absl::StrCat(
-          dir, " was made with another configuration or data; train into a new --out or drop --resume"));
+          dir,
+          " was made with another configuration or data; train into a new --out or drop --resume"));
     }
     absl::StatusOr<TrainState> s = ReadState(dir);
     if (!s.ok()) return s.status();
@@ -208,15 +219,17 @@ struct Trainer {
     config.dim = data.dim();
     config.data = absl::StrJoin(opt.data, ";");
     config.commit = opt.commit;
-    Log(absl::StrFormat("loaded %d clips, %d windows of %d frames, %d channels in %.1f s", data.clips.size(),
-                        data.windows.size(), config.window, config.dim,
+    Log(absl::StrFormat("loaded %d clips, %d windows of %d frames, %d channels in %.1f s",
+                        data.clips.size(), data.windows.size(), config.window, config.dim,
                         std::chrono::duration<double>(Clock::now() - t_load).count()));
     torch::manual_seed(config.seed);
     rng.seed(config.seed);
     net = ContrastiveNet(config);
     disc = Discriminator(config);
-    opt_g = std::make_unique<torch::optim::Adam>(net->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
-    opt_d = std::make_unique<torch::optim::Adam>(disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+    opt_g = std::make_unique<torch::optim::Adam>(
+        net->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+    opt_d = std::make_unique<torch::optim::Adam>(
+        disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
     if (opt.resume) {
       if (absl::Status s = Resume(); !s.ok()) return s;
     }
@@ -227,21 +240,25 @@ struct Trainer {
     while (state.iteration < config.iterations) {
       const LossRecord r = Step();
       ++state.iteration;
-      sum.rec += r.rec, sum.gan += r.gan, sum.nce += r.nce, sum.tri += r.tri, sum.disc += r.disc, sum.total += r.total;
+      sum.rec += r.rec, sum.gan += r.gan, sum.nce += r.nce, sum.tri += r.tri, sum.disc += r.disc,
+          sum.total += r.total;
       ++in_sum;
       if (!std::isfinite(r.total)) {
-        return absl::InternalError(absl::StrCat("loss became non-finite at iteration ", state.iteration));
+        return absl::InternalError(
+            absl::StrCat("loss became non-finite at iteration ", state.iteration));
       }
       if (state.iteration % opt.log_every == 0 || state.iteration == config.iterations) {
-        LossRecord avg{state.iteration, sum.rec / in_sum, sum.gan / in_sum, sum.nce / in_sum,
+        LossRecord avg{state.iteration,  sum.rec / in_sum,  sum.gan / in_sum,  sum.nce / in_sum,
                        sum.tri / in_sum, sum.disc / in_sum, sum.total / in_sum};
         state.curve.push_back(avg);
         if (opt.on_record) opt.on_record(avg);
         const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
         const double its = (state.iteration - start) / std::max(secs, 1e-9);
-        Log(absl::StrFormat("iter %d/%d  rec %.4f  gan %.4f  nce %.4f  tri %.4f  disc %.4f  |  %.1f it/s  ETA %.0f s",
-                            state.iteration, config.iterations, avg.rec, avg.gan, avg.nce, avg.tri, avg.disc, its,
-                            (config.iterations - state.iteration) / std::max(its, 1e-9)));
+        Log(absl::StrFormat(
+            "iter %d/%d  rec %.4f  gan %.4f  nce %.4f  tri %.4f  disc %.4f  |  %.1f it/s  ETA %.0f "
+            "s",
+            state.iteration, config.iterations, avg.rec, avg.gan, avg.nce, avg.tri, avg.disc, its,
+            (config.iterations - state.iteration) / std::max(its, 1e-9)));
         sum = LossRecord();
         in_sum = 0;
       }

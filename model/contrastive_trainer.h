@@ -24,8 +24,8 @@ struct TrainOptions {
   bool resume = false;            // Continue from out/checkpoint if present.
   int checkpoint_every = 500;     // Iterations; also rewrites the package.
   int log_every = 50;
-  int threads = 0;                // LibTorch intra-op threads; 0 = all cores.
-  std::string commit;             // Recorded in config.txt.
+  int threads = 0;     // LibTorch intra-op threads; 0 = all cores.
+  std::string commit;  // Recorded in config.txt.
   // Progress lines (default: stderr).
   std::function<void(const std::string&)> log;
   // Called with each logged average (tests read the curve through it).

@@ -31,7 +31,8 @@ absl::Status WriteFileAtomically(const std::string& path, const std::string& tex
 
 absl::StatusOr<PackageContents> ReadPackage(const std::string& dir) {
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return absl::NotFoundError(absl::StrCat(dir, ": no such model directory"));
+  if (!fs::is_directory(dir, ec))
+    return absl::NotFoundError(absl::StrCat(dir, ": no such model directory"));
   PackageContents p;
   const std::string config_path = dir + "/config.txt";
   std::ifstream f(config_path);
@@ -49,15 +50,19 @@ absl::StatusOr<PackageContents> ReadPackage(const std::string& dir) {
   p.skeleton = rest->skeleton;
   p.frame_time = rest->frame_time;
   absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(p.skeleton);
-  if (!roles.ok()) return absl::InvalidArgumentError(absl::StrCat(dir, "/skeleton.bvh: ", roles.status().message()));
+  if (!roles.ok())
+    return absl::InvalidArgumentError(
+        absl::StrCat(dir, "/skeleton.bvh: ", roles.status().message()));
   p.roles = *roles;
   const int dim = motion::FeatureLayout(p.skeleton.num_joints()).dim();
   if (p.config.dim != dim || p.norm.dim() != dim) {
-    return absl::InvalidArgumentError(absl::StrCat(dir, ": feature widths disagree: config.txt says ", p.config.dim,
-                                                   ", norm.txt has ", p.norm.dim(), ", skeleton.bvh implies ", dim));
+    return absl::InvalidArgumentError(
+        absl::StrCat(dir, ": feature widths disagree: config.txt says ", p.config.dim,
+                     ", norm.txt has ", p.norm.dim(), ", skeleton.bvh implies ", dim));
   }
   p.weights_path = dir + "/weights.pt";
-  if (!fs::is_regular_file(p.weights_path, ec)) return absl::NotFoundError(absl::StrCat(p.weights_path, ": missing"));
+  if (!fs::is_regular_file(p.weights_path, ec))
+    return absl::NotFoundError(absl::StrCat(p.weights_path, ": missing"));
   return p;
 }
 
@@ -67,7 +72,8 @@ absl::Status WritePackageFiles(const std::string& dir, const ContrastiveConfig& 
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) return absl::PermissionDeniedError(absl::StrCat(dir, ": cannot create: ", ec.message()));
-  if (absl::Status s = WriteFileAtomically(dir + "/config.txt", config.Serialize()); !s.ok()) return s;
+  if (absl::Status s = WriteFileAtomically(dir + "/config.txt", config.Serialize()); !s.ok())
+    return s;
   if (absl::Status s = norm.Save(dir + "/norm.txt"); !s.ok()) return s;
   return motion::WriteBvhFile(motion::RestMotion(skeleton, 1, frame_time), dir + "/skeleton.bvh");
 }
@@ -82,14 +88,14 @@ absl::Status CheckClipFitsModel(const motion::Motion& clip, const PackageContent
   }
   const double fps = clip.fps(), model_fps = 1.0 / package.frame_time;
   if (!(std::fabs(fps - model_fps) <= 0.01 * model_fps)) {
-    return absl::InvalidArgumentError(absl::StrCat(what, " is at ", fps, " fps; the model expects ", model_fps,
-                                                   " fps (resample the clip first)"));
+    return absl::InvalidArgumentError(absl::StrCat(what, " is at ", fps, " fps; the model expects ",
+                                                   model_fps, " fps (resample the clip first)"));
   }
   for (size_t i = 0; i < clip.values.size(); ++i) {
     if (!std::isfinite(clip.values[i])) {
       const int channels = clip.skeleton.num_channels();
-      return absl::InvalidArgumentError(absl::StrCat(what, ": frame ", i / channels, ", channel ", i % channels,
-                                                     " is not a finite number"));
+      return absl::InvalidArgumentError(absl::StrCat(what, ": frame ", i / channels, ", channel ",
+                                                     i % channels, " is not a finite number"));
     }
   }
   return absl::OkStatus();

@@ -8,7 +8,8 @@
 namespace stylus::model {
 
 void SetComputeThreads(int threads) {
-  at::set_num_threads(threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  at::set_num_threads(
+      threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
 }
 
 int ComputeThreads() { return at::get_num_threads(); }

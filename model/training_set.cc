@@ -9,13 +9,16 @@
 
 namespace stylus::model {
 
-void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out) const {
+void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out,
+                              std::vector<int>* clip_of) const {
+  if (clip_of) clip_of->clear();
   const int d = dim();
   out->resize(static_cast<size_t>(count) * d * length);
   std::uniform_int_distribution<size_t> pick(0, windows.size() - 1);
   for (int b = 0; b < count; ++b) {
     const Window& w = windows[pick(*rng)];
     const motion::FeatureClip& clip = clips[w.clip];
+    if (clip_of) clip_of->push_back(w.clip);
     float* dst = out->data() + static_cast<size_t>(b) * d * length;
     for (int t = 0; t < length; ++t) {
       const float* row = clip.row(w.start + t);
@@ -26,15 +29,20 @@ void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::
 
 absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
                                             const motion::WindowSpec& spec,
-                                            const std::function<void(int, int)>& progress) {
+                                            const std::function<void(int, int)>& progress,
+                                            bool test, const motion::NormStats* fixed_norm) {
   std::vector<std::string> paths, dirs;
-  for (const std::string& s : sources) (absl::EndsWith(s, ".bvh") ? paths : dirs).push_back(s);
+  for (const std::string& s : sources) {
+    if (!test || !absl::EndsWith(s, ".bvh"))
+      (absl::EndsWith(s, ".bvh") ? paths : dirs).push_back(s);
+  }
   if (!dirs.empty()) {
     absl::StatusOr<motion::DatasetIndex> index = motion::IndexDataset(dirs);
     if (!index.ok()) return index.status();
-    for (const motion::ClipEntry* c : index->Split(false)) paths.push_back(c->path);
+    for (const motion::ClipEntry* c : index->Split(test)) paths.push_back(c->path);
   }
-  if (paths.empty()) return absl::InvalidArgumentError("no training clips");
+  if (paths.empty())
+    return absl::InvalidArgumentError(test ? "no held-out clips" : "no training clips");
   TrainingSet set;
   std::vector<const motion::FeatureClip*> raw;
   for (size_t i = 0; i < paths.size(); ++i) {
@@ -44,29 +52,42 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
       set.skeleton = m->skeleton;
       set.frame_time = m->frame_time;
       absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(m->skeleton);
-      if (!roles.ok()) return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", roles.status().message()));
+      if (!roles.ok())
+        return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", roles.status().message()));
       set.roles = *roles;
     } else {
       const std::string mismatch = m->skeleton.DescribeMismatch(set.skeleton);
       if (!mismatch.empty()) {
-        return absl::InvalidArgumentError(absl::StrCat(paths[i], ": another skeleton than ", paths[0], ": ", mismatch));
+        return absl::InvalidArgumentError(
+            absl::StrCat(paths[i], ": another skeleton than ", paths[0], ": ", mismatch));
       }
       if (std::fabs(m->frame_time - set.frame_time) > 0.01 * set.frame_time) {
-        return absl::InvalidArgumentError(absl::StrCat(paths[i], ": frame time ", m->frame_time, " differs from ",
-                                                       set.frame_time, " of ", paths[0]));
+        return absl::InvalidArgumentError(absl::StrCat(paths[i], ": frame time ", m->frame_time,
+                                                       " differs from ", set.frame_time, " of ",
+                                                       paths[0]));
       }
     }
     absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(*m, set.roles);
-    if (!f.ok()) return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", f.status().message()));
+    if (!f.ok())
+      return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", f.status().message()));
     set.clips.push_back(*std::move(f));
     set.paths.push_back(paths[i]);
     if (progress) progress(static_cast<int>(i + 1), static_cast<int>(paths.size()));
   }
   for (const auto& c : set.clips) raw.push_back(&c);
   const motion::FeatureLayout layout(set.skeleton.num_joints());
-  absl::StatusOr<motion::NormStats> norm = motion::NormStats::Compute(raw, layout.ChannelNames(set.skeleton, set.roles));
-  if (!norm.ok()) return norm.status();
-  set.norm = *std::move(norm);
+  if (fixed_norm != nullptr) {
+    if (fixed_norm->dim() != layout.dim()) {
+      return absl::InvalidArgumentError(
+          "normalization statistics do not match the clips' feature width");
+    }
+    set.norm = *fixed_norm;
+  } else {
+    absl::StatusOr<motion::NormStats> norm =
+        motion::NormStats::Compute(raw, layout.ChannelNames(set.skeleton, set.roles));
+    if (!norm.ok()) return norm.status();
+    set.norm = *std::move(norm);
+  }
   for (size_t i = 0; i < set.clips.size(); ++i) {
     set.norm.Normalize(&set.clips[i]);
     absl::StatusOr<std::vector<int>> starts = motion::WindowStarts(set.clips[i].frames, spec);
@@ -74,7 +95,8 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
     for (int s : *starts) set.windows.push_back({static_cast<int>(i), s});
   }
   if (set.windows.empty()) {
-    return absl::InvalidArgumentError(absl::StrCat("no clip is at least ", spec.length, " frames long"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("no clip is at least ", spec.length, " frames long"));
   }
   return set;
 }

@@ -29,17 +29,23 @@ struct TrainingSet {
   int dim() const { return norm.dim(); }
 
   // Copies `count` windows of `length` frames, chosen uniformly by `rng`, into
-  // `out` as (count, dim, length), channels first.
-  void SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out) const;
+  // `out` as (count, dim, length), channels first; `clips` (if not null) gets
+  // the clip index of each.
+  void SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out,
+                   std::vector<int>* clips = nullptr) const;
 };
 
 // Loads the training split of `sources` (directories are indexed and split as
-// motion::IndexDataset does; .bvh paths are taken whole). `progress` (may be
-// empty) is told how many clips are loaded. INVALID_ARGUMENT names a clip on
-// another skeleton or frame rate, or a clip that fails to parse.
+// motion::IndexDataset does; .bvh paths are taken whole), or with `test` the
+// held-out split of the directories. Normalizes with `norm` when given, else
+// with statistics computed over the loaded clips. `progress` (may be empty) is
+// told how many clips are loaded. INVALID_ARGUMENT names a clip on another
+// skeleton or frame rate, or a clip that fails to parse.
 absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
                                             const motion::WindowSpec& windows,
-                                            const std::function<void(int, int)>& progress = {});
+                                            const std::function<void(int, int)>& progress = {},
+                                            bool test = false,
+                                            const motion::NormStats* norm = nullptr);
 
 }  // namespace stylus::model
 

@@ -19,6 +19,8 @@ int Synth(const Argv& argv);
 int Render(const Argv& argv);
 int Train(const Argv& argv);
 int Transfer(const Argv& argv);
+int TrainJudges(const Argv& argv);
+int Eval(const Argv& argv);
 
 }  // namespace stylus::tool
 

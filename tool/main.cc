@@ -25,6 +25,9 @@ const Command kCommands[] = {
     {"render", stylus::tool::Render, "draw a clip as a filmstrip of stick figures (SVG)"},
     {"train", stylus::tool::Train, "train a style-transfer model (family contrastive)"},
     {"transfer", stylus::tool::Transfer, "transfer a style clip onto a content clip with a model"},
+    {"train-judges", stylus::tool::TrainJudges,
+     "train the style and content classifiers used by eval"},
+    {"eval", stylus::tool::Eval, "evaluate a model on held-out pairs against baselines"},
 };
 
 void Usage(FILE* out) {

@@ -16,7 +16,8 @@ namespace stylus::tool {
 
 int Train(const Argv& argv) {
   static const char kHelp[] =
-      "usage: stylus-tool train --family contrastive --data DIR... --out models/contrastive/VERSION\n"
+      "usage: stylus-tool train --family contrastive --data DIR... --out "
+      "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--seed S] [--resume] [--threads N]\n"
       "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
@@ -27,17 +28,19 @@ int Train(const Argv& argv) {
       "into --out. --resume continues from that checkpoint after a kill.\n";
   int code = 0;
   auto args = ParseOrExit("train", argv,
-                          {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma", "seed",
-                            "threads", "checkpoint-every", "log-every", "commit"},
+                          {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta",
+                            "gamma", "seed", "threads", "checkpoint-every", "log-every", "commit"},
                            {"no-nce", "no-tri", "resume"}},
                           kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
-    return Fail("train", absl::InvalidArgumentError("--family: only 'contrastive' is implemented so far"));
+    return Fail("train",
+                absl::InvalidArgumentError("--family: only 'contrastive' is implemented so far"));
   }
   model::TrainOptions opt;
   for (const std::string& d : args->All("data")) {
-    for (absl::string_view part : absl::StrSplit(d, ',', absl::SkipEmpty())) opt.data.emplace_back(part);
+    for (absl::string_view part : absl::StrSplit(d, ',', absl::SkipEmpty()))
+      opt.data.emplace_back(part);
   }
   for (const std::string& p : args->positional) opt.data.push_back(p);
   opt.out = args->Get("out");
@@ -46,17 +49,23 @@ int Train(const Argv& argv) {
     return 2;
   }
   model::ContrastiveConfig& c = opt.config;
-  absl::StatusOr<int> iters = args->GetInt("iters", c.iterations), batch = args->GetInt("batch", c.batch);
-  absl::StatusOr<int> seed = args->GetInt("seed", static_cast<int>(c.seed)), threads = args->GetInt("threads", 0);
-  absl::StatusOr<int> ckpt = args->GetInt("checkpoint-every", 500), log_every = args->GetInt("log-every", 50);
-  absl::StatusOr<double> lr = args->GetDouble("lr", c.lr), alpha = args->GetDouble("alpha", c.alpha);
-  absl::StatusOr<double> beta = args->GetDouble("beta", c.beta), gamma = args->GetDouble("gamma", c.gamma);
-  for (const absl::Status& s : {iters.status(), batch.status(), seed.status(), threads.status(), ckpt.status(),
-                                log_every.status(), lr.status(), alpha.status(), beta.status(), gamma.status()}) {
+  absl::StatusOr<int> iters = args->GetInt("iters", c.iterations),
+                      batch = args->GetInt("batch", c.batch);
+  absl::StatusOr<int> seed = args->GetInt("seed", static_cast<int>(c.seed)),
+                      threads = args->GetInt("threads", 0);
+  absl::StatusOr<int> ckpt = args->GetInt("checkpoint-every", 500),
+                      log_every = args->GetInt("log-every", 50);
+  absl::StatusOr<double> lr = args->GetDouble("lr", c.lr),
+                         alpha = args->GetDouble("alpha", c.alpha);
+  absl::StatusOr<double> beta = args->GetDouble("beta", c.beta),
+                         gamma = args->GetDouble("gamma", c.gamma);
+  for (const absl::Status& s :
+       {iters.status(), batch.status(), seed.status(), threads.status(), ckpt.status(),
+        log_every.status(), lr.status(), alpha.status(), beta.status(), gamma.status()}) {
     if (!s.ok()) return Fail("train", s);
   }
-  c.iterations = *iters, c.batch = *batch, c.seed = *seed, c.lr = *lr, c.alpha = *alpha, c.beta = *beta,
-  c.gamma = *gamma;
+  c.iterations = *iters, c.batch = *batch, c.seed = *seed, c.lr = *lr, c.alpha = *alpha,
+  c.beta = *beta, c.gamma = *gamma;
   c.use_nce = !args->switches.count("no-nce");
   c.use_tri = !args->switches.count("no-tri");
   opt.threads = *threads;
@@ -80,9 +89,13 @@ absl::Status TransferOne(const model::ContrastiveModel& m, const std::string& co
   absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(style_path);
   if (!style.ok()) return style.status();
   absl::StatusOr<model::StyleCode> code = m.EncodeStyle(*style);
-  if (!code.ok()) return absl::Status(code.status().code(), absl::StrCat(style_path, ": ", code.status().message()));
+  if (!code.ok())
+    return absl::Status(code.status().code(),
+                        absl::StrCat(style_path, ": ", code.status().message()));
   absl::StatusOr<motion::Motion> out = m.Transfer(*content, *code);
-  if (!out.ok()) return absl::Status(out.status().code(), absl::StrCat(content_path, ": ", out.status().message()));
+  if (!out.ok())
+    return absl::Status(out.status().code(),
+                        absl::StrCat(content_path, ": ", out.status().message()));
   return motion::WriteBvhFile(*out, out_path);
 }
 
@@ -99,22 +112,27 @@ int Transfer(const Argv& argv) {
       "and the others still run (exit 1 if any failed). --threads N sets the\n"
       "compute threads (default: one per core).\n";
   int code = 0;
-  auto args = ParseOrExit("transfer", argv, {{"model", "content", "style", "out", "pairs", "out-dir", "threads"}, {}},
+  auto args = ParseOrExit("transfer", argv,
+                          {{"model", "content", "style", "out", "pairs", "out-dir", "threads"}, {}},
                           kHelp, &code);
   if (!args) return code;
   const bool batch = args->Has("pairs");
-  if (!args->Has("model") || (batch ? !args->Has("out-dir")
-                                    : (!args->Has("content") || !args->Has("style") || !args->Has("out")))) {
+  if (!args->Has("model") ||
+      (batch ? !args->Has("out-dir")
+             : (!args->Has("content") || !args->Has("style") || !args->Has("out")))) {
     std::fprintf(stderr, "stylus-tool transfer: missing arguments\n\n%s", kHelp);
     return 2;
   }
   absl::StatusOr<int> threads = args->GetInt("threads", 0);
   if (!threads.ok()) return Fail("transfer", threads.status());
   model::SetComputeThreads(*threads);
-  absl::StatusOr<std::unique_ptr<model::ContrastiveModel>> m = model::ContrastiveModel::Load(args->Get("model"));
+  absl::StatusOr<std::unique_ptr<model::ContrastiveModel>> m =
+      model::ContrastiveModel::Load(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {
-    if (absl::Status s = TransferOne(**m, args->Get("content"), args->Get("style"), args->Get("out")); !s.ok()) {
+    if (absl::Status s =
+            TransferOne(**m, args->Get("content"), args->Get("style"), args->Get("out"));
+        !s.ok()) {
       return Fail("transfer", s);
     }
     absl::PrintF("wrote %s\n", args->Get("out"));
@@ -131,13 +149,16 @@ int Transfer(const Argv& argv) {
     if (line.empty() || (line_no == 1 && line.rfind("content_bvh", 0) == 0)) continue;
     std::vector<std::string> cols = absl::StrSplit(line, ',');
     if (cols.size() != 2) {
-      std::fprintf(stderr, "%s:%d: expected content_bvh,style_bvh\n", args->Get("pairs").c_str(), line_no);
+      std::fprintf(stderr, "%s:%d: expected content_bvh,style_bvh\n", args->Get("pairs").c_str(),
+                   line_no);
       ++failed;
       continue;
     }
-    const std::string out = absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
+    const std::string out =
+        absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
     if (absl::Status s = TransferOne(**m, cols[0], cols[1], out); !s.ok()) {
-      std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no, std::string(s.message()).c_str());
+      std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
+                   std::string(s.message()).c_str());
       ++failed;
       continue;
     }

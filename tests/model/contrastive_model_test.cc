@@ -28,9 +28,12 @@ std::vector<std::string> FourClips() {
   static std::vector<std::string> paths;
   if (!paths.empty()) return paths;
   const std::string dir = Dir("clips");
-  for (const char* style : {"normal,frames=64", "old,frames=64", "run,frames=64", "proud,frames=64,turn=30"}) {
-    const std::string path = dir + "/" + std::string(style).substr(0, std::string(style).find(',')) + ".bvh";
-    EXPECT_TRUE(motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(style)), path).ok());
+  for (const char* style :
+       {"normal,frames=64", "old,frames=64", "run,frames=64", "proud,frames=64,turn=30"}) {
+    const std::string path =
+        dir + "/" + std::string(style).substr(0, std::string(style).find(',')) + ".bvh";
+    EXPECT_TRUE(
+        motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(style)), path).ok());
     paths.push_back(path);
   }
   return paths;
@@ -65,8 +68,11 @@ TEST(ContrastiveModelTest, TinyModelOverfitsFourClips) {
   o.on_record = [&](const LossRecord& r) { curve.push_back(r); };
   ASSERT_TRUE(TrainContrastive(o).ok());
   ASSERT_EQ(curve.size(), 30u);
-  for (const auto& r : curve) std::printf("%d rec %.4f gan %.4f nce %.4f tri %.4f\n", r.iteration, r.rec, r.gan, r.nce, r.tri);
-  EXPECT_LT(curve.back().rec, 0.5 * curve.front().rec) << curve.front().rec << " -> " << curve.back().rec;
+  for (const auto& r : curve)
+    std::printf("%d rec %.4f gan %.4f nce %.4f tri %.4f\n", r.iteration, r.rec, r.gan, r.nce,
+                r.tri);
+  EXPECT_LT(curve.back().rec, 0.5 * curve.front().rec)
+      << curve.front().rec << " -> " << curve.back().rec;
   for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh", "weights.pt", "loss.csv"}) {
     EXPECT_TRUE(fs::exists(o.out + "/" + f)) << f;
   }
@@ -112,7 +118,8 @@ TEST_F(TrainedModelTest, TransferKeepsLayoutAndLengthForAnyLength) {
   const StyleCode style = *(*m)->EncodeStyle(Clip(1));
   EXPECT_EQ(style.values.size(), 16u);
   for (int frames : {5, 16, 17, 64, 101}) {
-    const motion::Motion content = *motion::Synthesize(*motion::ParseSynthStyle("normal,frames=" + std::to_string(frames)));
+    const motion::Motion content =
+        *motion::Synthesize(*motion::ParseSynthStyle("normal,frames=" + std::to_string(frames)));
     absl::StatusOr<motion::Motion> out = (*m)->Transfer(content, style);
     ASSERT_TRUE(out.ok()) << out.status();
     EXPECT_EQ(out->num_frames, frames);
@@ -146,7 +153,8 @@ TEST_F(TrainedModelTest, InterpolationEndpointsEqualTransfer) {
   // Bad schedules are errors.
   StyleWeights short_schedule;
   short_schedule.per_frame.assign(3, {1.0, 0.0});
-  EXPECT_EQ(m->Interpolate(content, {a, b}, short_schedule).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(m->Interpolate(content, {a, b}, short_schedule).status().code(),
+            absl::StatusCode::kInvalidArgument);
   EXPECT_FALSE(m->Interpolate(content, {a, b}, {{1.0}, {}}).ok());
 }
 
@@ -160,7 +168,8 @@ TEST_F(TrainedModelTest, RejectsClipsTheModelCannotTake) {
   motion::Motion nan = Clip(0);
   nan.values[40] = std::nan("");
   EXPECT_NE(m->EncodeStyle(nan).status().message().find("not a finite number"), std::string::npos);
-  const motion::Motion other = *motion::ReadBvhFile(std::string(STYLUS_SOURCE_DIR) + "/tests/fixtures/bvh/good/three_joint.bvh");
+  const motion::Motion other = *motion::ReadBvhFile(std::string(STYLUS_SOURCE_DIR) +
+                                                    "/tests/fixtures/bvh/good/three_joint.bvh");
   EXPECT_NE(m->EncodeStyle(other).status().message().find("another skeleton"), std::string::npos);
 }
 
@@ -174,7 +183,8 @@ TEST_F(TrainedModelTest, CorruptOrMissingFilesAreClearErrors) {
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(copy);
   ASSERT_FALSE(m.ok());
   EXPECT_EQ(m.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(m.status().message().find("weights.pt: cannot load weights"), std::string::npos) << m.status();
+  EXPECT_NE(m.status().message().find("weights.pt: cannot load weights"), std::string::npos)
+      << m.status();
   fs::remove(copy + "/norm.txt");
   EXPECT_EQ(ContrastiveModel::Load(copy).status().code(), absl::StatusCode::kNotFound);
   EXPECT_EQ(ContrastiveModel::Load("/no/such/model").status().code(), absl::StatusCode::kNotFound);

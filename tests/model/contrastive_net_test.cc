@@ -32,12 +32,14 @@ TEST(ContrastiveNetTest, StyleChangesTheOutputContentCodeIgnoresScale) {
   ContrastiveNet net(Tiny());
   const torch::Tensor x = torch::randn({2, 10, 16});
   const torch::Tensor c = net->content(x);
-  const torch::Tensor a = net->decode(c, torch::zeros({2, 8})), b = net->decode(c, torch::ones({2, 8}));
+  const torch::Tensor a = net->decode(c, torch::zeros({2, 8})),
+                      b = net->decode(c, torch::ones({2, 8}));
   EXPECT_GT((a - b).abs().max().item<float>(), 1e-3);
 }
 
 TEST(ContrastiveNetTest, ReconstructionLossIsMeanAbsoluteError) {
-  const torch::Tensor a = torch::zeros({1, 2, 2}), b = torch::tensor({1.f, -1.f, 2.f, 0.f}).reshape({1, 2, 2});
+  const torch::Tensor a = torch::zeros({1, 2, 2}),
+                      b = torch::tensor({1.f, -1.f, 2.f, 0.f}).reshape({1, 2, 2});
   EXPECT_FLOAT_EQ(ReconstructionLoss(a, b).item<float>(), 1.0f);
   EXPECT_FLOAT_EQ(ReconstructionLoss(b, b).item<float>(), 0.0f);
 }
@@ -51,7 +53,8 @@ TEST(ContrastiveNetTest, NceLossRewardsMatchingTimeSteps) {
   EXPECT_LT(aligned, 0.5);
   EXPECT_GT(shuffled, aligned + 1.0);
   // Uniform logits give log(L).
-  EXPECT_NEAR(NceLoss(target, target, torch::zeros({8, 8}), 0.1).item<double>(), std::log(6.0), 1e-5);
+  EXPECT_NEAR(NceLoss(target, target, torch::zeros({8, 8}), 0.1).item<double>(), std::log(6.0),
+              1e-5);
 }
 
 TEST(ContrastiveNetTest, TripletLossHingesOnTheMargin) {
@@ -63,7 +66,8 @@ TEST(ContrastiveNetTest, TripletLossHingesOnTheMargin) {
 }
 
 TEST(ContrastiveNetTest, GanLossesAreNonSaturating) {
-  const torch::Tensor confident_real = torch::full({4}, 10.f), confident_fake = torch::full({4}, -10.f);
+  const torch::Tensor confident_real = torch::full({4}, 10.f),
+                      confident_fake = torch::full({4}, -10.f);
   EXPECT_LT(DiscriminatorGanLoss(confident_real, confident_fake).item<float>(), 1e-3);
   EXPECT_GT(GeneratorGanLoss(confident_fake).item<float>(), 9.f);  // Strong gradient when D wins.
   EXPECT_NEAR(GeneratorGanLoss(torch::zeros({4})).item<float>(), std::log(2.0), 1e-6);

@@ -1,0 +1,49 @@
+// Evaluation of a style-transfer model on held-out Bandai pairs against two
+// baselines: identity (output = content clip) and copy-style (output = style
+// clip). Torch-free: it drives the model and the judges through their APIs.
+#ifndef STYLUS_MODEL_EVALUATION_H_
+#define STYLUS_MODEL_EVALUATION_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "model/contrastive_model.h"
+#include "model/judges.h"
+
+namespace stylus::model {
+
+struct EvalPair {
+  std::string content_path, style_path;
+};
+
+// Deterministic pairs from the held-out split of `dirs`: for every held-out
+// clip as content, up to `per_content` held-out style clips of another content
+// and another style, chosen by a stable hash of both names.
+absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::string>& dirs,
+                                                    int per_content);
+
+struct EvalRow {
+  std::string name;
+  double style_accuracy = 0;    // Judged style == the style clip's style.
+  double content_accuracy = 0;  // Judged content == the content clip's content.
+  double foot_skating =
+      0;  // Mean horizontal foot speed (units/s) where the content clip's feet are planted.
+  int pairs = 0;
+};
+
+struct EvalReport {
+  std::vector<EvalRow> rows;     // Model, identity, copy-style.
+  double real_foot_skating = 0;  // The content clips' own value.
+  std::string Markdown() const;
+};
+
+// Runs the model over every pair; `progress(done, total)` may be empty.
+absl::StatusOr<EvalReport> Evaluate(const ContrastiveModel& model, const Judges& judges,
+                                    const std::vector<EvalPair>& pairs,
+                                    const std::function<void(int, int)>& progress = {});
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_EVALUATION_H_

@@ -1,0 +1,91 @@
+// train-judges and eval.
+#include <cstdio>
+
+#include "absl/strings/str_format.h"
+#include "model/evaluation.h"
+#include "model/judges.h"
+#include "model/package.h"
+#include "model/runtime.h"
+#include "tool/cli_support.h"
+
+namespace stylus::tool {
+
+int TrainJudges(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool train-judges --data DIR... --out models/judges/VERSION\n"
+      "         [--iters 3000] [--batch 32] [--seed S] [--threads N]\n\n"
+      "Trains, on the labelled training split of DIR, a style classifier and a\n"
+      "content classifier (class-balanced batches), reports their clip-level\n"
+      "accuracy on the held-out split and writes them to --out for `eval`.\n";
+  int code = 0;
+  auto args = ParseOrExit("train-judges", argv,
+                          {{"data", "out", "iters", "batch", "seed", "threads"}, {}}, kHelp, &code);
+  if (!args) return code;
+  model::JudgeTrainOptions o;
+  o.data = args->All("data");
+  o.out = args->Get("out");
+  if (o.data.empty() || o.out.empty()) {
+    std::fprintf(stderr, "stylus-tool train-judges: --data and --out are required\n\n%s", kHelp);
+    return 2;
+  }
+  absl::StatusOr<int> iters = args->GetInt("iters", o.iterations),
+                      batch = args->GetInt("batch", o.batch);
+  absl::StatusOr<int> seed = args->GetInt("seed", 1), threads = args->GetInt("threads", 0);
+  for (const absl::Status& s : {iters.status(), batch.status(), seed.status(), threads.status()}) {
+    if (!s.ok()) return Fail("train-judges", s);
+  }
+  o.iterations = *iters, o.batch = *batch, o.seed = *seed;
+  model::SetComputeThreads(*threads);
+  absl::StatusOr<model::JudgeAccuracy> acc = model::TrainJudges(o);
+  if (!acc.ok()) return Fail("train-judges", acc.status());
+  absl::PrintF(
+      "held-out clips: %d\nstyle accuracy: %.3f\ncontent accuracy: %.3f\njudges written to %s\n",
+      acc->clips, acc->style, acc->content, o.out);
+  return 0;
+}
+
+int Eval(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool eval --model DIR --judges DIR --data DIR... --out report.md\n"
+      "         [--pairs-per-content 3] [--threads N]\n\n"
+      "Transfers deterministic held-out pairs (content clip x style clip of another\n"
+      "content and another style) and reports style and content recognition\n"
+      "accuracy (by the judges) and foot skating, for the model and for the\n"
+      "identity and copy-style baselines, as a Markdown table.\n";
+  int code = 0;
+  auto args = ParseOrExit("eval", argv,
+                          {{"model", "judges", "data", "out", "pairs-per-content", "threads"}, {}},
+                          kHelp, &code);
+  if (!args) return code;
+  if (!args->Has("model") || !args->Has("judges") || !args->Has("data") || !args->Has("out")) {
+    std::fprintf(stderr, "stylus-tool eval: --model, --judges, --data and --out are required\n\n%s",
+                 kHelp);
+    return 2;
+  }
+  absl::StatusOr<int> per = args->GetInt("pairs-per-content", 3),
+                      threads = args->GetInt("threads", 0);
+  if (!per.ok()) return Fail("eval", per.status());
+  if (!threads.ok()) return Fail("eval", threads.status());
+  model::SetComputeThreads(*threads);
+  auto m = model::ContrastiveModel::Load(args->Get("model"));
+  if (!m.ok()) return Fail("eval", m.status());
+  auto judges = model::Judges::Load(args->Get("judges"));
+  if (!judges.ok()) return Fail("eval", judges.status());
+  auto pairs = model::MakeEvalPairs(args->All("data"), *per);
+  if (!pairs.ok()) return Fail("eval", pairs.status());
+  auto report = model::Evaluate(**m, **judges, *pairs, [](int done, int total) {
+    if (done % 20 == 0 || done == total)
+      std::fprintf(stderr, "\revaluated %d/%d pairs", done, total);
+  });
+  std::fprintf(stderr, "\n");
+  if (!report.ok()) return Fail("eval", report.status());
+  const std::string text =
+      absl::StrFormat("# Evaluation of %s\n\nJudges: %s. Held-out pairs: %d.\n\n%s",
+                      args->Get("model"), args->Get("judges"), pairs->size(), report->Markdown());
+  if (absl::Status s = model::WriteFileAtomically(args->Get("out"), text); !s.ok())
+    return Fail("eval", s);
+  std::fputs(text.c_str(), stdout);
+  return 0;
+}
+
+}  // namespace stylus::tool

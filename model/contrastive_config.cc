@@ -25,6 +25,8 @@ std::string ContrastiveConfig::Serialize() const {
   put("temperature", absl::StrCat(temperature));
   put("use_nce", use_nce ? "1" : "0");
   put("use_tri", use_tri ? "1" : "0");
+  put("cross_view", cross_view ? "1" : "0");
+  put("local_style", local_style ? "1" : "0");
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -88,9 +90,14 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
       s = to_double(&c.margin, 0, 1e6);
     } else if (key == "temperature") {
       s = to_double(&c.temperature, 1e-6, 1e6);
-    } else if (key == "use_nce" || key == "use_tri") {
+    } else if (key == "use_nce" || key == "use_tri" || key == "cross_view" ||
+               key == "local_style") {
       if (value != "0" && value != "1") return error(key + " must be 0 or 1");
-      (key == "use_nce" ? c.use_nce : c.use_tri) = value == "1";
+      bool* flag = key == "use_nce"      ? &c.use_nce
+                   : key == "use_tri"    ? &c.use_tri
+                   : key == "cross_view" ? &c.cross_view
+                                         : &c.local_style;
+      *flag = value == "1";
     } else if (key == "batch") {
       s = to_int(&c.batch, 1, 1 << 20);
     } else if (key == "lr") {

@@ -23,6 +23,14 @@ struct ContrastiveConfig {
   double margin = 1.0;       // Triplet margin.
   double temperature = 0.1;  // InfoNCE temperature on unit-length codes.
   bool use_nce = true, use_tri = true;
+  // Style view (docs/contrastive.md): with `cross_view`, the style code of a
+  // window is taken from another window of the same clip, so it can only carry
+  // what the whole clip shares; without, from the window itself (the paper).
+  bool cross_view = true;
+  // With `local_style`, the style encoder sees 3 frames at a time (conv k3,
+  // then 1x1 convs) before the temporal mean: its code holds statistics of
+  // poses and their local change, not the order of events in the window.
+  bool local_style = false;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

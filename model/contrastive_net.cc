@@ -104,7 +104,15 @@ torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) {
 
 ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c) {
   content_encoder = register_module("content_encoder", Encoder(c, /*instance_norm=*/true));
-  style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));
+  if (c.local_style) {
+    const auto lrelu = nn::LeakyReLUOptions().negative_slope(0.2);
+    local_style = register_module(
+        "local_style", nn::Sequential(Conv(c.dim, c.channels, 3), nn::LeakyReLU(lrelu),
+                                      Conv(c.channels, c.channels, 1), nn::LeakyReLU(lrelu),
+                                      Conv(c.channels, c.channels, 1)));
+  } else {
+    style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));
+  }
   generator = register_module("generator", Generator(c));
   nce_w = register_parameter("nce_w", torch::eye(c.channels));
 }

@@ -65,11 +65,15 @@ struct ContrastiveNetImpl : torch::nn::Module {
   explicit ContrastiveNetImpl(const ContrastiveConfig& c);
   torch::Tensor content(const torch::Tensor& x) { return content_encoder->forward(x); }
   // (B, C): temporal mean of the style encoder's output.
-  torch::Tensor style(const torch::Tensor& x) { return style_encoder->forward(x).mean(2); }
+  torch::Tensor style(const torch::Tensor& x) {
+    return (local_style ? local_style->forward(x) : style_encoder->forward(x)).mean(2);
+  }
   torch::Tensor decode(const torch::Tensor& c, const torch::Tensor& s) {
     return generator->forward(c, s);
   }
   Encoder content_encoder{nullptr}, style_encoder{nullptr};
+  torch::nn::Sequential local_style{
+      nullptr};  // Set instead of style_encoder with config.local_style.
   Generator generator{nullptr};
   torch::Tensor nce_w;
 };

@@ -110,7 +110,10 @@ struct Trainer {
       total = total + config.beta * nce;
     }
     if (config.use_tri && config.gamma > 0) {
-      const torch::Tensor tri = TripletLoss(net->style(x_g), s_s, s_t, config.margin);
+      // Positive: the style clip's code from its own window (the other view
+      // already fed G), so the pair is two views of one clip.
+      const torch::Tensor tri = TripletLoss(
+          net->style(x_g), config.cross_view ? net->style(x_s) : s_s, s_t, config.margin);
       r.tri = tri.item<double>();
       total = total + config.gamma * tri;
     }

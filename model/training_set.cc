@@ -27,6 +27,21 @@ void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::
   }
 }
 
+void TrainingSet::SampleFromClips(const std::vector<int>& clip_ids, int length,
+                                  std::mt19937_64* rng, std::vector<float>* out) const {
+  const int d = dim();
+  out->resize(clip_ids.size() * d * length);
+  for (size_t b = 0; b < clip_ids.size(); ++b) {
+    const motion::FeatureClip& clip = clips[clip_ids[b]];
+    const int start = static_cast<int>((*rng)() % static_cast<uint64_t>(clip.frames - length + 1));
+    float* dst = out->data() + b * d * length;
+    for (int t = 0; t < length; ++t) {
+      const float* row = clip.row(start + t);
+      for (int k = 0; k < d; ++k) dst[static_cast<size_t>(k) * length + t] = row[k];
+    }
+  }
+}
+
 absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
                                             const motion::WindowSpec& spec,
                                             const std::function<void(int, int)>& progress,

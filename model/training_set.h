@@ -33,6 +33,10 @@ struct TrainingSet {
   // the clip index of each.
   void SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out,
                    std::vector<int>* clips = nullptr) const;
+  // For each of `clips`, a window of `length` frames starting anywhere in that
+  // clip, chosen by `rng`, in the layout of SampleBatch.
+  void SampleFromClips(const std::vector<int>& clips, int length, std::mt19937_64* rng,
+                       std::vector<float>* out) const;
 };
 
 // Loads the training split of `sources` (directories are indexed and split as

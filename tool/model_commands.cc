@@ -19,18 +19,23 @@ int Train(const Argv& argv) {
       "usage: stylus-tool train --family contrastive --data DIR... --out "
       "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
-      "         [--no-nce] [--no-tri] [--seed S] [--resume] [--threads N]\n"
+      "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
+      "         [--threads N]\n"
       "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly) without using any label. Prints the losses,\n"
       "it/s and ETA; every --checkpoint-every iterations writes a checkpoint and a\n"
       "usable package (config.txt, norm.txt, skeleton.bvh, weights.pt, loss.csv)\n"
-      "into --out. --resume continues from that checkpoint after a kill.\n";
+      "into --out. --resume continues from that checkpoint after a kill.\n"
+      "--same-view takes each window's style code from the window itself (the\n"
+      "paper); by default it comes from another window of the same clip\n"
+      "(docs/contrastive.md). --local-style gives the style encoder a 3-frame\n"
+      "receptive field.\n";
   int code = 0;
   auto args = ParseOrExit("train", argv,
                           {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta",
                             "gamma", "seed", "threads", "checkpoint-every", "log-every", "commit"},
-                           {"no-nce", "no-tri", "resume"}},
+                           {"no-nce", "no-tri", "same-view", "local-style", "resume"}},
                           kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -68,6 +73,8 @@ int Train(const Argv& argv) {
   c.beta = *beta, c.gamma = *gamma;
   c.use_nce = !args->switches.count("no-nce");
   c.use_tri = !args->switches.count("no-tri");
+  c.cross_view = !args->switches.count("same-view");
+  c.local_style = args->switches.count("local-style") > 0;
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

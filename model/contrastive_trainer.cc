@@ -16,6 +16,7 @@
 #include "model/package.h"
 #include "model/runtime.h"
 #include "model/training_set.h"
+#include "motion/files.h"
 
 namespace stylus::model {
 namespace {
@@ -143,13 +144,14 @@ struct Trainer {
     rng_text << rng;
     std::string csv = CsvHeader();
     for (const LossRecord& r : state.curve) csv += CsvRow(r);
-    if (absl::Status s = WriteFileAtomically(
+    if (absl::Status s = motion::WriteFileAtomically(
             tmp + "/state.txt", absl::StrCat(state.iteration, "\n", rng_text.str(), "\n"));
         !s.ok())
       return s;
-    if (absl::Status s = WriteFileAtomically(tmp + "/config.txt", config.Serialize()); !s.ok())
+    if (absl::Status s = motion::WriteFileAtomically(tmp + "/config.txt", config.Serialize());
+        !s.ok())
       return s;
-    if (absl::Status s = WriteFileAtomically(tmp + "/loss.csv", csv); !s.ok()) return s;
+    if (absl::Status s = motion::WriteFileAtomically(tmp + "/loss.csv", csv); !s.ok()) return s;
     // Swap in the new checkpoint: the old one stays until the new is complete.
     fs::remove_all(dir + ".old", ec);
     if (fs::exists(dir)) fs::rename(dir, dir + ".old", ec);
@@ -173,7 +175,7 @@ struct Trainer {
     std::error_code ec;
     fs::rename(opt.out + "/weights.pt.tmp", opt.out + "/weights.pt", ec);
     if (ec) return absl::InternalError(absl::StrCat(opt.out, "/weights.pt: ", ec.message()));
-    return WriteFileAtomically(opt.out + "/loss.csv", csv);
+    return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
   }
 
   absl::Status Resume() {

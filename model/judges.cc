@@ -18,6 +18,7 @@
 #include "model/window_tensor.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
+#include "motion/files.h"
 #include "motion/windowing.h"
 
 namespace stylus::model {
@@ -173,7 +174,8 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
       absl::StrFormat("\nheld_out_style_accuracy = %.4f\nheld_out_content_accuracy = "
                       "%.4f\nheld_out_clips = %d\n",
                       acc.style, acc.content, acc.clips));
-  if (absl::Status s = WriteFileAtomically(o.out + "/labels.txt", labels); !s.ok()) return s;
+  if (absl::Status s = motion::WriteFileAtomically(o.out + "/labels.txt", labels); !s.ok())
+    return s;
   return acc;
 }
 

@@ -9,25 +9,12 @@
 #include "absl/strings/str_cat.h"
 #include "motion/bvh.h"
 #include "motion/features.h"
+#include "motion/files.h"
 
 namespace stylus::model {
 
 namespace fs = std::filesystem;
-
-absl::Status WriteFileAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) return absl::PermissionDeniedError(absl::StrCat(path, ": cannot open for writing"));
-    f << text;
-    f.close();
-    if (!f) return absl::InternalError(absl::StrCat(path, ": write failed"));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    return absl::InternalError(absl::StrCat(path, ": cannot move the written file into place"));
-  }
-  return absl::OkStatus();
-}
+using motion::WriteFileAtomically;
 
 absl::StatusOr<PackageContents> ReadPackage(const std::string& dir) {
   std::error_code ec;

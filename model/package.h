@@ -38,9 +38,6 @@ absl::Status WritePackageFiles(const std::string& dir, const ContrastiveConfig& 
                                const motion::NormStats& norm, const motion::Skeleton& skeleton,
                                double frame_time);
 
-// Writes `text` to `path` through a temporary file renamed into place.
-absl::Status WriteFileAtomically(const std::string& path, const std::string& text);
-
 // INVALID_ARGUMENT unless `clip` can be fed to a model of `package`: same joint
 // names, hierarchy and channel layout, the same frame rate (within 1%), finite
 // values, at least one frame. `what` names the clip in the message.

@@ -1,10 +1,9 @@
 #include <charconv>
-#include <cstdio>
-#include <fstream>
 #include <string>
 
 #include "absl/strings/str_cat.h"
 #include "motion/bvh.h"
+#include "motion/files.h"
 
 namespace stylus::motion {
 namespace {
@@ -82,23 +81,7 @@ std::string FormatBvh(const Motion& motion) {
 }
 
 absl::Status WriteBvhFile(const Motion& motion, const std::string& path) {
-  const std::string text = FormatBvh(motion);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) return absl::PermissionDeniedError(absl::StrCat(path, ": cannot open for writing"));
-    f.write(text.data(), static_cast<std::streamsize>(text.size()));
-    f.close();
-    if (!f) {
-      std::remove(tmp.c_str());
-      return absl::InternalError(absl::StrCat(path, ": write failed (disk full?)"));
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    return absl::InternalError(absl::StrCat(path, ": cannot move the written file into place"));
-  }
-  return absl::OkStatus();
+  return WriteFileAtomically(path, FormatBvh(motion));
 }
 
 }  // namespace stylus::motion

@@ -9,6 +9,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
+#include "motion/files.h"
 
 namespace stylus::motion {
 
@@ -117,17 +118,7 @@ absl::StatusOr<NormStats> NormStats::Parse(const std::string& text, const std::s
 }
 
 absl::Status NormStats::Save(const std::string& path) const {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::trunc);
-    f << Serialize();
-    f.close();
-    if (!f) return absl::InternalError(absl::StrCat(path, ": write failed"));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    return absl::InternalError(absl::StrCat(path, ": cannot move the written file into place"));
-  }
-  return absl::OkStatus();
+  return WriteFileAtomically(path, Serialize());
 }
 
 absl::StatusOr<NormStats> NormStats::Load(const std::string& path) {

@@ -6,6 +6,7 @@
 #include "model/judges.h"
 #include "model/package.h"
 #include "model/runtime.h"
+#include "motion/files.h"
 #include "tool/cli_support.h"
 
 namespace stylus::tool {
@@ -82,7 +83,7 @@ int Eval(const Argv& argv) {
   const std::string text =
       absl::StrFormat("# Evaluation of %s\n\nJudges: %s. Held-out pairs: %d.\n\n%s",
                       args->Get("model"), args->Get("judges"), pairs->size(), report->Markdown());
-  if (absl::Status s = model::WriteFileAtomically(args->Get("out"), text); !s.ok())
+  if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
   std::fputs(text.c_str(), stdout);
   return 0;

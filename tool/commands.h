@@ -21,6 +21,7 @@ int Train(const Argv& argv);
 int Transfer(const Argv& argv);
 int TrainJudges(const Argv& argv);
 int Eval(const Argv& argv);
+int StyleMap(const Argv& argv);
 
 }  // namespace stylus::tool
 

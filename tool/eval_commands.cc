@@ -6,6 +6,9 @@
 #include "model/judges.h"
 #include "model/package.h"
 #include "model/runtime.h"
+#include "model/style_map.h"
+#include "motion/bvh.h"
+#include "motion/dataset.h"
 #include "motion/files.h"
 #include "tool/cli_support.h"
 
@@ -86,6 +89,45 @@ int Eval(const Argv& argv) {
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
   std::fputs(text.c_str(), stdout);
+  return 0;
+}
+
+int StyleMap(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool style-map --model DIR --data DIR... -o codes.svg [--split test|train]\n\n"
+      "Encodes the style of every clip of the split (default: held-out) and draws\n"
+      "the codes' first two principal components as an SVG scatter coloured by\n"
+      "the clips' style labels (the paper's Fig. 2 analogue; labels are only\n"
+      "used for the colours).\n";
+  int code = 0;
+  auto args = ParseOrExit("style-map", argv, {{"model", "data", "out", "split"}, {}}, kHelp, &code);
+  if (!args) return code;
+  const std::string split = args->Get("split", "test");
+  if (!args->Has("model") || !args->Has("data") || !args->Has("out") ||
+      (split != "test" && split != "train")) {
+    std::fprintf(stderr, "stylus-tool style-map: --model, --data, -o and --split test|train\n\n%s",
+                 kHelp);
+    return 2;
+  }
+  auto m = model::ContrastiveModel::Load(args->Get("model"));
+  if (!m.ok()) return Fail("style-map", m.status());
+  auto index = motion::IndexDataset(args->All("data"));
+  if (!index.ok()) return Fail("style-map", index.status());
+  std::vector<model::StylePoint> points;
+  for (const motion::ClipEntry* c : index->Split(split == "test")) {
+    auto clip = motion::ReadBvhFile(c->path);
+    if (!clip.ok()) return Fail("style-map", clip.status());
+    auto style = (*m)->EncodeStyle(*clip);
+    if (!style.ok()) return Fail("style-map", style.status());
+    points.push_back({c->label.style, style->values});
+  }
+  auto svg = model::StyleMapSvg(
+      points, absl::StrFormat("Style codes of %d %s clips, %s (PCA)", points.size(),
+                              split == "test" ? "held-out" : "training", args->Get("model")));
+  if (!svg.ok()) return Fail("style-map", svg.status());
+  if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), *svg); !s.ok())
+    return Fail("style-map", s);
+  absl::PrintF("wrote %s (%d clips)\n", args->Get("out"), points.size());
   return 0;
 }
 

@@ -28,6 +28,7 @@ const Command kCommands[] = {
     {"train-judges", stylus::tool::TrainJudges,
      "train the style and content classifiers used by eval"},
     {"eval", stylus::tool::Eval, "evaluate a model on held-out pairs against baselines"},
+    {"style-map", stylus::tool::StyleMap, "plot style codes of labelled clips (PCA, SVG)"},
 };
 
 void Usage(FILE* out) {

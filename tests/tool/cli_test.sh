@@ -49,7 +49,7 @@ check "render svg" 0 "<svg" -- cat "$work/walk.svg"
 check "dataset-stats missing dir" 1 "not a directory" -- "$tool" dataset-stats "$work/none"
 # Training and transfer on synthesized clips (a few iterations: the plumbing,
 # not the quality, which model_tests and the evaluation cover).
-for cmd in train transfer train-judges eval; do
+for cmd in train transfer train-judges eval style-map; do
   check "$cmd --help" 0 "usage: stylus-tool $cmd" -- "$tool" "$cmd" --help
 done
 "$tool" synth --style proud,frames=40 -o "$work/proud.bvh" >/dev/null

@@ -27,6 +27,7 @@ std::string ContrastiveConfig::Serialize() const {
   put("use_tri", use_tri ? "1" : "0");
   put("cross_view", cross_view ? "1" : "0");
   put("local_style", local_style ? "1" : "0");
+  put("keep_amplitude", keep_amplitude ? "1" : "0");
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -91,12 +92,13 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     } else if (key == "temperature") {
       s = to_double(&c.temperature, 1e-6, 1e6);
     } else if (key == "use_nce" || key == "use_tri" || key == "cross_view" ||
-               key == "local_style") {
+               key == "local_style" || key == "keep_amplitude") {
       if (value != "0" && value != "1") return error(key + " must be 0 or 1");
-      bool* flag = key == "use_nce"      ? &c.use_nce
-                   : key == "use_tri"    ? &c.use_tri
-                   : key == "cross_view" ? &c.cross_view
-                                         : &c.local_style;
+      bool* flag = key == "use_nce"       ? &c.use_nce
+                   : key == "use_tri"     ? &c.use_tri
+                   : key == "cross_view"  ? &c.cross_view
+                   : key == "local_style" ? &c.local_style
+                                          : &c.keep_amplitude;
       *flag = value == "1";
     } else if (key == "batch") {
       s = to_int(&c.batch, 1, 1 << 20);

@@ -31,6 +31,10 @@ struct ContrastiveConfig {
   // then 1x1 convs) before the temporal mean: its code holds statistics of
   // poses and their local change, not the order of events in the window.
   bool local_style = false;
+  // With `keep_amplitude`, the generator's AdaIN removes each channel's mean
+  // but keeps its temporal spread, so the style code shifts and rescales the
+  // content's movement instead of replacing its amplitude.
+  bool keep_amplitude = false;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

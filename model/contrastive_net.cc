@@ -16,10 +16,12 @@ torch::Tensor LeakyRelu(const torch::Tensor& x) {
 }
 
 // Per-sample, per-channel normalization over time, then scale and bias.
-torch::Tensor AdaIn(const torch::Tensor& x, const torch::Tensor& scale, const torch::Tensor& bias) {
-  const torch::Tensor mean = x.mean(2, true);
-  const torch::Tensor std = (x.var(2, false, true) + 1e-5).sqrt();
-  return (x - mean) / std * (1 + scale.unsqueeze(2)) + bias.unsqueeze(2);
+torch::Tensor AdaIn(const torch::Tensor& x, const torch::Tensor& scale, const torch::Tensor& bias,
+                    bool keep_amplitude) {
+  const torch::Tensor centred = x - x.mean(2, true);
+  const torch::Tensor normalized =
+      keep_amplitude ? centred : centred / (x.var(2, false, true) + 1e-5).sqrt();
+  return normalized * (1 + scale.unsqueeze(2)) + bias.unsqueeze(2);
 }
 
 }  // namespace
@@ -57,15 +59,15 @@ torch::Tensor EncoderImpl::forward(torch::Tensor x) {
   return x;
 }
 
-AdaInBlockImpl::AdaInBlockImpl(int c, int kernel) : channels(c) {
+AdaInBlockImpl::AdaInBlockImpl(int c, int kernel, bool keep) : channels(c), keep_amplitude(keep) {
   conv1 = register_module("conv1", Conv(c, c, kernel));
   conv2 = register_module("conv2", Conv(c, c, kernel));
 }
 
 torch::Tensor AdaInBlockImpl::forward(const torch::Tensor& x, const torch::Tensor& p) {
   const auto parts = p.split(channels, 1);
-  torch::Tensor y = LeakyRelu(AdaIn(conv1->forward(x), parts[0], parts[1]));
-  y = AdaIn(conv2->forward(y), parts[2], parts[3]);
+  torch::Tensor y = LeakyRelu(AdaIn(conv1->forward(x), parts[0], parts[1], keep_amplitude));
+  y = AdaIn(conv2->forward(y), parts[2], parts[3], keep_amplitude);
   return x + y;
 }
 
@@ -75,7 +77,8 @@ GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) 
                                        nn::LeakyReLU(nn::LeakyReLUOptions().negative_slope(0.2)),
                                        nn::Linear(c.channels, 4 * 4 * c.channels)));
   blocks = register_module("blocks", nn::ModuleList());
-  for (int i = 0; i < 4; ++i) blocks->push_back(AdaInBlock(c.channels, c.res_kernel));
+  for (int i = 0; i < 4; ++i)
+    blocks->push_back(AdaInBlock(c.channels, c.res_kernel, c.keep_amplitude));
   up_conv = register_module("up_conv", Conv(c.channels, c.channels, 7));
   out_conv = register_module("out_conv", Conv(c.channels, c.dim, 7));
 }

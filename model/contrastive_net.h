@@ -31,11 +31,12 @@ TORCH_MODULE(Encoder);
 
 // Residual block whose two normalizations are AdaIN with given scale and bias.
 struct AdaInBlockImpl : torch::nn::Module {
-  AdaInBlockImpl(int channels, int kernel);
+  AdaInBlockImpl(int channels, int kernel, bool keep_amplitude);
   // params: (B, 4C): scale1, bias1, scale2, bias2.
   torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& params);
   torch::nn::Conv1d conv1{nullptr}, conv2{nullptr};
   int channels;
+  bool keep_amplitude;
 };
 TORCH_MODULE(AdaInBlock);
 

@@ -20,7 +20,7 @@ int Train(const Argv& argv) {
       "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
-      "         [--threads N]\n"
+      "         [--keep-amplitude] [--threads N]\n"
       "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly) without using any label. Prints the losses,\n"
@@ -30,13 +30,15 @@ int Train(const Argv& argv) {
       "--same-view takes each window's style code from the window itself (the\n"
       "paper); by default it comes from another window of the same clip\n"
       "(docs/contrastive.md). --local-style gives the style encoder a 3-frame\n"
-      "receptive field.\n";
+      "receptive field. --keep-amplitude makes the generator's AdaIN keep each\n"
+      "channel's temporal spread (it still removes the mean).\n";
   int code = 0;
-  auto args = ParseOrExit("train", argv,
-                          {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta",
-                            "gamma", "seed", "threads", "checkpoint-every", "log-every", "commit"},
-                           {"no-nce", "no-tri", "same-view", "local-style", "resume"}},
-                          kHelp, &code);
+  auto args =
+      ParseOrExit("train", argv,
+                  {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
+                    "seed", "threads", "checkpoint-every", "log-every", "commit"},
+                   {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude", "resume"}},
+                  kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
     return Fail("train",
@@ -75,6 +77,7 @@ int Train(const Argv& argv) {
   c.use_tri = !args->switches.count("no-tri");
   c.cross_view = !args->switches.count("same-view");
   c.local_style = args->switches.count("local-style") > 0;
+  c.keep_amplitude = args->switches.count("keep-amplitude") > 0;
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

@@ -1,0 +1,34 @@
+#include "model/contrastive_config.h"
+
+#include "gtest/gtest.h"
+
+namespace stylus::model {
+namespace {
+
+TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
+  ContrastiveConfig c;
+  c.window = 48, c.hop = 36, c.dim = 162, c.channels = 64, c.res_kernel = 5;
+  c.alpha = 0.1, c.beta = 0.6, c.gamma = 0.2, c.margin = 0.5, c.temperature = 0.2;
+  c.use_nce = false, c.use_tri = false, c.cross_view = false, c.local_style = true,
+  c.keep_amplitude = true;
+  c.batch = 8, c.lr = 3e-4, c.iterations = 123, c.seed = 99, c.trained_iterations = 77;
+  c.data = "../shared/data/bandai", c.commit = "abc123";
+  absl::StatusOr<ContrastiveConfig> back = ContrastiveConfig::Parse(c.Serialize(), "config.txt");
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->Serialize(), c.Serialize());
+  EXPECT_FALSE(back->cross_view);
+  EXPECT_TRUE(back->local_style);
+  EXPECT_TRUE(back->keep_amplitude);
+}
+
+TEST(ContrastiveConfigTest, ErrorsNameTheLine) {
+  const absl::Status unknown = ContrastiveConfig::Parse("dim = 10\nwings = 2\n", "c.txt").status();
+  EXPECT_NE(unknown.message().find("c.txt:2: unknown key 'wings'"), std::string::npos) << unknown;
+  EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\nwindow = 31\n", "c.txt").ok());  // Odd window.
+  EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\nuse_nce = yes\n", "c.txt").ok());
+  EXPECT_FALSE(ContrastiveConfig::Parse("family = cyclic\ndim = 10\n", "c.txt").ok());
+  EXPECT_FALSE(ContrastiveConfig::Parse("window = 32\n", "c.txt").ok());  // No dim.
+}
+
+}  // namespace
+}  // namespace stylus::model

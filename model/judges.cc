@@ -70,7 +70,7 @@ torch::Tensor ClipLogits(Classifier& net, motion::FeatureClip f) {
 
 struct Judges::Impl {
   std::string dir;
-  PackageContents shape;  // Skeleton, frame time, roles and norm of the training data.
+  DataFiles shape;  // Skeleton, frame time, roles and norm of the training data.
   std::vector<std::string> styles, contents;
   Classifier style{nullptr}, content{nullptr};
 
@@ -164,11 +164,10 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
   } catch (const std::exception& e) {
     return absl::InternalError(absl::StrCat("training judges: ", e.what()));
   }
-  if (absl::Status s = train->norm.Save(o.out + "/norm.txt"); !s.ok()) return s;
-  if (absl::Status s = motion::WriteBvhFile(
-          motion::RestMotion(train->skeleton, 1, train->frame_time), o.out + "/skeleton.bvh");
-      !s.ok())
+  if (absl::Status s = WriteDataFiles(o.out, train->norm, train->skeleton, train->frame_time);
+      !s.ok()) {
     return s;
+  }
   const std::string labels = absl::StrCat(
       "styles = ", absl::StrJoin(styles, ","), "\ncontents = ", absl::StrJoin(contents, ","),
       absl::StrFormat("\nheld_out_style_accuracy = %.4f\nheld_out_content_accuracy = "
@@ -205,16 +204,9 @@ absl::StatusOr<std::unique_ptr<Judges>> Judges::Load(const std::string& dir) {
   if (impl->styles.empty() || impl->contents.empty()) {
     return absl::InvalidArgumentError(dir + "/labels.txt: no 'styles' or 'contents' line");
   }
-  absl::StatusOr<motion::NormStats> norm = motion::NormStats::Load(dir + "/norm.txt");
-  if (!norm.ok()) return norm.status();
-  impl->shape.norm = *std::move(norm);
-  absl::StatusOr<motion::Motion> rest = motion::ReadBvhFile(dir + "/skeleton.bvh");
-  if (!rest.ok()) return rest.status();
-  impl->shape.skeleton = rest->skeleton;
-  impl->shape.frame_time = rest->frame_time;
-  absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(rest->skeleton);
-  if (!roles.ok()) return roles.status();
-  impl->shape.roles = *roles;
+  absl::StatusOr<DataFiles> data = ReadDataFiles(dir);
+  if (!data.ok()) return data.status();
+  impl->shape = *std::move(data);
   const int dim = impl->shape.norm.dim();
   try {
     impl->style = Classifier(dim, static_cast<int>(impl->styles.size()));

@@ -16,6 +16,38 @@ namespace stylus::model {
 namespace fs = std::filesystem;
 using motion::WriteFileAtomically;
 
+absl::StatusOr<DataFiles> ReadDataFiles(const std::string& dir) {
+  DataFiles d;
+  absl::StatusOr<motion::NormStats> norm = motion::NormStats::Load(dir + "/norm.txt");
+  if (!norm.ok()) return norm.status();
+  d.norm = *std::move(norm);
+  absl::StatusOr<motion::Motion> rest = motion::ReadBvhFile(dir + "/skeleton.bvh");
+  if (!rest.ok()) return rest.status();
+  d.skeleton = rest->skeleton;
+  d.frame_time = rest->frame_time;
+  absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(d.skeleton);
+  if (!roles.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(dir, "/skeleton.bvh: ", roles.status().message()));
+  }
+  d.roles = *roles;
+  const int dim = motion::FeatureLayout(d.skeleton.num_joints()).dim();
+  if (d.norm.dim() != dim) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(dir, "/norm.txt has ", d.norm.dim(), " channels; skeleton.bvh implies ", dim));
+  }
+  return d;
+}
+
+absl::Status WriteDataFiles(const std::string& dir, const motion::NormStats& norm,
+                            const motion::Skeleton& skeleton, double frame_time) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return absl::PermissionDeniedError(absl::StrCat(dir, ": cannot create: ", ec.message()));
+  if (absl::Status s = norm.Save(dir + "/norm.txt"); !s.ok()) return s;
+  return motion::WriteBvhFile(motion::RestMotion(skeleton, 1, frame_time), dir + "/skeleton.bvh");
+}
+
 absl::StatusOr<PackageContents> ReadPackage(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
@@ -29,43 +61,28 @@ absl::StatusOr<PackageContents> ReadPackage(const std::string& dir) {
   absl::StatusOr<ContrastiveConfig> config = ContrastiveConfig::Parse(ss.str(), config_path);
   if (!config.ok()) return config.status();
   p.config = *config;
-  absl::StatusOr<motion::NormStats> norm = motion::NormStats::Load(dir + "/norm.txt");
-  if (!norm.ok()) return norm.status();
-  p.norm = *std::move(norm);
-  absl::StatusOr<motion::Motion> rest = motion::ReadBvhFile(dir + "/skeleton.bvh");
-  if (!rest.ok()) return rest.status();
-  p.skeleton = rest->skeleton;
-  p.frame_time = rest->frame_time;
-  absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(p.skeleton);
-  if (!roles.ok())
-    return absl::InvalidArgumentError(
-        absl::StrCat(dir, "/skeleton.bvh: ", roles.status().message()));
-  p.roles = *roles;
-  const int dim = motion::FeatureLayout(p.skeleton.num_joints()).dim();
-  if (p.config.dim != dim || p.norm.dim() != dim) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(dir, ": feature widths disagree: config.txt says ", p.config.dim,
-                     ", norm.txt has ", p.norm.dim(), ", skeleton.bvh implies ", dim));
+  absl::StatusOr<DataFiles> data = ReadDataFiles(dir);
+  if (!data.ok()) return data.status();
+  static_cast<DataFiles&>(p) = *std::move(data);
+  if (p.config.dim != p.norm.dim()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        dir, ": config.txt says ", p.config.dim, " feature channels, norm.txt has ", p.norm.dim()));
   }
   p.weights_path = dir + "/weights.pt";
-  if (!fs::is_regular_file(p.weights_path, ec))
+  if (!fs::is_regular_file(p.weights_path, ec)) {
     return absl::NotFoundError(absl::StrCat(p.weights_path, ": missing"));
+  }
   return p;
 }
 
 absl::Status WritePackageFiles(const std::string& dir, const ContrastiveConfig& config,
                                const motion::NormStats& norm, const motion::Skeleton& skeleton,
                                double frame_time) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) return absl::PermissionDeniedError(absl::StrCat(dir, ": cannot create: ", ec.message()));
-  if (absl::Status s = WriteFileAtomically(dir + "/config.txt", config.Serialize()); !s.ok())
-    return s;
-  if (absl::Status s = norm.Save(dir + "/norm.txt"); !s.ok()) return s;
-  return motion::WriteBvhFile(motion::RestMotion(skeleton, 1, frame_time), dir + "/skeleton.bvh");
+  if (absl::Status s = WriteDataFiles(dir, norm, skeleton, frame_time); !s.ok()) return s;
+  return WriteFileAtomically(dir + "/config.txt", config.Serialize());
 }
 
-absl::Status CheckClipFitsModel(const motion::Motion& clip, const PackageContents& package,
+absl::Status CheckClipFitsModel(const motion::Motion& clip, const DataFiles& package,
                                 const std::string& what) {
   if (clip.num_frames <= 0) return absl::InvalidArgumentError(what + " has no frames");
   const std::string mismatch = clip.skeleton.DescribeMismatch(package.skeleton);

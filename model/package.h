@@ -19,12 +19,25 @@
 
 namespace stylus::model {
 
-struct PackageContents {
-  ContrastiveConfig config;
+// What every package trained on clips holds (norm.txt, skeleton.bvh): the
+// feature statistics and the skeleton (with its frame rate and roles) that
+// input clips must match.
+struct DataFiles {
   motion::NormStats norm;
   motion::Skeleton skeleton;
   double frame_time = 1.0 / 30;
   motion::HumanoidRoles roles;
+};
+
+// NOT_FOUND for a missing file; INVALID_ARGUMENT (naming the file) for a
+// malformed one, a non-humanoid skeleton, or statistics of another width.
+absl::StatusOr<DataFiles> ReadDataFiles(const std::string& dir);
+// Writes norm.txt and skeleton.bvh (one rest frame) into `dir`.
+absl::Status WriteDataFiles(const std::string& dir, const motion::NormStats& norm,
+                            const motion::Skeleton& skeleton, double frame_time);
+
+struct PackageContents : DataFiles {
+  ContrastiveConfig config;
   std::string weights_path;
 };
 
@@ -41,7 +54,7 @@ absl::Status WritePackageFiles(const std::string& dir, const ContrastiveConfig& 
 // INVALID_ARGUMENT unless `clip` can be fed to a model of `package`: same joint
 // names, hierarchy and channel layout, the same frame rate (within 1%), finite
 // values, at least one frame. `what` names the clip in the message.
-absl::Status CheckClipFitsModel(const motion::Motion& clip, const PackageContents& package,
+absl::Status CheckClipFitsModel(const motion::Motion& clip, const DataFiles& package,
                                 const std::string& what);
 
 }  // namespace stylus::model

@@ -8,6 +8,17 @@
 #include "motion/dataset.h"
 
 namespace stylus::model {
+namespace {
+
+// Frames [start, start + length) of `clip`, channels first, into `dst`.
+void CopyWindow(const motion::FeatureClip& clip, int start, int length, float* dst) {
+  for (int t = 0; t < length; ++t) {
+    const float* row = clip.row(start + t);
+    for (int k = 0; k < clip.dim; ++k) dst[static_cast<size_t>(k) * length + t] = row[k];
+  }
+}
+
+}  // namespace
 
 void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out,
                               std::vector<int>* clip_of) const {
@@ -19,11 +30,7 @@ void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::
     const Window& w = windows[pick(*rng)];
     const motion::FeatureClip& clip = clips[w.clip];
     if (clip_of) clip_of->push_back(w.clip);
-    float* dst = out->data() + static_cast<size_t>(b) * d * length;
-    for (int t = 0; t < length; ++t) {
-      const float* row = clip.row(w.start + t);
-      for (int k = 0; k < d; ++k) dst[static_cast<size_t>(k) * length + t] = row[k];
-    }
+    CopyWindow(clip, w.start, length, out->data() + static_cast<size_t>(b) * d * length);
   }
 }
 
@@ -34,11 +41,7 @@ void TrainingSet::SampleFromClips(const std::vector<int>& clip_ids, int length,
   for (size_t b = 0; b < clip_ids.size(); ++b) {
     const motion::FeatureClip& clip = clips[clip_ids[b]];
     const int start = static_cast<int>((*rng)() % static_cast<uint64_t>(clip.frames - length + 1));
-    float* dst = out->data() + b * d * length;
-    for (int t = 0; t < length; ++t) {
-      const float* row = clip.row(start + t);
-      for (int k = 0; k < d; ++k) dst[static_cast<size_t>(k) * length + t] = row[k];
-    }
+    CopyWindow(clip, start, length, out->data() + b * d * length);
   }
 }
 

@@ -28,6 +28,7 @@ std::string ContrastiveConfig::Serialize() const {
   put("cross_view", cross_view ? "1" : "0");
   put("local_style", local_style ? "1" : "0");
   put("keep_amplitude", keep_amplitude ? "1" : "0");
+  if (centred_style) put("centred_style", "1");
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -92,12 +93,13 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     } else if (key == "temperature") {
       s = to_double(&c.temperature, 1e-6, 1e6);
     } else if (key == "use_nce" || key == "use_tri" || key == "cross_view" ||
-               key == "local_style" || key == "keep_amplitude") {
+               key == "local_style" || key == "keep_amplitude" || key == "centred_style") {
       if (value != "0" && value != "1") return error(key + " must be 0 or 1");
       bool* flag = key == "use_nce"       ? &c.use_nce
                    : key == "use_tri"     ? &c.use_tri
                    : key == "cross_view"  ? &c.cross_view
                    : key == "local_style" ? &c.local_style
+                   : key == "centred_style" ? &c.centred_style
                                           : &c.keep_amplitude;
       *flag = value == "1";
     } else if (key == "batch") {

@@ -35,6 +35,11 @@ struct ContrastiveConfig {
   // but keeps its temporal spread, so the style code shifts and rescales the
   // content's movement instead of replacing its amplitude.
   bool keep_amplitude = false;
+  // With `centred_style`, the style encoder sees each window minus its
+  // temporal mean per channel: how the motion moves, not where the body's
+  // mean pose is, so the mean pose (what is being done) must come through the
+  // content code.
+  bool centred_style = false;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

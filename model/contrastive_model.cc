@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "model/contrastive_net.h"
+#include "model/window_blend.h"
 #include "model/window_tensor.h"
 #include "motion/features.h"
 #include "motion/windowing.h"
@@ -19,17 +20,6 @@ struct ContrastiveModel::Impl {
 
   absl::Status Internal(const std::exception& e) const {
     return absl::InternalError(absl::StrCat("model ", dir, ": ", e.what()));
-  }
-
-  // Normalized features of a clip, padded to at least one window.
-  absl::StatusOr<motion::FeatureClip> Features(const motion::Motion& clip,
-                                               const std::string& what) const {
-    if (absl::Status s = CheckClipFitsModel(clip, package, what); !s.ok()) return s;
-    absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, package.roles);
-    if (!f.ok()) return f.status();
-    package.norm.Normalize(&*f);
-    PadToLength(&*f, package.config.window);
-    return f;
   }
 
   std::vector<int> Starts(int frames) const {
@@ -82,13 +72,60 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(const s
 }
 
 absl::StatusOr<StyleCode> ContrastiveModel::EncodeStyle(const motion::Motion& clip) const {
-  absl::StatusOr<motion::FeatureClip> f = impl_->Features(clip, "style clip");
+  absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(clip, "style clip");
   if (!f.ok()) return f.status();
+  PadToLength(&*f, impl_->package.config.window);
   try {
     c10::InferenceMode guard;
     const torch::Tensor s =
         impl_->net->style(impl_->Windows(*f, impl_->Starts(f->frames))).mean(0).contiguous();
     return StyleCode{std::vector<float>(s.data_ptr<float>(), s.data_ptr<float>() + s.numel())};
+  } catch (const std::exception& e) {
+    return impl_->Internal(e);
+  }
+}
+
+absl::StatusOr<motion::FeatureClip> ContrastiveModel::NormalizedFeatures(
+    const motion::Motion& clip, const std::string& what,
+    const std::vector<motion::Quat>* sign_reference) const {
+  if (absl::Status s = CheckClipFitsModel(clip, impl_->package, what); !s.ok()) return s;
+  absl::StatusOr<motion::FeatureClip> f =
+      motion::ExtractFeatures(clip, impl_->package.roles, {}, sign_reference);
+  if (!f.ok()) return f.status();
+  impl_->package.norm.Normalize(&*f);
+  return f;
+}
+
+absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
+    const motion::FeatureClip& features, const std::vector<int>& starts,
+    const std::vector<StyleCode>& codes) const {
+  const ContrastiveConfig& config = impl_->package.config;
+  if (codes.size() != starts.size()) {
+    return absl::InvalidArgumentError("one style code per window is needed");
+  }
+  for (size_t w = 0; w < starts.size(); ++w) {
+    if (starts[w] < 0 || starts[w] + config.window > features.frames) {
+      return absl::InvalidArgumentError(absl::StrCat("window at frame ", starts[w],
+                                                     " does not fit in ", features.frames,
+                                                     " frames"));
+    }
+    if (static_cast<int>(codes[w].values.size()) != config.channels) {
+      return absl::InvalidArgumentError(absl::StrCat("style code has ", codes[w].values.size(),
+                                                     " values; this model's have ",
+                                                     config.channels));
+    }
+  }
+  try {
+    c10::InferenceMode guard;
+    torch::Tensor code_tensor = torch::empty({static_cast<int64_t>(starts.size()), config.channels});
+    for (size_t w = 0; w < starts.size(); ++w) {
+      code_tensor[w].copy_(torch::from_blob(const_cast<float*>(codes[w].values.data()),
+                                            {config.channels}, torch::kFloat32));
+    }
+    const torch::Tensor y =
+        impl_->net->decode(impl_->net->content(impl_->Windows(features, starts)), code_tensor)
+            .contiguous();
+    return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
   } catch (const std::exception& e) {
     return impl_->Internal(e);
   }
@@ -126,47 +163,27 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
       if (!std::isfinite(w)) return absl::InvalidArgumentError("style weights must be finite");
     }
   }
-  absl::StatusOr<motion::FeatureClip> f = impl_->Features(content, "content clip");
+  absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(content, "content clip");
   if (!f.ok()) return f.status();
+  PadToLength(&*f, config.window);
   const std::vector<int> starts = impl_->Starts(f->frames);
-  const int t = config.window, d = f->dim, overlap = config.window - config.hop;
-  motion::FeatureClip out;
-  out.frames = f->frames;
-  out.dim = d;
-  out.values.assign(f->values.size(), 0.f);
-  std::vector<float> weight_sum(f->frames, 0.f);
-  try {
-    c10::InferenceMode guard;
-    torch::Tensor codes = torch::empty({static_cast<int64_t>(starts.size()), config.channels});
-    for (size_t w = 0; w < starts.size(); ++w) {
-      const int centre = std::min(content.num_frames - 1, starts[w] + t / 2);
-      const std::vector<double>& mix = per_frame ? weights.per_frame[centre] : weights.fixed;
-      for (int c = 0; c < config.channels; ++c) {
-        double v = 0;
-        for (size_t k = 0; k < styles.size(); ++k) v += mix[k] * styles[k].values[c];
-        codes[w][c] = static_cast<float>(v);
-      }
+  std::vector<StyleCode> codes(starts.size());
+  for (size_t w = 0; w < starts.size(); ++w) {
+    const int centre = std::min(content.num_frames - 1, starts[w] + config.window / 2);
+    const std::vector<double>& mix = per_frame ? weights.per_frame[centre] : weights.fixed;
+    codes[w].values.assign(config.channels, 0.f);
+    for (int c = 0; c < config.channels; ++c) {
+      double v = 0;
+      for (size_t k = 0; k < styles.size(); ++k) v += mix[k] * styles[k].values[c];
+      codes[w].values[c] = static_cast<float>(v);
     }
-    const torch::Tensor y =
-        impl_->net->decode(impl_->net->content(impl_->Windows(*f, starts)), codes).contiguous();
-    auto a = y.accessor<float, 3>();
-    for (size_t w = 0; w < starts.size(); ++w) {
-      for (int i = 0; i < t; ++i) {
-        // Linear ramps over the overlaps, so neighbouring windows cross-fade.
-        const float fade = std::min({1.f, (i + 1.f) / (overlap + 1.f), (t - i) / (overlap + 1.f)});
-        float* row = out.row(starts[w] + i);
-        for (int k = 0; k < d; ++k) row[k] += fade * a[w][k][i];
-        weight_sum[starts[w] + i] += fade;
-      }
-    }
-  } catch (const std::exception& e) {
-    return impl_->Internal(e);
   }
-  for (int i = 0; i < out.frames; ++i) {
-    for (int k = 0; k < d; ++k) out.row(i)[k] /= weight_sum[i];
-  }
-  out.frames = content.num_frames;  // Drop padding.
-  out.values.resize(static_cast<size_t>(out.frames) * d);
+  absl::StatusOr<std::vector<float>> y = GenerateWindows(*f, starts, codes);
+  if (!y.ok()) return y.status();
+  WindowBlender blender(config.window, config.window - config.hop, f->dim);
+  const size_t per_window = static_cast<size_t>(f->dim) * config.window;
+  for (size_t w = 0; w < starts.size(); ++w) blender.Add(starts[w], y->data() + w * per_window);
+  motion::FeatureClip out = blender.Take(content.num_frames);  // Drops the padding.
   impl_->package.norm.Denormalize(&out);
   return motion::MotionFromFeatures(out, content.skeleton, impl_->package.roles, content.frame_time,
                                     motion::RootAt(content, impl_->package.roles, 0));

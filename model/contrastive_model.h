@@ -15,6 +15,7 @@
 
 #include "absl/status/statusor.h"
 #include "model/package.h"
+#include "motion/features.h"
 #include "motion/motion.h"
 
 namespace stylus::model {
@@ -58,6 +59,21 @@ class ContrastiveModel {
   absl::StatusOr<motion::Motion> Interpolate(const motion::Motion& content,
                                              const std::vector<StyleCode>& styles,
                                              const StyleWeights& weights) const;
+
+  // Lower-level steps of Transfer, for streaming (model/stream_transfer.h).
+  // The clip's normalized features, checked as Transfer checks a content clip
+  // and not padded.
+  // `sign_reference`: see motion::ExtractFeatures.
+  absl::StatusOr<motion::FeatureClip> NormalizedFeatures(
+      const motion::Motion& clip, const std::string& what,
+      const std::vector<motion::Quat>* sign_reference = nullptr) const;
+  // The generator's output (normalized features, (dim, window) per window,
+  // channel major, one after another) for the windows of `features` starting
+  // at `starts`, window i with style codes[i]. Every window must fit inside
+  // `features`.
+  absl::StatusOr<std::vector<float>> GenerateWindows(const motion::FeatureClip& features,
+                                                     const std::vector<int>& starts,
+                                                     const std::vector<StyleCode>& codes) const;
 
  private:
   struct Impl;

@@ -105,7 +105,8 @@ torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) {
   return mlp->forward(x).squeeze(1);
 }
 
-ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c) {
+ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c)
+    : centred_style(c.centred_style) {
   content_encoder = register_module("content_encoder", Encoder(c, /*instance_norm=*/true));
   if (c.local_style) {
     const auto lrelu = nn::LeakyReLUOptions().negative_slope(0.2);

@@ -67,7 +67,8 @@ struct ContrastiveNetImpl : torch::nn::Module {
   torch::Tensor content(const torch::Tensor& x) { return content_encoder->forward(x); }
   // (B, C): temporal mean of the style encoder's output.
   torch::Tensor style(const torch::Tensor& x) {
-    return (local_style ? local_style->forward(x) : style_encoder->forward(x)).mean(2);
+    const torch::Tensor in = centred_style ? x - x.mean(2, true) : x;
+    return (local_style ? local_style->forward(in) : style_encoder->forward(in)).mean(2);
   }
   torch::Tensor decode(const torch::Tensor& c, const torch::Tensor& s) {
     return generator->forward(c, s);
@@ -77,6 +78,7 @@ struct ContrastiveNetImpl : torch::nn::Module {
       nullptr};  // Set instead of style_encoder with config.local_style.
   Generator generator{nullptr};
   torch::Tensor nce_w;
+  bool centred_style = false;
 };
 TORCH_MODULE(ContrastiveNet);
 

@@ -77,17 +77,29 @@ struct Trainer {
     }
   }
 
-  torch::Tensor Batch() {
-    std::vector<float> buf;
-    data.SampleBatch(config.batch, config.window, &rng, &buf);
-    return torch::from_blob(buf.data(), {config.batch, config.dim, config.window}, torch::kFloat32)
+  torch::Tensor ToTensor(std::vector<float>* buf) const {
+    return torch::from_blob(buf->data(), {config.batch, config.dim, config.window},
+                            torch::kFloat32)
         .clone();
   }
 
+  // A batch of windows and, with cross_view, a second window of the same clip
+  // for each (its style view); without, the same windows.
+  std::pair<torch::Tensor, torch::Tensor> Batch() {
+    std::vector<float> buf;
+    std::vector<int> clips;
+    data.SampleBatch(config.batch, config.window, &rng, &buf, &clips);
+    torch::Tensor x = ToTensor(&buf);
+    if (!config.cross_view) return {x, x};
+    data.SampleFromClips(clips, config.window, &rng, &buf);
+    return {x, ToTensor(&buf)};
+  }
+
   LossRecord Step() {
-    const torch::Tensor x_t = Batch(), x_s = Batch();
-    const torch::Tensor c_t = net->content(x_t), s_t = net->style(x_t);
-    const torch::Tensor c_s = net->content(x_s), s_s = net->style(x_s);
+    const auto [x_t, v_t] = Batch();
+    const auto [x_s, v_s] = Batch();
+    const torch::Tensor c_t = net->content(x_t), s_t = net->style(v_t);
+    const torch::Tensor c_s = net->content(x_s), s_s = net->style(v_s);
     const torch::Tensor rec = (ReconstructionLoss(net->decode(c_t, s_t), x_t) +
                                ReconstructionLoss(net->decode(c_s, s_s), x_s)) /
                               2;

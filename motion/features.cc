@@ -46,8 +46,19 @@ RootStart RootAt(const Motion& motion, const HumanoidRoles& roles, int f) {
   return {g.positions[roles.pelvis].x, g.positions[roles.pelvis].z, FacingYaw(g.positions, roles)};
 }
 
+std::vector<Quat> FeatureRotations(const FeatureClip& features, int f) {
+  const FeatureLayout layout((features.dim - 8) / 7);
+  std::vector<Quat> out(layout.num_joints);
+  for (int j = 0; j < layout.num_joints; ++j) {
+    const float* q = features.row(f) + layout.rotation(j);
+    out[j] = {q[0], q[1], q[2], q[3]};
+  }
+  return out;
+}
+
 absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const HumanoidRoles& roles,
-                                            const ContactParams& contact_params) {
+                                            const ContactParams& contact_params,
+                                            const std::vector<Quat>* sign_reference) {
   const Skeleton& sk = motion.skeleton;
   const int n = motion.num_frames, nj = sk.num_joints();
   if (n <= 0) return absl::InvalidArgumentError("cannot extract features from an empty motion");
@@ -62,6 +73,8 @@ absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const Humanoid
   std::vector<Vec3> root(n);
   std::vector<double> yaw(n);
   std::vector<Quat> prev_q(nj);
+  const bool referenced = sign_reference != nullptr && static_cast<int>(sign_reference->size()) == nj;
+  if (referenced) prev_q = *sign_reference;
   for (int f = 0; f < n; ++f) {
     const LocalPose local = PoseAt(motion, f);
     const GlobalPose g = ForwardKinematics(sk, local);
@@ -73,7 +86,7 @@ absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const Humanoid
     for (int j = 0; j < nj; ++j) {
       const Vec3 p = above[j] ? local.translations[j] : Rotate(inv_yaw, g.positions[j] - root[f]);
       Quat q = j == roles.pelvis ? inv_yaw * g.rotations[j] : local.rotations[j];
-      q = f == 0 ? CanonicalSign(q) : SameHemisphere(q, prev_q[j]);
+      q = f == 0 && !referenced ? CanonicalSign(q) : SameHemisphere(q, prev_q[j]);
       prev_q[j] = q;
       for (int c = 0; c < 3; ++c) row[layout.position(j) + c] = static_cast<float>(p[c]);
       const double qv[4] = {q.w, q.x, q.y, q.z};
@@ -105,6 +118,13 @@ absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const Humanoid
 absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Skeleton& sk,
                                           const HumanoidRoles& roles, double frame_time,
                                           const RootStart& start) {
+  DecodeState state{start, {}};
+  return MotionFromFeatures(features, sk, roles, frame_time, &state);
+}
+
+absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Skeleton& sk,
+                                          const HumanoidRoles& roles, double frame_time,
+                                          DecodeState* state) {
   const int nj = sk.num_joints();
   const FeatureLayout layout(nj);
   if (features.dim != layout.dim()) {
@@ -123,8 +143,9 @@ absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Ske
   }
   const std::vector<bool> above = AbovePelvis(sk, roles);
   Motion m = RestMotion(sk, features.frames, frame_time);
-  std::vector<Vec3> prev_euler(nj);
-  double x = start.x, z = start.z, yaw = start.yaw;
+  std::vector<Vec3>& prev_euler = state->prev_euler;
+  prev_euler.resize(nj);
+  double x = state->root.x, z = state->root.z, yaw = state->root.yaw;
   for (int f = 0; f < features.frames; ++f) {
     const float* row = features.row(f);
     const Quat yaw_q = YawRotation(yaw);
@@ -161,6 +182,7 @@ absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Ske
     z += step.z;
     yaw += t[2] * frame_time;
   }
+  state->root = {x, z, yaw};
   return m;
 }
 

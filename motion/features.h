@@ -57,8 +57,16 @@ struct RootStart {
 };
 
 // Features of every frame. INVALID_ARGUMENT if the motion has no frames.
+// `sign_reference` (one per joint), when given, stands for the feature
+// quaternions of the frame before the motion's first: the first frame's signs
+// follow it instead of CanonicalSign, so the features of a later stretch of a
+// clip equal those of the whole clip.
 absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const HumanoidRoles& roles,
-                                            const ContactParams& contacts = {});
+                                            const ContactParams& contacts = {},
+                                            const std::vector<Quat>* sign_reference = nullptr);
+// The feature quaternions of frame `f` of `features` (one per joint): the
+// sign_reference for a stretch that starts at frame f + 1.
+std::vector<Quat> FeatureRotations(const FeatureClip& features, int f);
 
 // The root's floor position and facing in frame `f` of a motion.
 RootStart RootAt(const Motion& motion, const HumanoidRoles& roles, int f);
@@ -71,6 +79,20 @@ RootStart RootAt(const Motion& motion, const HumanoidRoles& roles, int f);
 absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Skeleton& skeleton,
                                           const HumanoidRoles& roles, double frame_time,
                                           const RootStart& start = {});
+
+// Where the reconstruction of a clip stands between consecutive chunks of it
+// (streaming): the root's floor position and facing for the next frame, and
+// the last Euler angles written (one per joint; zeros before the first frame).
+struct DecodeState {
+  RootStart root;
+  std::vector<Vec3> prev_euler;
+};
+// MotionFromFeatures for the next chunk of a clip: starts at `state` and
+// leaves it ready for the chunk after, so chunks decoded one after another
+// equal the whole clip decoded at once. `state->prev_euler` may be empty.
+absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Skeleton& skeleton,
+                                          const HumanoidRoles& roles, double frame_time,
+                                          DecodeState* state);
 
 }  // namespace stylus::motion
 

@@ -20,7 +20,7 @@ int Train(const Argv& argv) {
       "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
-      "         [--keep-amplitude] [--threads N]\n"
+      "         [--keep-amplitude] [--centred-style] [--threads N]\n"
       "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly) without using any label. Prints the losses,\n"
@@ -31,13 +31,14 @@ int Train(const Argv& argv) {
       "paper); by default it comes from another window of the same clip\n"
       "(docs/contrastive.md). --local-style gives the style encoder a 3-frame\n"
       "receptive field. --keep-amplitude makes the generator's AdaIN keep each\n"
-      "channel's temporal spread (it still removes the mean).\n";
+      "channel's temporal spread (it still removes the mean). --centred-style\n"
+      "feeds the style encoder each window minus its mean pose.\n";
   int code = 0;
   auto args =
       ParseOrExit("train", argv,
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
                     "seed", "threads", "checkpoint-every", "log-every", "commit"},
-                   {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude", "resume"}},
+                   {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude", "centred-style", "resume"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -78,6 +79,7 @@ int Train(const Argv& argv) {
   c.cross_view = !args->switches.count("same-view");
   c.local_style = args->switches.count("local-style") > 0;
   c.keep_amplitude = args->switches.count("keep-amplitude") > 0;
+  c.centred_style = args->switches.count("centred-style") > 0;
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

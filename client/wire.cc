@@ -151,6 +151,23 @@ absl::Status AppendFrame(const v1::Frame& frame, const std::string& what,
   return absl::OkStatus();
 }
 
+absl::Status CheckFinite(const motion::Motion& motion, const std::string& what) {
+  const motion::Skeleton& sk = motion.skeleton;
+  for (int f = 0; f < motion.num_frames; ++f) {
+    for (int j = 0; j < sk.num_joints(); ++j) {
+      const motion::Joint& joint = sk.joint(j);
+      for (size_t c = 0; c < joint.channels.size(); ++c) {
+        if (!std::isfinite(motion.frame(f)[sk.channel_start(j) + c])) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(what, ": frame ", f, ", joint '", joint.name, "', channel ",
+                           motion::ChannelName(joint.channels[c]), ": value is not finite"));
+        }
+      }
+    }
+  }
+  return absl::OkStatus();
+}
+
 absl::StatusOr<motion::Motion> ClipFromProto(const v1::Clip& clip, const std::string& what) {
   if (!(std::isfinite(clip.fps()) && clip.fps() > 0 && clip.fps() <= 10000)) {
     return absl::InvalidArgumentError(

@@ -36,6 +36,11 @@ void ClipToProto(const motion::Motion& motion, v1::Clip* out);
 absl::Status AppendFrame(const v1::Frame& frame, const std::string& what,
                          std::vector<motion::Vec3>* prev_euler, motion::Motion* motion);
 
+// INVALID_ARGUMENT (prefixed with `what`) naming the frame, joint and channel
+// of the first NaN or infinite channel value. Clients check before sending:
+// a non-finite Euler angle has no quaternion to put on the wire.
+absl::Status CheckFinite(const motion::Motion& motion, const std::string& what);
+
 // The whole clip: skeleton, fps (positive, finite), frames in order.
 absl::StatusOr<motion::Motion> ClipFromProto(const v1::Clip& clip, const std::string& what);
 

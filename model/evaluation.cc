@@ -10,32 +10,12 @@
 #include "motion/contacts.h"
 #include "motion/dataset.h"
 #include "motion/kinematics.h"
+#include "motion/metrics.h"
 
 namespace stylus::model {
 namespace {
 
 std::string FileName(const std::string& p) { return std::filesystem::path(p).filename().string(); }
-
-// Mean horizontal speed of `clip`'s foot joints over the frames where
-// `reference`'s feet are in contact (both share a skeleton and frame count).
-double FootSkating(const motion::Motion& clip, const motion::Motion& reference,
-                   const motion::HumanoidRoles& roles) {
-  const auto ref_pos = motion::GlobalPositions(reference);
-  const auto pos = motion::GlobalPositions(clip);
-  const auto contacts = motion::DetectFootContacts(ref_pos, roles, reference.fps());
-  const auto feet = motion::FootJoints(roles);
-  double sum = 0;
-  int n = 0;
-  for (size_t f = 1; f < pos.size() && f < contacts.size(); ++f) {
-    for (int k = 0; k < 4; ++k) {
-      if (!contacts[f][k] || !contacts[f - 1][k]) continue;
-      const motion::Vec3 d = pos[f][feet[k]] - pos[f - 1][feet[k]];
-      sum += std::hypot(d.x, d.z) * clip.fps();
-      ++n;
-    }
-  }
-  return n ? sum / n : 0;
-}
 
 }  // namespace
 
@@ -101,10 +81,10 @@ absl::StatusOr<EvalReport> Evaluate(const ContrastiveModel& model, const Judges&
       report.rows[r].style_accuracy += *s == want_style;
       report.rows[r].content_accuracy += *c == want_content;
       // Copy-style has another length: its skating is measured against itself.
-      report.rows[r].foot_skating += FootSkating(*outputs[r], r == 2 ? *style : *content, roles);
+      report.rows[r].foot_skating += motion::FootSkating(*outputs[r], r == 2 ? *style : *content, roles);
       ++report.rows[r].pairs;
     }
-    real_skating += FootSkating(*content, *content, roles);
+    real_skating += motion::FootSkating(*content, *content, roles);
     if (progress) progress(++done, static_cast<int>(pairs.size()));
   }
   for (EvalRow& r : report.rows) {

@@ -1,0 +1,201 @@
+#include "client/client.h"
+
+#include <grpcpp/grpcpp.h>
+
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "absl/synchronization/mutex.h"
+#include "client/wire.h"
+
+namespace stylus {
+
+absl::Status FromGrpcStatus(const grpc::Status& status) {
+  if (status.ok()) return absl::OkStatus();
+  return absl::Status(static_cast<absl::StatusCode>(status.error_code()), status.error_message());
+}
+
+Client::Client(const ClientOptions& options) : options_(options) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(options.max_message_mb * 1024 * 1024);
+  args.SetMaxSendMessageSize(options.max_message_mb * 1024 * 1024);
+  channel_ = grpc::CreateCustomChannel(options.address, grpc::InsecureChannelCredentials(), args);
+  models_ = v1::ModelService::NewStub(channel_);
+  styles_ = v1::StyleService::NewStub(channel_);
+}
+
+std::unique_ptr<grpc::ClientContext> Client::Context(double deadline_scale) const {
+  auto ctx = std::make_unique<grpc::ClientContext>();
+  ctx->set_deadline(std::chrono::system_clock::now() +
+                    std::chrono::duration_cast<std::chrono::milliseconds>(options_.deadline *
+                                                                          deadline_scale));
+  return ctx;
+}
+
+absl::Status Client::SetStyle(const Style& style, v1::StyleRef* out) const {
+  if (style.clip != nullptr) {
+    if (absl::Status s = wire::CheckFinite(*style.clip, "style clip"); !s.ok()) return s;
+    wire::ClipToProto(*style.clip, out->mutable_clip());
+  } else if (!style.name.empty()) {
+    out->set_name(style.name);
+  } else {
+    return absl::InvalidArgumentError("no style: give a clip or a saved style name");
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::vector<v1::ModelInfo>> Client::ListModels() {
+  v1::ListModelsResponse response;
+  const grpc::Status s = models_->ListModels(Context().get(), {}, &response);
+  if (!s.ok()) return FromGrpcStatus(s);
+  return std::vector<v1::ModelInfo>(response.models().begin(), response.models().end());
+}
+
+absl::StatusOr<v1::ModelInfo> Client::GetModel(const std::string& model) {
+  v1::GetModelRequest request;
+  request.set_model(model);
+  v1::ModelInfo info;
+  const grpc::Status s = models_->GetModel(Context().get(), request, &info);
+  if (!s.ok()) return FromGrpcStatus(s);
+  return info;
+}
+
+absl::StatusOr<v1::ModelInfo> Client::LoadModel(const std::string& model) {
+  v1::LoadModelRequest request;
+  request.set_model(model);
+  v1::ModelInfo info;
+  const grpc::Status s = models_->LoadModel(Context().get(), request, &info);
+  if (!s.ok()) return FromGrpcStatus(s);
+  return info;
+}
+
+absl::Status Client::UnloadModel(const std::string& model) {
+  v1::UnloadModelRequest request;
+  request.set_model(model);
+  v1::UnloadModelResponse response;
+  return FromGrpcStatus(models_->UnloadModel(Context().get(), request, &response));
+}
+
+absl::StatusOr<motion::Motion> Client::Transfer(const motion::Motion& content, const Style& style,
+                                                const CallOptions& options) {
+  if (absl::Status s = wire::CheckFinite(content, "content clip"); !s.ok()) return s;
+  v1::TransferRequest request;
+  request.set_model(options.model);
+  request.set_postprocess(options.postprocess);
+  wire::ClipToProto(content, request.mutable_content());
+  if (absl::Status s = SetStyle(style, request.mutable_style()); !s.ok()) return s;
+  v1::TransferResponse response;
+  const grpc::Status s = styles_->Transfer(Context().get(), request, &response);
+  if (!s.ok()) return FromGrpcStatus(s);
+  return wire::ClipFromProto(response.output(), "server's output");
+}
+
+absl::StatusOr<std::vector<float>> Client::EncodeStyle(const motion::Motion& clip,
+                                                       const std::string& save_as,
+                                                       const CallOptions& options) {
+  if (absl::Status s = wire::CheckFinite(clip, "style clip"); !s.ok()) return s;
+  v1::EncodeStyleRequest request;
+  request.set_model(options.model);
+  request.set_save_as(save_as);
+  wire::ClipToProto(clip, request.mutable_clip());
+  v1::EncodeStyleResponse response;
+  const grpc::Status s = styles_->EncodeStyle(Context().get(), request, &response);
+  if (!s.ok()) return FromGrpcStatus(s);
+  return std::vector<float>(response.code().begin(), response.code().end());
+}
+
+absl::StatusOr<motion::Motion> Client::Interpolate(
+    const motion::Motion& content, const std::vector<Style>& styles,
+    const std::vector<double>& weights, const std::vector<std::vector<double>>& schedule,
+    const CallOptions& options) {
+  if (absl::Status s = wire::CheckFinite(content, "content clip"); !s.ok()) return s;
+  v1::InterpolateRequest request;
+  request.set_model(options.model);
+  request.set_postprocess(options.postprocess);
+  wire::ClipToProto(content, request.mutable_content());
+  for (const Style& style : styles) {
+    if (absl::Status s = SetStyle(style, request.add_styles()); !s.ok()) return s;
+  }
+  request.mutable_weights()->mutable_values()->Add(weights.begin(), weights.end());
+  for (const auto& row : schedule)
+    request.add_schedule()->mutable_values()->Add(row.begin(), row.end());
+  v1::TransferResponse response;
+  const grpc::Status s = styles_->Interpolate(Context().get(), request, &response);
+  if (!s.ok()) return FromGrpcStatus(s);
+  return wire::ClipFromProto(response.output(), "server's output");
+}
+
+absl::StatusOr<StreamResult> Client::Stream(const motion::Motion& content, const Style& style,
+                                            double rate, const CallOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  if (absl::Status s = wire::CheckFinite(content, "content clip"); !s.ok()) return s;
+  v1::StreamRequest config;
+  config.mutable_config()->set_model(options.model);
+  config.mutable_config()->set_postprocess(options.postprocess);
+  config.mutable_config()->set_fps(content.fps());
+  wire::SkeletonToProto(content.skeleton, config.mutable_config()->mutable_skeleton());
+  if (absl::Status s = SetStyle(style, config.mutable_config()->mutable_style()); !s.ok()) {
+    return s;
+  }
+  auto ctx = Context(10);
+  auto stream = styles_->TransferStream(ctx.get());
+  std::vector<Clock::time_point> sent(content.num_frames);
+  absl::Mutex mu;
+  std::thread writer([&] {
+    if (!stream->Write(config)) return;
+    const Clock::time_point start = Clock::now();
+    for (int f = 0; f < content.num_frames; ++f) {
+      if (rate > 0) std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
+                                                              std::chrono::duration<double>(f / rate)));
+      v1::StreamRequest r;
+      wire::FrameToProto(content, f, f, r.mutable_frame());
+      {
+        absl::MutexLock lock(&mu);
+        sent[f] = Clock::now();
+      }
+      if (!stream->Write(r)) return;  // The server ended the call; Finish says why.
+    }
+    stream->WritesDone();
+  });
+  StreamResult result;
+  result.output = motion::RestMotion(content.skeleton, 0, content.frame_time);
+  std::vector<motion::Vec3> prev(content.skeleton.num_joints());
+  v1::StreamResponse response;
+  absl::Status problem;
+  while (stream->Read(&response)) {
+    const Clock::time_point now = Clock::now();
+    const int64_t i = response.frame().index();
+    if (problem.ok()) {
+      problem = wire::AppendFrame(response.frame(), "server's output", &prev, &result.output);
+    }
+    result.indices.push_back(i);
+    absl::MutexLock lock(&mu);
+    if (i >= 0 && i < content.num_frames) {
+      result.latency_s.push_back(std::chrono::duration<double>(now - sent[i]).count());
+    }
+  }
+  writer.join();
+  const grpc::Status s = stream->Finish();
+  if (!s.ok()) return FromGrpcStatus(s);
+  if (!problem.ok()) return problem;
+  return result;
+}
+
+absl::StatusOr<std::map<std::string, double>> Client::ComputeMetrics(
+    const motion::Motion& output, const motion::Motion* content, const motion::Motion* style) {
+  for (const auto& [clip, what] : {std::pair{&output, "output clip"}, std::pair{content, "content clip"},
+                                   std::pair{style, "style clip"}}) {
+    if (clip == nullptr) continue;
+    if (absl::Status s = wire::CheckFinite(*clip, what); !s.ok()) return s;
+  }
+  v1::MetricsRequest request;
+  wire::ClipToProto(output, request.mutable_output());
+  if (content) wire::ClipToProto(*content, request.mutable_content());
+  if (style) wire::ClipToProto(*style, request.mutable_style());
+  v1::MetricsResponse response;
+  const grpc::Status s = styles_->ComputeMetrics(Context().get(), request, &response);
+  if (!s.ok()) return FromGrpcStatus(s);
+  return std::map<std::string, double>(response.metrics().begin(), response.metrics().end());
+}
+
+}  // namespace stylus

@@ -1,0 +1,91 @@
+// stylus::Client: typed calls to a Stylus server. No LibTorch: clips are
+// motion::Motion values (read and written with motion/bvh.h).
+//
+// Every call has a deadline (ClientOptions::deadline); errors come back as
+// absl::Status with the server's code and message (INVALID_ARGUMENT names the
+// clip, frame or joint to fix; UNAVAILABLE when no server answers).
+// Thread-safety: a Client may be used from several threads at once.
+#ifndef STYLUS_CLIENT_CLIENT_H_
+#define STYLUS_CLIENT_CLIENT_H_
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "motion/motion.h"
+#include "stylus/v1/stylus.grpc.pb.h"
+
+namespace stylus {
+
+struct ClientOptions {
+  std::string address = "localhost:50051";
+  std::chrono::milliseconds deadline{60000};  // Per unary call; per stream, x10.
+  int max_message_mb = 64;
+};
+
+struct CallOptions {
+  std::string model;                                     // Empty: the server's default.
+  v1::PostProcess postprocess = v1::POSTPROCESS_DEFAULT;
+};
+
+// A style: a clip to encode on the server, or a name saved with EncodeStyle.
+struct Style {
+  const motion::Motion* clip = nullptr;
+  std::string name;
+};
+
+struct StreamResult {
+  motion::Motion output;
+  // Per output frame: seconds from sending its input frame to receiving it.
+  std::vector<double> latency_s;
+  std::vector<int64_t> indices;  // The input frame index each output carries.
+};
+
+absl::Status FromGrpcStatus(const grpc::Status& status);
+
+class Client {
+ public:
+  explicit Client(const ClientOptions& options);
+
+  absl::StatusOr<std::vector<v1::ModelInfo>> ListModels();
+  absl::StatusOr<v1::ModelInfo> GetModel(const std::string& model);
+  absl::StatusOr<v1::ModelInfo> LoadModel(const std::string& model);
+  absl::Status UnloadModel(const std::string& model);
+
+  absl::StatusOr<motion::Motion> Transfer(const motion::Motion& content, const Style& style,
+                                          const CallOptions& options = {});
+  // The style code; with `save_as`, also saved on the server under that name.
+  absl::StatusOr<std::vector<float>> EncodeStyle(const motion::Motion& clip,
+                                                 const std::string& save_as = "",
+                                                 const CallOptions& options = {});
+  // `weights`: one per style for the whole clip; or `schedule`: one row of
+  // weights per content frame (used when not empty).
+  absl::StatusOr<motion::Motion> Interpolate(const motion::Motion& content,
+                                             const std::vector<Style>& styles,
+                                             const std::vector<double>& weights,
+                                             const std::vector<std::vector<double>>& schedule = {},
+                                             const CallOptions& options = {});
+  // Streams `content`'s frames at `rate` frames per second (0: as fast as the
+  // server takes them) and collects the stylized frames as they come.
+  absl::StatusOr<StreamResult> Stream(const motion::Motion& content, const Style& style,
+                                      double rate, const CallOptions& options = {});
+  absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const motion::Motion& output,
+                                                               const motion::Motion* content,
+                                                               const motion::Motion* style);
+
+ private:
+  std::unique_ptr<grpc::ClientContext> Context(double deadline_scale = 1) const;
+  absl::Status SetStyle(const Style& style, v1::StyleRef* out) const;
+
+  ClientOptions options_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<v1::ModelService::Stub> models_;
+  std::unique_ptr<v1::StyleService::Stub> styles_;
+};
+
+}  // namespace stylus
+
+#endif  // STYLUS_CLIENT_CLIENT_H_

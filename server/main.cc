@@ -1,0 +1,111 @@
+// stylus-server: hosts the models of a directory over gRPC.
+#include <csignal>
+#include <cstdio>
+#include <thread>
+
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "server/server.h"
+#include "spdlog/spdlog.h"
+
+namespace {
+
+constexpr char kHelp[] =
+    "usage: stylus-server [--models DIR] [--default-model NAME/VERSION]\n"
+    "                     [--listen ADDR] [--threads N] [--torch-threads N]\n"
+    "                     [--max-streams N] [--max-message-mb N] [--max-stream-frames N]\n"
+    "                     [--shutdown-grace-s S] [--port-file FILE]\n\n"
+    "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService),\n"
+    "grpc.health.v1 and server reflection. Loads every model package under\n"
+    "--models (default: models) at start-up.\n\n"
+    "  --listen ADDR          default localhost:50051; port 0 picks a free port\n"
+    "  --threads N            compute threads (default 2)\n"
+    "  --torch-threads N      LibTorch threads per forward pass (default 1)\n"
+    "  --max-streams N        concurrent TransferStream calls (default 16)\n"
+    "  --max-message-mb N     largest request or response (default 64)\n"
+    "  --max-stream-frames N  frames per stream (default 108000, 1 h at 30 fps)\n"
+    "  --shutdown-grace-s S   on SIGINT/SIGTERM, how long in-flight calls may\n"
+    "                         run on (default 10)\n"
+    "  --port-file FILE       write the bound port there once serving\n";
+
+int Usage(const std::string& error) {
+  std::fprintf(stderr, "stylus-server: %s\n\n%s", error.c_str(), kHelp);
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  stylus::server::ServerOptions options;
+  double grace_s = 10;
+  std::string port_file;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(kHelp, stdout);
+      return 0;
+    }
+    if (i + 1 >= argc) return Usage(arg + " needs a value");
+    const std::string value = argv[++i];
+    auto to_int = [&](int* out) { return absl::SimpleAtoi(value, out) && *out > 0; };
+    bool ok = true;
+    if (arg == "--models") {
+      options.models_dir = value;
+    } else if (arg == "--default-model") {
+      options.default_model = value;
+    } else if (arg == "--listen") {
+      options.listen = value;
+    } else if (arg == "--threads") {
+      ok = to_int(&options.threads);
+    } else if (arg == "--torch-threads") {
+      ok = to_int(&options.torch_threads);
+    } else if (arg == "--max-streams") {
+      ok = to_int(&options.max_streams);
+    } else if (arg == "--max-message-mb") {
+      ok = to_int(&options.max_message_mb);
+    } else if (arg == "--max-stream-frames") {
+      ok = absl::SimpleAtoi(value, &options.max_stream_frames) && options.max_stream_frames > 0;
+    } else if (arg == "--shutdown-grace-s") {
+      ok = absl::SimpleAtod(value, &grace_s) && grace_s >= 0;
+    } else if (arg == "--port-file") {
+      port_file = value;
+    } else {
+      return Usage("unknown option " + arg);
+    }
+    if (!ok) return Usage(absl::StrCat(arg, ": '", value, "' is not a valid value"));
+  }
+
+  // Signals are taken by one thread with sigwait; block them everywhere else
+  // (gRPC's and LibTorch's threads inherit this mask).
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  absl::StatusOr<std::unique_ptr<stylus::server::StylusServer>> server =
+      stylus::server::StylusServer::Start(options);
+  if (!server.ok()) {
+    spdlog::error("cannot start: {}", server.status().ToString());
+    return 1;
+  }
+  if (!port_file.empty()) {
+    FILE* f = std::fopen((port_file + ".tmp").c_str(), "w");
+    if (f == nullptr || std::fprintf(f, "%d\n", (*server)->port()) < 0 || std::fclose(f) != 0 ||
+        std::rename((port_file + ".tmp").c_str(), port_file.c_str()) != 0) {
+      spdlog::error("cannot write the port to {}", port_file);
+      return 1;
+    }
+  }
+  std::thread waiter([&] {
+    int sig = 0;
+    sigwait(&signals, &sig);
+    spdlog::info("received {}; finishing in-flight calls (up to {} s)",
+                 sig == SIGINT ? "SIGINT" : "SIGTERM", grace_s);
+    (*server)->Shutdown(std::chrono::system_clock::now() +
+                        std::chrono::milliseconds(static_cast<int64_t>(grace_s * 1000)));
+  });
+  (*server)->Wait();
+  waiter.join();
+  return 0;
+}

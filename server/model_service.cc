@@ -1,0 +1,62 @@
+#include "client/wire.h"
+#include "server/services.h"
+
+namespace stylus::server {
+namespace {
+
+void Describe(const HostedModel& m, const std::string& default_id, v1::ModelInfo* out) {
+  const model::PackageContents& p = m.model->package();
+  out->set_id(m.id);
+  out->set_family(p.config.family);
+  out->set_version(m.id.substr(m.id.find('/') + 1));
+  wire::SkeletonToProto(p.skeleton, out->mutable_skeleton());
+  out->set_fps(1.0 / p.frame_time);
+  out->set_window(p.config.window);
+  out->set_hop(p.config.hop);
+  out->set_trained_iterations(p.config.trained_iterations);
+  out->set_is_default(m.id == default_id);
+}
+
+}  // namespace
+
+grpc::ServerUnaryReactor* ModelServiceImpl::ListModels(grpc::CallbackServerContext* ctx,
+                                                       const v1::ListModelsRequest*,
+                                                       v1::ListModelsResponse* response) {
+  return RunUnary(service_, ctx, "ListModels", [this, response] {
+    const std::string def = service_->registry->default_id();
+    for (const HostedModel& m : service_->registry->List()) Describe(m, def, response->add_models());
+    return CallOutcome{absl::OkStatus(), "", 0};
+  });
+}
+
+grpc::ServerUnaryReactor* ModelServiceImpl::GetModel(grpc::CallbackServerContext* ctx,
+                                                     const v1::GetModelRequest* request,
+                                                     v1::ModelInfo* response) {
+  return RunUnary(service_, ctx, "GetModel", [this, request, response] {
+    absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
+    if (!m.ok()) return CallOutcome{m.status(), request->model(), 0};
+    Describe(*m, service_->registry->default_id(), response);
+    return CallOutcome{absl::OkStatus(), m->id, 0};
+  });
+}
+
+grpc::ServerUnaryReactor* ModelServiceImpl::LoadModel(grpc::CallbackServerContext* ctx,
+                                                      const v1::LoadModelRequest* request,
+                                                      v1::ModelInfo* response) {
+  return RunUnary(service_, ctx, "LoadModel", [this, request, response] {
+    absl::StatusOr<HostedModel> m = service_->registry->Load(request->model());
+    if (!m.ok()) return CallOutcome{m.status(), request->model(), 0};
+    Describe(*m, service_->registry->default_id(), response);
+    return CallOutcome{absl::OkStatus(), m->id, 0};
+  });
+}
+
+grpc::ServerUnaryReactor* ModelServiceImpl::UnloadModel(grpc::CallbackServerContext* ctx,
+                                                        const v1::UnloadModelRequest* request,
+                                                        v1::UnloadModelResponse*) {
+  return RunUnary(service_, ctx, "UnloadModel", [this, request] {
+    return CallOutcome{service_->registry->Unload(request->model()), request->model(), 0};
+  });
+}
+
+}  // namespace stylus::server

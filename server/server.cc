@@ -1,0 +1,98 @@
+#include "server/server.h"
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "absl/synchronization/notification.h"
+#include "model/runtime.h"
+#include "server/services.h"
+#include "spdlog/spdlog.h"
+
+namespace stylus::server {
+
+struct StylusServer::Impl {
+  std::unique_ptr<ModelRegistry> registry;
+  StyleBank styles;
+  std::unique_ptr<Executor> executor;
+  ServiceContext context;
+  std::unique_ptr<ModelServiceImpl> model_service;
+  std::unique_ptr<StyleServiceImpl> style_service;
+  std::unique_ptr<grpc::Server> server;
+  int port = 0;
+  absl::Mutex mu;
+  bool shut_down ABSL_GUARDED_BY(mu) = false;
+  absl::Notification done;
+};
+
+StylusServer::StylusServer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+StylusServer::~StylusServer() {
+  Shutdown(std::chrono::system_clock::now());
+  Wait();
+}
+
+absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOptions& options) {
+  if (options.threads < 1 || options.max_streams < 1 || options.max_message_mb < 1 ||
+      options.max_stream_frames < 1) {
+    return absl::InvalidArgumentError("threads, stream and message limits must be positive");
+  }
+  model::SetComputeThreads(options.torch_threads);
+  auto impl = std::make_unique<Impl>();
+  absl::StatusOr<std::unique_ptr<ModelRegistry>> registry =
+      ModelRegistry::Create(options.models_dir, options.default_model);
+  if (!registry.ok()) return registry.status();
+  impl->registry = *std::move(registry);
+  impl->executor = std::make_unique<Executor>(options.threads);
+  impl->context.registry = impl->registry.get();
+  impl->context.styles = &impl->styles;
+  impl->context.executor = impl->executor.get();
+  impl->context.max_streams = options.max_streams;
+  impl->context.max_stream_frames = options.max_stream_frames;
+  impl->model_service = std::make_unique<ModelServiceImpl>(&impl->context);
+  impl->style_service = std::make_unique<StyleServiceImpl>(&impl->context);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &impl->port);
+  builder.SetMaxReceiveMessageSize(options.max_message_mb * 1024 * 1024);
+  builder.SetMaxSendMessageSize(options.max_message_mb * 1024 * 1024);
+  builder.RegisterService(impl->model_service.get());
+  builder.RegisterService(impl->style_service.get());
+  impl->server = builder.BuildAndStart();
+  if (!impl->server || impl->port == 0) {
+    return absl::UnavailableError(absl::StrCat("cannot listen on ", options.listen));
+  }
+  impl->server->GetHealthCheckService()->SetServingStatus(true);
+  std::vector<std::string> ids;
+  for (const HostedModel& m : impl->registry->List()) ids.push_back(m.id);
+  spdlog::info("listening on port {} with {} model(s) [{}], default {}; {} compute thread(s)",
+               impl->port, ids.size(), absl::StrJoin(ids, ", "), impl->registry->default_id(),
+               options.threads);
+  return std::unique_ptr<StylusServer>(new StylusServer(std::move(impl)));
+}
+
+int StylusServer::port() const { return impl_->port; }
+
+void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
+  {
+    absl::MutexLock lock(&impl_->mu);
+    if (impl_->shut_down) return;
+    impl_->shut_down = true;
+  }
+  spdlog::info("shutting down: no new calls; in-flight calls may finish");
+  impl_->server->GetHealthCheckService()->SetServingStatus(false);
+  impl_->server->Shutdown(deadline);
+  // Calls are over; the executor runs what it accepted, then stops.
+  impl_->executor->Shutdown();
+  impl_->executor.reset();
+  spdlog::info("shut down");
+  impl_->done.Notify();
+}
+
+void StylusServer::Wait() { impl_->done.WaitForNotification(); }
+
+}  // namespace stylus::server

@@ -1,0 +1,50 @@
+// A running Stylus gRPC server: models loaded from a directory, the Model and
+// Style services, grpc.health.v1 and server reflection.
+//
+// Thread-safety: Shutdown may be called from any thread, once or more.
+#ifndef STYLUS_SERVER_SERVER_H_
+#define STYLUS_SERVER_SERVER_H_
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "absl/status/statusor.h"
+
+namespace stylus::server {
+
+struct ServerOptions {
+  std::string models_dir = "models";
+  std::string default_model;            // "<name>/<version>"; empty: the first found.
+  std::string listen = "localhost:50051";  // Port 0 picks a free port.
+  int threads = 2;                      // Compute executor threads.
+  int torch_threads = 1;                // LibTorch intra-op threads per forward.
+  int max_streams = 16;
+  int max_message_mb = 64;
+  int64_t max_stream_frames = 30 * 60 * 60;
+};
+
+class StylusServer {
+ public:
+  // Loads the models and starts serving. NOT_FOUND / INVALID_ARGUMENT from the
+  // model directory; UNAVAILABLE when the address cannot be bound.
+  static absl::StatusOr<std::unique_ptr<StylusServer>> Start(const ServerOptions& options);
+  ~StylusServer();
+
+  // The port actually bound (useful with port 0).
+  int port() const;
+  // Stops accepting calls, lets in-flight calls finish until `deadline`
+  // (then cancels them), and drains the compute executor.
+  void Shutdown(std::chrono::system_clock::time_point deadline);
+  // Blocks until Shutdown has completed.
+  void Wait();
+
+ private:
+  struct Impl;
+  explicit StylusServer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stylus::server
+
+#endif  // STYLUS_SERVER_SERVER_H_

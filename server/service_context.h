@@ -1,0 +1,48 @@
+// What the RPC handlers share: the models, the style bank, the compute
+// executor, limits, and the per-call log line.
+#ifndef STYLUS_SERVER_SERVICE_CONTEXT_H_
+#define STYLUS_SERVER_SERVICE_CONTEXT_H_
+
+#include <grpcpp/grpcpp.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "absl/status/status.h"
+#include "server/executor.h"
+#include "server/registry.h"
+#include "server/style_bank.h"
+
+namespace stylus::server {
+
+struct ServiceContext {
+  ModelRegistry* registry = nullptr;
+  StyleBank* styles = nullptr;
+  Executor* executor = nullptr;
+  int max_streams = 16;
+  int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
+  std::atomic<int> open_streams{0};
+};
+
+// What a handler reports for the log line.
+struct CallOutcome {
+  absl::Status status;
+  std::string model;
+  int64_t frames = 0;
+};
+
+// One spdlog line per call: rpc, model, frames, milliseconds, status.
+void LogCall(const std::string& rpc, const CallOutcome& outcome, double ms);
+
+// Runs `work` on the executor and finishes the call with its status: the
+// unary pattern of every StyleService/ModelService method. A call whose
+// client has gone or whose deadline has passed before the work starts is not
+// computed. UNAVAILABLE when the executor no longer accepts work (shutdown).
+grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServerContext* ctx,
+                                   const std::string& rpc, std::function<CallOutcome()> work);
+
+}  // namespace stylus::server
+
+#endif  // STYLUS_SERVER_SERVICE_CONTEXT_H_

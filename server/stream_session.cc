@@ -1,0 +1,258 @@
+#include "server/stream_session.h"
+
+#include <chrono>
+#include <deque>
+#include <memory>
+
+#include "absl/strings/str_cat.h"
+#include "client/wire.h"
+#include "model/stream_transfer.h"
+#include "server/postprocess_option.h"
+#include "server/services.h"
+#include "server/status.h"
+
+namespace stylus::server {
+namespace {
+
+class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse> {
+ public:
+  explicit StreamSession(ServiceContext* service)
+      : service_(service), start_(std::chrono::steady_clock::now()) {
+    if (service_->open_streams.fetch_add(1) >= service_->max_streams) {
+      outcome_.status = absl::ResourceExhaustedError(absl::StrCat(
+          "the server already runs its maximum of ", service_->max_streams, " streams"));
+      Finish(ToGrpcStatus(outcome_.status));
+      return;
+    }
+    StartRead(&request_);
+  }
+
+  void OnReadDone(bool ok) override {
+    std::function<void()> task;
+    if (ok) {
+      task = [this, request = std::move(request_)] { Handle(request); };
+    } else {
+      task = [this] { HandleEnd(); };
+    }
+    {
+      absl::MutexLock lock(&mu_);
+      busy_ = true;
+    }
+    if (!service_->executor->Submit([this, task] {
+          task();
+          AfterTask();
+        })) {
+      {
+        absl::MutexLock lock(&mu_);
+        busy_ = false;
+        Fail(absl::UnavailableError("the server is shutting down"));
+      }
+      MaybeFinishOutsideLock();
+    }
+  }
+
+  void OnWriteDone(bool ok) override {
+    const v1::StreamResponse* next = nullptr;
+    {
+      absl::MutexLock lock(&mu_);
+      writes_.pop_front();
+      writing_ = false;
+      if (!ok) Fail(absl::CancelledError("the client stopped reading"));
+      if (failed_) {
+        writes_.clear();
+      } else if (!writes_.empty()) {
+        writing_ = true;
+        next = &writes_.front();
+      }
+    }
+    if (next != nullptr) {
+      StartWrite(next);
+    } else {
+      MaybeFinishOutsideLock();
+    }
+  }
+
+  void OnCancel() override {
+    {
+      absl::MutexLock lock(&mu_);
+      Fail(absl::CancelledError("the client cancelled the stream or its deadline passed"));
+    }
+    MaybeFinishOutsideLock();
+  }
+
+  void OnDone() override {
+    service_->open_streams.fetch_sub(1);
+    LogCall("TransferStream", outcome_,
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
+                .count());
+    delete this;
+  }
+
+ private:
+  // Runs on the executor; at most one at a time per session.
+  void Handle(const v1::StreamRequest& request) {
+    absl::Status s;
+    if (request.has_config()) {
+      s = streamer_ ? absl::InvalidArgumentError("a second config message; send it first, once")
+                    : Configure(request.config());
+    } else if (request.has_frame()) {
+      s = streamer_ ? AddFrame(request.frame())
+                    : absl::InvalidArgumentError(
+                          "the first message must be a config (model, style, skeleton, fps)");
+    } else {
+      s = absl::InvalidArgumentError("an empty stream message: send a config or a frame");
+    }
+    if (!s.ok()) {
+      absl::MutexLock lock(&mu_);
+      Fail(s);
+    }
+  }
+
+  void HandleEnd() {
+    absl::Status s;
+    if (streamer_ && streamer_->received() > 0) {
+      absl::StatusOr<motion::Motion> rest = streamer_->Finish();
+      if (rest.ok()) {
+        Enqueue(*rest);
+      } else {
+        s = rest.status();
+      }
+    }
+    absl::MutexLock lock(&mu_);
+    if (!s.ok()) Fail(s);
+    ending_ = true;
+  }
+
+  absl::Status Configure(const v1::StreamConfig& config) {
+    absl::StatusOr<HostedModel> m = service_->registry->Get(config.model());
+    if (!m.ok()) return m.status();
+    outcome_.model = m->id;
+    if (absl::Status s = ToPostProcessMode(config.postprocess()); !s.ok()) return s;
+    if (!(std::isfinite(config.fps()) && config.fps() > 0)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("config: fps must be a positive number, got ", config.fps()));
+    }
+    absl::StatusOr<motion::Skeleton> sk = wire::SkeletonFromProto(config.skeleton(), "config");
+    if (!sk.ok()) return sk.status();
+    absl::StatusOr<model::StyleCode> style =
+        ResolveStyle(*service_, *m, config.style(), "config style");
+    if (!style.ok()) return style.status();
+    absl::StatusOr<std::unique_ptr<model::StreamTransfer>> st =
+        model::StreamTransfer::Create(m->model, *style, *sk, 1.0 / config.fps());
+    if (!st.ok()) return st.status();
+    streamer_ = *std::move(st);
+    chunk_ = motion::RestMotion(*sk, 0, 1.0 / config.fps());
+    prev_euler_.assign(sk->num_joints(), motion::Vec3{});
+    return absl::OkStatus();
+  }
+
+  absl::Status AddFrame(const v1::Frame& frame) {
+    if (streamer_->received() == 0) {
+      first_index_ = frame.index();
+    } else if (frame.index() != first_index_ + streamer_->received()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "frame index ", frame.index(), " where ", first_index_ + streamer_->received(),
+          " was expected: frames must arrive in order, without gaps or repeats"));
+    }
+    if (streamer_->received() >= service_->max_stream_frames) {
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "the stream reached the server's limit of ", service_->max_stream_frames, " frames"));
+    }
+    chunk_.num_frames = 0;
+    chunk_.values.clear();
+    if (absl::Status s = wire::AppendFrame(frame, "stream", &prev_euler_, &chunk_); !s.ok()) {
+      return s;
+    }
+    ++outcome_.frames;
+    absl::StatusOr<motion::Motion> out = streamer_->Push(chunk_);
+    if (!out.ok()) return out.status();
+    Enqueue(*out);
+    return absl::OkStatus();
+  }
+
+  void Enqueue(const motion::Motion& frames) {
+    if (frames.num_frames == 0) return;
+    const int64_t first = first_index_ + streamer_->emitted() - frames.num_frames;
+    std::deque<v1::StreamResponse> batch;
+    for (int f = 0; f < frames.num_frames; ++f) {
+      v1::StreamResponse r;
+      wire::FrameToProto(frames, f, first + f, r.mutable_frame());
+      r.mutable_frame()->set_timestamp((first + f) * frames.frame_time);
+      batch.push_back(std::move(r));
+    }
+    absl::MutexLock lock(&mu_);
+    if (failed_) return;
+    for (auto& r : batch) writes_.push_back(std::move(r));
+  }
+
+  // After each task: start the next read, a write, or the end of the call.
+  void AfterTask() {
+    bool read = false;
+    const v1::StreamResponse* write = nullptr;
+    {
+      absl::MutexLock lock(&mu_);
+      busy_ = false;
+      read = !failed_ && !ending_;
+      if (!writing_ && !writes_.empty() && !failed_) {
+        writing_ = true;
+        write = &writes_.front();
+      }
+    }
+    if (write != nullptr) StartWrite(write);
+    if (read) StartRead(&request_);
+    MaybeFinishOutsideLock();
+  }
+
+  // Records the first error; queued writes are dropped.
+  void Fail(const absl::Status& s) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
+    if (failed_) return;
+    failed_ = true;
+    outcome_.status = s;
+    if (!writing_) writes_.clear();
+  }
+
+  void MaybeFinishOutsideLock() {
+    absl::Status status;
+    {
+      absl::MutexLock lock(&mu_);
+      if (finished_ || busy_ || writing_) return;
+      if (!failed_ && !(ending_ && writes_.empty())) return;
+      finished_ = true;
+      status = outcome_.status;
+    }
+    Finish(ToGrpcStatus(status));
+  }
+
+  ServiceContext* const service_;
+  const std::chrono::steady_clock::time_point start_;
+  v1::StreamRequest request_;  // Read buffer; moved out in OnReadDone.
+
+  // Touched by the executor task only (one at a time per session).
+  std::unique_ptr<model::StreamTransfer> streamer_;
+  motion::Motion chunk_;
+  std::vector<motion::Vec3> prev_euler_;
+  int64_t first_index_ = 0;
+
+  absl::Mutex mu_;
+  std::deque<v1::StreamResponse> writes_ ABSL_GUARDED_BY(mu_);
+  bool writing_ ABSL_GUARDED_BY(mu_) = false;
+  bool busy_ ABSL_GUARDED_BY(mu_) = false;
+  bool ending_ ABSL_GUARDED_BY(mu_) = false;
+  bool failed_ ABSL_GUARDED_BY(mu_) = false;
+  bool finished_ ABSL_GUARDED_BY(mu_) = false;
+  CallOutcome outcome_;  // status guarded by mu_; model/frames by the task.
+};
+
+}  // namespace
+
+grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse>* StartStreamSession(
+    ServiceContext* service, grpc::CallbackServerContext*) {
+  return new StreamSession(service);
+}
+
+grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse>* StyleServiceImpl::TransferStream(
+    grpc::CallbackServerContext* ctx) {
+  return StartStreamSession(service_, ctx);
+}
+
+}  // namespace stylus::server

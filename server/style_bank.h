@@ -1,0 +1,34 @@
+// Named style codes saved by EncodeStyle, per model (a code only means
+// something to the model that made it). Kept in memory for the server's
+// lifetime.
+//
+// Thread-safety: all methods may be called concurrently.
+#ifndef STYLUS_SERVER_STYLE_BANK_H_
+#define STYLUS_SERVER_STYLE_BANK_H_
+
+#include <map>
+#include <string>
+#include <utility>
+
+#include "absl/base/thread_annotations.h"
+#include "absl/status/statusor.h"
+#include "absl/synchronization/mutex.h"
+#include "model/contrastive_model.h"
+
+namespace stylus::server {
+
+class StyleBank {
+ public:
+  // INVALID_ARGUMENT for an empty name or one longer than 200 characters.
+  absl::Status Save(const std::string& model_id, const std::string& name, model::StyleCode code);
+  // NOT_FOUND names the model and the style.
+  absl::StatusOr<model::StyleCode> Get(const std::string& model_id, const std::string& name) const;
+
+ private:
+  mutable absl::Mutex mu_;
+  std::map<std::pair<std::string, std::string>, model::StyleCode> codes_ ABSL_GUARDED_BY(mu_);
+};
+
+}  // namespace stylus::server
+
+#endif  // STYLUS_SERVER_STYLE_BANK_H_

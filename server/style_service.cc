@@ -1,0 +1,158 @@
+#include <chrono>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "client/wire.h"
+#include "motion/metrics.h"
+#include "server/postprocess_option.h"
+#include "server/services.h"
+
+namespace stylus::server {
+namespace {
+
+double MsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
+                                              const HostedModel& model, const v1::StyleRef& ref,
+                                              const std::string& what) {
+  switch (ref.source_case()) {
+    case v1::StyleRef::kName:
+      return service.styles->Get(model.id, ref.name());
+    case v1::StyleRef::kClip: {
+      absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(ref.clip(), what);
+      if (!clip.ok()) return clip.status();
+      return model.model->EncodeStyle(*clip);
+    }
+    default:
+      return absl::InvalidArgumentError(absl::StrCat(what, ": give a clip or a saved style name"));
+  }
+}
+
+grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext* ctx,
+                                                     const v1::TransferRequest* request,
+                                                     v1::TransferResponse* response) {
+  return RunUnary(service_, ctx, "Transfer", [this, request, response] {
+    const auto t0 = std::chrono::steady_clock::now();
+    CallOutcome out{absl::OkStatus(), request->model(), request->content().frames_size()};
+    absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
+    if (!m.ok()) return out.status = m.status(), out;
+    out.model = m->id;
+    absl::Status post = ToPostProcessMode(request->postprocess());
+    if (!post.ok()) return out.status = post, out;
+    absl::StatusOr<motion::Motion> content = wire::ClipFromProto(request->content(), "content clip");
+    if (!content.ok()) return out.status = content.status(), out;
+    absl::StatusOr<model::StyleCode> style =
+        ResolveStyle(*service_, *m, request->style(), "style clip");
+    if (!style.ok()) return out.status = style.status(), out;
+    absl::StatusOr<motion::Motion> result = m->model->Transfer(*content, *style);
+    if (!result.ok()) return out.status = result.status(), out;
+    wire::ClipToProto(*result, response->mutable_output());
+    response->set_model(m->id);
+    response->set_compute_ms(MsSince(t0));
+    return out;
+  });
+}
+
+grpc::ServerUnaryReactor* StyleServiceImpl::EncodeStyle(grpc::CallbackServerContext* ctx,
+                                                        const v1::EncodeStyleRequest* request,
+                                                        v1::EncodeStyleResponse* response) {
+  return RunUnary(service_, ctx, "EncodeStyle", [this, request, response] {
+    CallOutcome out{absl::OkStatus(), request->model(), request->clip().frames_size()};
+    absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
+    if (!m.ok()) return out.status = m.status(), out;
+    out.model = m->id;
+    absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(request->clip(), "style clip");
+    if (!clip.ok()) return out.status = clip.status(), out;
+    absl::StatusOr<model::StyleCode> code = m->model->EncodeStyle(*clip);
+    if (!code.ok()) return out.status = code.status(), out;
+    if (!request->save_as().empty()) {
+      out.status = service_->styles->Save(m->id, request->save_as(), *code);
+      if (!out.status.ok()) return out;
+      response->set_name(request->save_as());
+    }
+    response->mutable_code()->Add(code->values.begin(), code->values.end());
+    response->set_model(m->id);
+    return out;
+  });
+}
+
+grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerContext* ctx,
+                                                        const v1::InterpolateRequest* request,
+                                                        v1::TransferResponse* response) {
+  return RunUnary(service_, ctx, "Interpolate", [this, request, response] {
+    const auto t0 = std::chrono::steady_clock::now();
+    CallOutcome out{absl::OkStatus(), request->model(), request->content().frames_size()};
+    absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
+    if (!m.ok()) return out.status = m.status(), out;
+    out.model = m->id;
+    absl::Status post = ToPostProcessMode(request->postprocess());
+    if (!post.ok()) return out.status = post, out;
+    if (request->styles_size() < 2) {
+      out.status = absl::InvalidArgumentError(
+          absl::StrCat("Interpolate needs two or more styles, got ", request->styles_size()));
+      return out;
+    }
+    absl::StatusOr<motion::Motion> content = wire::ClipFromProto(request->content(), "content clip");
+    if (!content.ok()) return out.status = content.status(), out;
+    std::vector<model::StyleCode> styles;
+    for (int i = 0; i < request->styles_size(); ++i) {
+      absl::StatusOr<model::StyleCode> s =
+          ResolveStyle(*service_, *m, request->styles(i), absl::StrCat("style ", i));
+      if (!s.ok()) return out.status = s.status(), out;
+      styles.push_back(*std::move(s));
+    }
+    model::StyleWeights weights;
+    if (request->schedule_size() > 0) {
+      for (const v1::Weights& row : request->schedule())
+        weights.per_frame.emplace_back(row.values().begin(), row.values().end());
+    } else {
+      weights.fixed.assign(request->weights().values().begin(), request->weights().values().end());
+    }
+    absl::StatusOr<motion::Motion> result = m->model->Interpolate(*content, styles, weights);
+    if (!result.ok()) return out.status = result.status(), out;
+    wire::ClipToProto(*result, response->mutable_output());
+    response->set_model(m->id);
+    response->set_compute_ms(MsSince(t0));
+    return out;
+  });
+}
+
+grpc::ServerUnaryReactor* StyleServiceImpl::ComputeMetrics(grpc::CallbackServerContext* ctx,
+                                                           const v1::MetricsRequest* request,
+                                                           v1::MetricsResponse* response) {
+  return RunUnary(service_, ctx, "ComputeMetrics", [request, response] {
+    CallOutcome out{absl::OkStatus(), "", request->output().frames_size()};
+    absl::StatusOr<motion::Motion> output = wire::ClipFromProto(request->output(), "output clip");
+    if (!output.ok()) return out.status = output.status(), out;
+    std::optional<motion::Motion> content;
+    if (request->has_content()) {
+      absl::StatusOr<motion::Motion> c = wire::ClipFromProto(request->content(), "content clip");
+      if (!c.ok()) return out.status = c.status(), out;
+      content = *std::move(c);
+    }
+    absl::StatusOr<std::map<std::string, double>> metrics =
+        motion::ComputeMetrics(*output, content ? &*content : nullptr);
+    if (!metrics.ok()) return out.status = metrics.status(), out;
+    for (const auto& [k, v] : *metrics) (*response->mutable_metrics())[k] = v;
+    // The same kinematic measures of the inputs, as baselines for the output's.
+    for (const auto& [prefix, clip] :
+         std::vector<std::pair<std::string, const v1::Clip*>>{
+             {"content_", request->has_content() ? &request->content() : nullptr},
+             {"style_", request->has_style() ? &request->style() : nullptr}}) {
+      if (clip == nullptr) continue;
+      absl::StatusOr<motion::Motion> m = wire::ClipFromProto(*clip, prefix + "clip");
+      if (!m.ok()) return out.status = m.status(), out;
+      absl::StatusOr<std::map<std::string, double>> own = motion::ComputeMetrics(*m, nullptr);
+      if (!own.ok()) return out.status = own.status(), out;
+      for (const char* k : {"foot_skating", "jitter", "bone_length_error"})
+        (*response->mutable_metrics())[prefix + k] = own->at(k);
+    }
+    return out;
+  });
+}
+
+}  // namespace stylus::server

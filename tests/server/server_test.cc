@@ -1,0 +1,426 @@
+// End-to-end: a real server on localhost:0 with the shipped default model,
+// called through stylus::Client and the raw generated stubs.
+#include <grpcpp/grpcpp.h>
+
+#include <cmath>
+#include <future>
+#include <limits>
+#include <thread>
+
+#include "client/wire.h"
+#include "gtest/gtest.h"
+#include "model/contrastive_model.h"
+#include "motion/kinematics.h"
+#include "server/status.h"
+#include "tests/server/server_test_support.h"
+
+namespace stylus {
+namespace {
+
+using testing::LiveServer;
+using testing::Sample;
+
+const std::string kModel = testing::SourceDir() + "/models/contrastive/v1";
+
+motion::Motion Frames(const motion::Motion& m, int begin, int end) {
+  motion::Motion out = m;
+  const int c = m.skeleton.num_channels();
+  out.num_frames = end - begin;
+  out.values.assign(m.values.begin() + static_cast<size_t>(begin) * c,
+                    m.values.begin() + static_cast<size_t>(end) * c);
+  return out;
+}
+
+motion::Motion BandaiClip(const std::string& dir, const std::string& name) {
+  return *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_" + name + ".bvh");
+}
+
+TEST(StatusMappingTest, EveryCodeKeepsItsMeaningAndMessage) {
+  const std::vector<std::pair<absl::Status, grpc::StatusCode>> cases = {
+      {absl::OkStatus(), grpc::StatusCode::OK},
+      {absl::InvalidArgumentError("a"), grpc::StatusCode::INVALID_ARGUMENT},
+      {absl::NotFoundError("b"), grpc::StatusCode::NOT_FOUND},
+      {absl::ResourceExhaustedError("c"), grpc::StatusCode::RESOURCE_EXHAUSTED},
+      {absl::FailedPreconditionError("d"), grpc::StatusCode::FAILED_PRECONDITION},
+      {absl::UnavailableError("e"), grpc::StatusCode::UNAVAILABLE},
+      {absl::CancelledError("f"), grpc::StatusCode::CANCELLED},
+      {absl::DeadlineExceededError("g"), grpc::StatusCode::DEADLINE_EXCEEDED},
+      {absl::InternalError("h"), grpc::StatusCode::INTERNAL},
+      {absl::AlreadyExistsError("i"), grpc::StatusCode::ALREADY_EXISTS},
+      {absl::UnimplementedError("j"), grpc::StatusCode::UNIMPLEMENTED},
+      {absl::DataLossError("k"), grpc::StatusCode::DATA_LOSS},
+      {absl::OutOfRangeError("l"), grpc::StatusCode::OUT_OF_RANGE},
+      {absl::PermissionDeniedError("m"), grpc::StatusCode::PERMISSION_DENIED},
+      {absl::UnauthenticatedError("n"), grpc::StatusCode::UNAUTHENTICATED},
+      {absl::AbortedError("o"), grpc::StatusCode::ABORTED},
+      {absl::UnknownError("p"), grpc::StatusCode::UNKNOWN},
+  };
+  for (const auto& [in, code] : cases) {
+    const grpc::Status out = server::ToGrpcStatus(in);
+    EXPECT_EQ(out.error_code(), code) << in;
+    EXPECT_EQ(out.error_message(), std::string(in.message()));
+    EXPECT_EQ(FromGrpcStatus(out), in);  // And back, in the client.
+  }
+}
+
+TEST(WireTest, ClipRoundTripKeepsEveryJointPosition) {
+  const motion::Motion clip = Sample("walk_old.bvh");
+  v1::Clip proto;
+  wire::ClipToProto(clip, &proto);
+  absl::StatusOr<motion::Motion> back = wire::ClipFromProto(proto, "clip");
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->num_frames, clip.num_frames);
+  EXPECT_LT(motion::MaxPositionDifference(*back, clip), 1e-9);
+}
+
+class ServerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    live_ = LiveServer::Start();
+    ASSERT_NE(live_, nullptr);
+  }
+  Client& client() { return *live_->client; }
+  std::unique_ptr<LiveServer> live_;
+};
+
+TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
+  auto models = client().ListModels();
+  ASSERT_TRUE(models.ok()) << models.status();
+  ASSERT_EQ(models->size(), 1u);  // models/judges is not a servable family.
+  EXPECT_EQ((*models)[0].id(), "contrastive/v1");
+  EXPECT_TRUE((*models)[0].is_default());
+  EXPECT_EQ((*models)[0].skeleton().joints_size(), 22);
+  EXPECT_EQ((*models)[0].window(), 32);
+  EXPECT_NEAR((*models)[0].fps(), 30, 1e-3);
+  EXPECT_EQ(client().GetModel("contrastive")->id(), "contrastive/v1");
+  EXPECT_EQ(client().GetModel("")->id(), "contrastive/v1");
+  EXPECT_EQ(client().GetModel("nope/v9").status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(client().LoadModel("contrastive/v1").status().code(),
+            absl::StatusCode::kAlreadyExists);
+  EXPECT_EQ(client().LoadModel("../etc").status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(client().LoadModel("contrastive/v404").status().code(), absl::StatusCode::kNotFound);
+  ASSERT_TRUE(client().UnloadModel("contrastive/v1").ok());
+  EXPECT_EQ(client().UnloadModel("contrastive/v1").code(), absl::StatusCode::kNotFound);
+  const motion::Motion clip = Sample("walk_normal.bvh");
+  EXPECT_EQ(client().Transfer(clip, {&clip, ""}).status().code(), absl::StatusCode::kNotFound);
+  auto loaded = client().LoadModel("contrastive/v1");
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  EXPECT_TRUE(loaded->is_default());
+  EXPECT_TRUE(client().Transfer(clip, {&clip, ""}).ok());
+}
+
+TEST_F(ServerTest, TransferOfARealClipEqualsTheModelInProcess) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  const motion::Motion content = BandaiClip(dir, "walk_normal_001");
+  const motion::Motion style = BandaiClip(dir, "walk_old_001");
+  auto out = client().Transfer(content, {&style, ""});
+  ASSERT_TRUE(out.ok()) << out.status();
+  auto model = model::ContrastiveModel::Load(kModel);
+  ASSERT_TRUE(model.ok());
+  const motion::Motion local = *(*model)->Transfer(content, *(*model)->EncodeStyle(style));
+  ASSERT_EQ(out->num_frames, content.num_frames);
+  EXPECT_LT(motion::MaxPositionDifference(*out, local), 1e-6);
+  EXPECT_GT(motion::MaxPositionDifference(*out, content), 1.0);
+}
+
+TEST_F(ServerTest, SavedStyleNamesWorkLikeTheirClips) {
+  const motion::Motion content = Sample("walk_normal.bvh"), style = Sample("walk_old.bvh");
+  auto code = client().EncodeStyle(style, "old");
+  ASSERT_TRUE(code.ok()) << code.status();
+  EXPECT_EQ(code->size(), 144u);
+  auto by_clip = client().Transfer(content, {&style, ""});
+  auto by_name = client().Transfer(content, {nullptr, "old"});
+  ASSERT_TRUE(by_clip.ok() && by_name.ok());
+  EXPECT_LT(motion::MaxPositionDifference(*by_clip, *by_name), 1e-6);
+  auto missing = client().Transfer(content, {nullptr, "young"});
+  EXPECT_EQ(missing.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_NE(missing.status().message().find("young"), std::string::npos);
+}
+
+TEST_F(ServerTest, InterpolationEndpointsEqualTransfersAndSchedulesWork) {
+  const motion::Motion content = Sample("walk_normal.bvh");
+  const motion::Motion a = Sample("walk_old.bvh"), b = Sample("run.bvh");
+  auto to_a = client().Transfer(content, {&a, ""});
+  auto to_b = client().Transfer(content, {&b, ""});
+  auto w0 = client().Interpolate(content, {{&a, ""}, {&b, ""}}, {1, 0});
+  auto w1 = client().Interpolate(content, {{&a, ""}, {&b, ""}}, {0, 1});
+  ASSERT_TRUE(to_a.ok() && to_b.ok() && w0.ok() && w1.ok());
+  EXPECT_LT(motion::MaxPositionDifference(*w0, *to_a), 1e-6);
+  EXPECT_LT(motion::MaxPositionDifference(*w1, *to_b), 1e-6);
+  std::vector<std::vector<double>> schedule;
+  for (int f = 0; f < content.num_frames; ++f) {
+    const double t = static_cast<double>(f) / (content.num_frames - 1);
+    schedule.push_back({1 - t, t});
+  }
+  auto ramp = client().Interpolate(content, {{&a, ""}, {&b, ""}}, {}, schedule);
+  ASSERT_TRUE(ramp.ok()) << ramp.status();
+  EXPECT_EQ(ramp->num_frames, content.num_frames);
+  EXPECT_EQ(client().Interpolate(content, {{&a, ""}}, {1}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(client().Interpolate(content, {{&a, ""}, {&b, ""}}, {1, 0, 0}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  schedule.pop_back();
+  EXPECT_EQ(client().Interpolate(content, {{&a, ""}, {&b, ""}}, {}, schedule).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  const motion::Motion content = BandaiClip(dir, "walk_normal_002");
+  const motion::Motion style = BandaiClip(dir, "walk_proud_001");
+  auto unary = client().Transfer(content, {&style, ""});
+  auto streamed = client().Stream(content, {&style, ""}, /*rate=*/0);
+  ASSERT_TRUE(unary.ok()) << unary.status();
+  ASSERT_TRUE(streamed.ok()) << streamed.status();
+  ASSERT_EQ(streamed->output.num_frames, content.num_frames);
+  for (int f = 0; f < content.num_frames; ++f) ASSERT_EQ(streamed->indices[f], f);
+  // Stated tolerance (docs/service.md): 0.5 mm on any joint of any frame.
+  EXPECT_LT(motion::MaxPositionDifference(streamed->output, *unary), 0.05);
+  EXPECT_EQ(streamed->latency_s.size(), static_cast<size_t>(content.num_frames));
+}
+
+TEST_F(ServerTest, MetricsOfAClipAgainstItsContent) {
+  const motion::Motion content = Sample("walk_normal.bvh"), style = Sample("walk_old.bvh");
+  auto m = client().ComputeMetrics(content, &content, &style);
+  ASSERT_TRUE(m.ok()) << m.status();
+  for (const char* k : {"foot_skating", "foot_height_error", "bone_length_error", "jitter",
+                        "trajectory_error", "max_euler_step_deg", "content_jitter", "style_jitter"})
+    EXPECT_TRUE(m->count(k)) << k;
+  EXPECT_NEAR(m->at("trajectory_error"), 0, 1e-9);
+  EXPECT_NEAR(m->at("jitter"), m->at("content_jitter"), 1e-9);
+  const motion::Motion other = *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
+  EXPECT_EQ(client().ComputeMetrics(content, &other, nullptr).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(ServerTest, BadClipsGetInvalidArgumentNamingTheProblem) {
+  const motion::Motion content = Sample("walk_normal.bvh"), style = Sample("walk_old.bvh");
+  const motion::Motion other = *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
+  auto wrong = client().Transfer(other, {&style, ""});
+  EXPECT_EQ(wrong.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(wrong.status().message().find("skeleton"), std::string::npos) << wrong.status();
+
+  motion::Motion nan = content;
+  nan.frame(7)[5] = std::numeric_limits<double>::quiet_NaN();
+  auto bad = client().Transfer(nan, {&style, ""});
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(bad.status().message().find("frame 7"), std::string::npos) << bad.status();
+
+  auto empty = client().Transfer(Frames(content, 0, 0), {&style, ""});
+  EXPECT_EQ(empty.status().code(), absl::StatusCode::kInvalidArgument) << empty.status();
+  // Shorter than a window: padded, and the output keeps the length.
+  auto short_clip = client().Transfer(Frames(content, 0, 5), {&style, ""});
+  ASSERT_TRUE(short_clip.ok()) << short_clip.status();
+  EXPECT_EQ(short_clip->num_frames, 5);
+  EXPECT_EQ(client().Transfer(content, {nullptr, ""}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  CallOptions unknown;
+  unknown.model = "cyclic/v7";
+  EXPECT_EQ(client().Transfer(content, {&style, ""}, unknown).status().code(),
+            absl::StatusCode::kNotFound);
+
+  // Hand-made wire messages: wrong rotation count, zero quaternion, bad fps.
+  auto stub = v1::StyleService::NewStub(
+      grpc::CreateChannel(live_->address, grpc::InsecureChannelCredentials()));
+  v1::TransferRequest request;
+  wire::ClipToProto(content, request.mutable_content());
+  wire::ClipToProto(style, request.mutable_style()->mutable_clip());
+  v1::TransferResponse response;
+  {
+    v1::TransferRequest r = request;
+    r.mutable_content()->mutable_frames(3)->mutable_rotations()->RemoveLast();
+    grpc::ClientContext ctx;
+    const grpc::Status s = stub->Transfer(&ctx, r, &response);
+    EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(s.error_message().find("frame 3"), std::string::npos) << s.error_message();
+  }
+  {
+    v1::TransferRequest r = request;
+    *r.mutable_content()->mutable_frames(2)->mutable_rotations(4) = v1::Quaternion();
+    grpc::ClientContext ctx;
+    const grpc::Status s = stub->Transfer(&ctx, r, &response);
+    EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(s.error_message().find("zero quaternion"), std::string::npos) << s.error_message();
+  }
+  {
+    v1::TransferRequest r = request;
+    r.mutable_content()->set_fps(-3);
+    grpc::ClientContext ctx;
+    EXPECT_EQ(stub->Transfer(&ctx, r, &response).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  // The server is still fine.
+  EXPECT_TRUE(client().Transfer(content, {&style, ""}).ok());
+}
+
+// Sends `requests` on one TransferStream and returns the final status.
+grpc::Status RawStream(const std::string& address, const std::vector<v1::StreamRequest>& requests,
+                       int* received = nullptr) {
+  auto stub = v1::StyleService::NewStub(
+      grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
+  grpc::ClientContext ctx;
+  auto stream = stub->TransferStream(&ctx);
+  for (const auto& r : requests) {
+    if (!stream->Write(r)) break;
+  }
+  stream->WritesDone();
+  v1::StreamResponse response;
+  int n = 0;
+  while (stream->Read(&response)) ++n;
+  if (received) *received = n;
+  return stream->Finish();
+}
+
+std::vector<v1::StreamRequest> StreamRequests(const motion::Motion& content,
+                                              const motion::Motion& style,
+                                              const std::vector<int64_t>& indices) {
+  std::vector<v1::StreamRequest> out(1);
+  v1::StreamConfig* c = out[0].mutable_config();
+  c->set_fps(content.fps());
+  wire::SkeletonToProto(content.skeleton, c->mutable_skeleton());
+  wire::ClipToProto(style, c->mutable_style()->mutable_clip());
+  for (size_t i = 0; i < indices.size(); ++i) {
+    v1::StreamRequest r;
+    wire::FrameToProto(content, static_cast<int>(i), indices[i], r.mutable_frame());
+    out.push_back(r);
+  }
+  return out;
+}
+
+TEST_F(ServerTest, StreamProtocolErrorsGetClearStatuses) {
+  const motion::Motion content = Sample("walk_normal.bvh"), style = Sample("walk_old.bvh");
+  std::vector<int64_t> good(60);
+  for (int i = 0; i < 60; ++i) good[i] = 1000 + i;
+  int received = 0;
+  grpc::Status s = RawStream(live_->address, StreamRequests(content, style, good), &received);
+  EXPECT_TRUE(s.ok()) << s.error_message();
+  EXPECT_EQ(received, 60);
+
+  std::vector<int64_t> swapped = good;
+  std::swap(swapped[40], swapped[41]);
+  s = RawStream(live_->address, StreamRequests(content, style, swapped));
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("frame index 1041"), std::string::npos) << s.error_message();
+
+  std::vector<int64_t> duplicate = good;
+  duplicate[10] = duplicate[9];
+  s = RawStream(live_->address, StreamRequests(content, style, duplicate));
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+
+  auto no_config = StreamRequests(content, style, good);
+  no_config.erase(no_config.begin());
+  s = RawStream(live_->address, no_config);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("config"), std::string::npos);
+
+  auto unknown_model = StreamRequests(content, style, good);
+  unknown_model[0].mutable_config()->set_model("nope/v1");
+  EXPECT_EQ(RawStream(live_->address, unknown_model).error_code(), grpc::StatusCode::NOT_FOUND);
+
+  const motion::Motion other = *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
+  auto wrong_skeleton = StreamRequests(content, style, good);
+  wire::SkeletonToProto(other.skeleton, wrong_skeleton[0].mutable_config()->mutable_skeleton());
+  EXPECT_EQ(RawStream(live_->address, wrong_skeleton).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+
+  auto nan = StreamRequests(content, style, good);
+  nan[20].mutable_frame()->mutable_root_position()->set_x(std::nan(""));
+  s = RawStream(live_->address, nan);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("frame 1019"), std::string::npos) << s.error_message();
+}
+
+TEST_F(ServerTest, CancelledAndAbandonedStreamsLeaveTheServerHealthy) {
+  const motion::Motion content = Sample("walk_normal.bvh"), style = Sample("walk_old.bvh");
+  std::vector<int64_t> idx(100);
+  for (int i = 0; i < 100; ++i) idx[i] = i;
+  const auto requests = StreamRequests(content, style, idx);
+  for (int round = 0; round < 5; ++round) {
+    auto stub = v1::StyleService::NewStub(
+        grpc::CreateChannel(live_->address, grpc::InsecureChannelCredentials()));
+    auto ctx = std::make_unique<grpc::ClientContext>();
+    auto stream = stub->TransferStream(ctx.get());
+    for (int i = 0; i < 50; ++i) stream->Write(requests[i]);
+    if (round % 2 == 0) {
+      ctx->TryCancel();  // Cancels mid-stream.
+      EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::CANCELLED);
+    } else {
+      // Disappears: the call, its stream and its channel are dropped unfinished.
+      ctx->TryCancel();
+      stream.reset();
+    }
+  }
+  auto out = client().Stream(content, {&style, ""}, 0);
+  ASSERT_TRUE(out.ok()) << out.status();
+  EXPECT_EQ(out->output.num_frames, content.num_frames);
+}
+
+TEST_F(ServerTest, ExpiredDeadlineIsReported) {
+  const motion::Motion content = Sample("walk_normal.bvh"), style = Sample("walk_old.bvh");
+  ClientOptions o;
+  o.address = live_->address;
+  o.deadline = std::chrono::milliseconds(1);
+  Client hurried(o);
+  auto out = hurried.Transfer(content, {&style, ""});
+  EXPECT_EQ(out.status().code(), absl::StatusCode::kDeadlineExceeded) << out.status();
+  EXPECT_TRUE(client().Transfer(content, {&style, ""}).ok());
+}
+
+TEST(ServerLimitsTest, OversizeMessagesAndTooManyStreamsAreResourceExhausted) {
+  server::ServerOptions options;
+  options.max_message_mb = 1;
+  options.max_streams = 1;
+  auto live = LiveServer::Start(options);
+  ASSERT_NE(live, nullptr);
+  const motion::Motion style = Sample("walk_old.bvh");
+  motion::Motion big = Sample("walk_normal.bvh");
+  while (big.num_frames < 4000) {
+    big.values.insert(big.values.end(), big.values.begin(), big.values.end());
+    big.num_frames *= 2;
+  }
+  auto out = live->client->Transfer(big, {&style, ""});
+  EXPECT_EQ(out.status().code(), absl::StatusCode::kResourceExhausted) << out.status();
+
+  // One stream open; a second is refused.
+  auto stub = v1::StyleService::NewStub(
+      grpc::CreateChannel(live->address, grpc::InsecureChannelCredentials()));
+  grpc::ClientContext ctx;
+  auto open = stub->TransferStream(&ctx);
+  std::vector<int64_t> idx = {0};
+  const auto requests = StreamRequests(style, style, idx);
+  ASSERT_TRUE(open->Write(requests[0]));
+  ASSERT_TRUE(open->Write(requests[1]));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const grpc::Status second = RawStream(live->address, requests);
+  EXPECT_EQ(second.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << second.error_message();
+  open->WritesDone();
+  v1::StreamResponse r;
+  while (open->Read(&r)) {
+  }
+  EXPECT_TRUE(open->Finish().ok());
+}
+
+TEST(ServerShutdownTest, InFlightCallsFinishBeforeTheServerStops) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  auto live = LiveServer::Start();
+  ASSERT_NE(live, nullptr);
+  motion::Motion content = BandaiClip(dir, "walk_normal_001");
+  for (int i = 0; i < 4; ++i) {  // ~3000 frames: long enough to be in flight.
+    content.values.insert(content.values.end(), content.values.begin(), content.values.end());
+    content.num_frames *= 2;
+  }
+  const motion::Motion style = BandaiClip(dir, "walk_old_001");
+  auto pending = std::async(std::launch::async, [&] {
+    return live->client->Transfer(content, {&style, ""});
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  live->server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(30));
+  auto out = pending.get();
+  ASSERT_TRUE(out.ok()) << out.status();
+  EXPECT_EQ(out->num_frames, content.num_frames);
+  // After shutdown, new calls are refused.
+  auto late = live->client->ListModels();
+  EXPECT_EQ(late.status().code(), absl::StatusCode::kUnavailable) << late.status();
+}
+
+}  // namespace
+}  // namespace stylus

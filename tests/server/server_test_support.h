@@ -1,0 +1,45 @@
+// A real Stylus server on localhost:0 (in this process) with the repository's
+// models, and a client connected to it.
+#ifndef STYLUS_TESTS_SERVER_SERVER_TEST_SUPPORT_H_
+#define STYLUS_TESTS_SERVER_SERVER_TEST_SUPPORT_H_
+
+#include <memory>
+#include <string>
+
+#include "client/client.h"
+#include "gtest/gtest.h"
+#include "motion/bvh.h"
+#include "server/server.h"
+#include "tests/test_support.h"
+
+namespace stylus::testing {
+
+struct LiveServer {
+  std::unique_ptr<server::StylusServer> server;
+  std::unique_ptr<Client> client;
+  std::string address;
+
+  static std::unique_ptr<LiveServer> Start(server::ServerOptions options = {}) {
+    if (options.models_dir == "models") options.models_dir = SourceDir() + "/models";
+    options.listen = "localhost:0";
+    auto s = std::make_unique<LiveServer>();
+    absl::StatusOr<std::unique_ptr<server::StylusServer>> started =
+        server::StylusServer::Start(options);
+    EXPECT_TRUE(started.ok()) << started.status();
+    if (!started.ok()) return nullptr;
+    s->server = *std::move(started);
+    s->address = "localhost:" + std::to_string(s->server->port());
+    ClientOptions c;
+    c.address = s->address;
+    s->client = std::make_unique<Client>(c);
+    return s;
+  }
+};
+
+inline motion::Motion Sample(const std::string& name) {
+  return *motion::ReadBvhFile(SourceDir() + "/samples/" + name);
+}
+
+}  // namespace stylus::testing
+
+#endif  // STYLUS_TESTS_SERVER_SERVER_TEST_SUPPORT_H_

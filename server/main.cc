@@ -6,6 +6,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "server/server.h"
+#include "spdlog/sinks/stdout_color_sinks.h"
 #include "spdlog/spdlog.h"
 
 namespace {
@@ -36,6 +37,8 @@ int Usage(const std::string& error) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Logs go to stderr, one line per call.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("stylus-server"));
   stylus::server::ServerOptions options;
   double grace_s = 10;
   std::string port_file;

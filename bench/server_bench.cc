@@ -1,0 +1,170 @@
+// Service figures for the issue report, against a real stylus-server process:
+//   - unary Transfer latency of a 300-frame clip (median of N), and as a ratio
+//     to the baseline measured in the same run: the same transfer in-process,
+//     without gRPC (so the ratio is the cost of the service around the model);
+//   - TransferStream per-frame latency p50/p99 when frames are sent at 30 fps
+//     (and the floor the windowing sets: a frame waits for the window after it);
+//   - the server's resident memory idle and after 1000 Transfer calls.
+// Usage: server_bench [--server-bin PATH] [--calls 1000] [--reps 20]
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "client/client.h"
+#include "model/contrastive_model.h"
+#include "model/runtime.h"
+#include "motion/synth.h"
+
+extern char** environ;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double Percentile(std::vector<double> v, double p) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
+}
+
+long RssKb(pid_t pid) {
+  std::ifstream f("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  }
+  return -1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string server_bin = std::string(STYLUS_BINARY_DIR) + "/server/stylus-server";
+  int calls = 1000, reps = 20;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--help")) {
+      std::printf("usage: server_bench [--server-bin PATH] [--calls 1000] [--reps 20]\n");
+      return 0;
+    }
+    if (i + 1 >= argc) break;
+    if (!std::strcmp(argv[i], "--server-bin")) server_bin = argv[++i];
+    if (!std::strcmp(argv[i], "--calls")) calls = std::atoi(argv[++i]);
+    if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[++i]);
+  }
+  const std::string models = std::string(STYLUS_SOURCE_DIR) + "/models";
+  const std::string port_file = "/tmp/stylus_server_bench." + std::to_string(getpid()) + ".port";
+  std::remove(port_file.c_str());
+  std::vector<std::string> args = {server_bin, "--models", models, "--listen", "localhost:0",
+                                   "--port-file", port_file, "--threads", "2"};
+  std::vector<char*> cargs;
+  for (auto& a : args) cargs.push_back(a.data());
+  cargs.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid;
+  if (posix_spawn(&pid, server_bin.c_str(), &actions, nullptr, cargs.data(), environ) != 0) {
+    std::fprintf(stderr, "server_bench: cannot start %s\n", server_bin.c_str());
+    return 1;
+  }
+  int port = 0;
+  for (int i = 0; i < 300 && port == 0; ++i) {
+    std::ifstream f(port_file);
+    if (!(f >> port)) port = 0;
+    if (port == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  if (port == 0) {
+    std::fprintf(stderr, "server_bench: the server did not start\n");
+    kill(pid, SIGKILL);
+    return 1;
+  }
+  stylus::ClientOptions options;
+  options.address = "localhost:" + std::to_string(port);
+  stylus::Client client(options);
+
+  const auto content = *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("normal,frames=300"));
+  const auto style = *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("old,frames=120"));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const long rss_idle = RssKb(pid);
+
+  // Baseline: the same transfer in this process, 1 LibTorch thread (as the server runs it).
+  stylus::model::SetComputeThreads(1);
+  auto model = stylus::model::ContrastiveModel::Load(models + "/contrastive/v1");
+  const auto code = *(*model)->EncodeStyle(style);
+  std::vector<double> local, unary;
+  for (int r = 0; r < reps; ++r) {
+    auto t = Clock::now();
+    (void)(*model)->Transfer(content, code);
+    local.push_back(Since(t));
+    (void)client.EncodeStyle(style, "bench");
+    t = Clock::now();
+    auto out = client.Transfer(content, {nullptr, "bench"});
+    unary.push_back(Since(t));
+    if (!out.ok()) {
+      std::fprintf(stderr, "server_bench: %s\n", out.status().ToString().c_str());
+      kill(pid, SIGKILL);
+      return 1;
+    }
+  }
+  const double lm = Percentile(local, 0.5), um = Percentile(unary, 0.5);
+  std::printf("unary Transfer, 300 frames (saved style): median %.1f ms; in-process baseline %.1f ms;"
+              " ratio %.2f\n", 1000 * um, 1000 * lm, um / lm);
+
+  auto streamed = client.Stream(content, {&style, ""}, 30);
+  if (!streamed.ok()) {
+    std::fprintf(stderr, "server_bench: stream: %s\n", streamed.status().ToString().c_str());
+    kill(pid, SIGKILL);
+    return 1;
+  }
+  const absl::StatusOr<stylus::v1::ModelInfo> info = client.GetModel("");
+  if (!info.ok()) {
+    std::fprintf(stderr, "server_bench: %s\n", info.status().ToString().c_str());
+    kill(pid, SIGKILL);
+    return 1;
+  }
+  // Frame f leaves once input reaches the start of the window after it plus
+  // a window and one frame: on average (hop-1)/2 + window + 1 frames later.
+  const double floor_ms = 1000.0 * ((info->hop() - 1) / 2.0 + info->window() + 1) / 30.0;
+  std::printf("TransferStream at 30 fps, 300 frames: per-frame latency p50 %.0f ms, p99 %.0f ms; "
+              "windowing floor (mean wait for the next window) %.0f ms; p50/floor %.2f\n",
+              1000 * Percentile(streamed->latency_s, 0.5), 1000 * Percentile(streamed->latency_s, 0.99),
+              floor_ms, 1000 * Percentile(streamed->latency_s, 0.5) / floor_ms);
+
+  const long rss_before = RssKb(pid);
+  const auto t_calls = Clock::now();
+  std::vector<std::thread> workers;
+  std::atomic<int> failures{0};
+  for (int w = 0; w < 2; ++w) {
+    workers.emplace_back([&, w] {
+      for (int i = w; i < calls; i += 2) {
+        if (!client.Transfer(content, {nullptr, "bench"}).ok()) ++failures;
+      }
+    });
+  }
+  for (auto& t : workers) t.join();
+  const double secs = Since(t_calls);
+  const long rss_after = RssKb(pid);
+  std::printf("server RSS: idle %.1f MB; before the calls %.1f MB; after %d Transfer calls (%.1f s, "
+              "%.1f calls/s, %d failed) %.1f MB; after/before %.2f\n",
+              rss_idle / 1024.0, rss_before / 1024.0, calls, secs, calls / secs, failures.load(),
+              rss_after / 1024.0, static_cast<double>(rss_after) / rss_before);
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  std::printf("server exit on SIGTERM: %d\n", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  std::remove(port_file.c_str());
+  return 0;
+}

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# End-to-end: a real stylus-server process on a free port, driven by the
+# `stylus` CLI; then SIGTERM, which must stop it cleanly with exit code 0.
+# Usage: cli_e2e_test.sh STYLUS_SERVER STYLUS SOURCE_DIR WORK_DIR
+set -u
+server=$1 cli=$2 src=$3 work=$4
+rm -rf "$work" && mkdir -p "$work"
+passed=0 failed=0
+
+check() {  # check NAME EXPECTED_EXIT REGEX -- COMMAND...
+  local name=$1 want=$2 regex=$3
+  shift 4
+  local out rc
+  out=$("$@" 2>&1)
+  rc=$?
+  if [ "$rc" -eq "$want" ] && grep -Eq -- "$regex" <<<"$out"; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL $name: exit $rc (want $want), output:"
+    echo "$out" | head -20
+  fi
+}
+
+check "server --help" 0 "usage: stylus-server" -- "$server" --help
+check "server bad option" 2 "unknown option --bogus" -- "$server" --bogus 1
+check "server missing models" 1 "does not exist" -- "$server" --models "$work/none" --listen localhost:0
+check "cli --help" 0 "usage: stylus" -- "$cli" --help
+check "cli no server" 1 "UNAVAILABLE" -- "$cli" --server localhost:1 --deadline-s 2 models
+
+"$server" --models "$src/models" --listen localhost:0 --port-file "$work/port" >"$work/server.log" 2>&1 &
+pid=$!
+for _ in $(seq 1 300); do [ -s "$work/port" ] && break; sleep 0.1; done
+if [ ! -s "$work/port" ]; then
+  echo "FAIL: the server did not start:"; cat "$work/server.log"; kill "$pid"; exit 1
+fi
+addr=localhost:$(cat "$work/port")
+s=(--server "$addr")
+walk=$src/samples/walk_normal.bvh old=$src/samples/walk_old.bvh run=$src/samples/run.bvh
+
+check "models" 0 "contrastive/v1 \(default\)" -- "$cli" "${s[@]}" models
+check "transfer" 0 "wrote .*out.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/out.bvh"
+check "transfer output is BVH" 0 "HIERARCHY" -- head -1 "$work/out.bvh"
+check "transfer --model" 0 "wrote" -- "$cli" "${s[@]}" transfer --model contrastive/v1 --content "$walk" --style "$old" -o "$work/out2.bvh"
+check "interpolate" 0 "wrote .*mix_2.bvh \(weights 0:1\)" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,0.5,1 -o "$work/mix"
+check "interpolate files" 0 "mix_0.bvh" -- ls "$work/mix_0.bvh" "$work/mix_1.bvh" "$work/mix_2.bvh"
+check "stream" 0 "streamed 120 frames at 60.0 fps; got 120 back; latency p50 [0-9.]+ ms, p99 [0-9.]+ ms" -- "$cli" "${s[@]}" stream --content "$walk" --style "$old" --rate 60 -o "$work/stream.bvh"
+check "metrics" 0 '^\{"bone_length_error": .*"foot_skating": .*"trajectory_error": ' -- "$cli" "${s[@]}" metrics --output "$work/out.bvh" --content "$walk" --style "$old"
+check "encode-style --save-as" 0 "144 values; saved as 'old'" -- "$cli" "${s[@]}" encode-style --style "$old" --save-as old
+check "transfer --style-name" 0 "wrote" -- "$cli" "${s[@]}" transfer --content "$walk" --style-name old -o "$work/named.bvh"
+check "unknown style name" 1 "NOT_FOUND: .*'young'" -- "$cli" "${s[@]}" transfer --content "$walk" --style-name young -o "$work/x.bvh"
+check "unknown model" 1 "NOT_FOUND: unknown model 'cyclic/v9'" -- "$cli" "${s[@]}" transfer --model cyclic/v9 --content "$walk" --style "$old" -o "$work/x.bvh"
+check "wrong skeleton" 1 "INVALID_ARGUMENT: content clip is on another skeleton" -- "$cli" "${s[@]}" transfer --content "$src/tests/fixtures/bvh/good/three_joint.bvh" --style "$old" -o "$work/x.bvh"
+check "bad BVH" 1 "nan_value.bvh:25" -- "$cli" "${s[@]}" transfer --content "$src/tests/fixtures/bvh/bad/nan_value.bvh" --style "$old" -o "$work/x.bvh"
+check "missing -o" 1 "-o is required" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old"
+check "bad weights" 1 "'x' is not a number" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,x -o "$work/m"
+check "bad postprocess" 1 "--postprocess must be" -- "$cli" "${s[@]}" transfer --postprocess wobbly --content "$walk" --style "$old" -o "$work/x.bvh"
+check "unknown command" 2 "unknown command 'frobnicate'" -- "$cli" "${s[@]}" frobnicate
+check "server logs one line per call" 0 "rpc=Transfer model=contrastive/v1 frames=120 ms=[0-9.]+ status=OK" -- cat "$work/server.log"
+
+kill -TERM "$pid"
+wait "$pid"
+rc=$?
+if [ "$rc" -eq 0 ] && grep -q "shut down" "$work/server.log"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL SIGTERM: exit $rc"; tail -5 "$work/server.log"
+fi
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -50,15 +50,17 @@ double FootHeightError(const Motion& clip, const Motion& reference, const Humano
   return n ? sum / n : 0;
 }
 
-double BoneLengthError(const Motion& clip) {
+double BoneLengthError(const Motion& clip, const HumanoidRoles& roles) {
   const Skeleton& sk = clip.skeleton;
   const auto pos = GlobalPositions(clip);
+  std::vector<bool> below(sk.num_joints(), false);
   double sum = 0;
   int n = 0;
   for (int j = 1; j < sk.num_joints(); ++j) {
-    const double rest = Length(sk.joint(j).offset);
-    if (rest < 1e-9) continue;
     const int p = sk.joint(j).parent;
+    below[j] = p == roles.pelvis || below[p];
+    const double rest = Length(sk.joint(j).offset);
+    if (!below[j] || rest < 1e-9) continue;
     for (const auto& frame : pos) {
       sum += std::abs(Length(frame[j] - frame[p]) - rest) / rest;
       ++n;
@@ -130,7 +132,7 @@ absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const Motion& clip,
   std::map<std::string, double> m;
   m["foot_skating"] = FootSkating(clip, ref, *roles);
   m["foot_height_error"] = FootHeightError(clip, ref, *roles);
-  m["bone_length_error"] = BoneLengthError(clip);
+  m["bone_length_error"] = BoneLengthError(clip, *roles);
   m["jitter"] = Jitter(clip);
   m["max_euler_step_deg"] = MaxEulerStep(clip);
   if (reference) m["trajectory_error"] = TrajectoryError(clip, ref, *roles);

@@ -24,9 +24,10 @@ double FootSkating(const Motion& clip, const Motion& reference, const HumanoidRo
 double FootHeightError(const Motion& clip, const Motion& reference, const HumanoidRoles& roles);
 
 // Mean relative difference between each bone's length in the posed clip and
-// its length in the skeleton's offsets (0.001 = 0.1%), over frames and bones
+// its length in the skeleton's offsets (0.001 = 0.1%), over frames and the
+// bones below the pelvis (the pelvis's own translation is motion, not a bone)
 // of non-zero length.
-double BoneLengthError(const Motion& clip);
+double BoneLengthError(const Motion& clip, const HumanoidRoles& roles);
 
 // Mean magnitude of the third time derivative of joint world positions
 // (units/s^3) over joints and frames: high-frequency shake.

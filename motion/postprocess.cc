@@ -1,0 +1,244 @@
+#include "motion/postprocess.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "motion/contacts.h"
+#include "motion/ik.h"
+#include "motion/kinematics.h"
+
+namespace stylus::motion {
+namespace {
+
+struct Leg {
+  int hip, knee, ankle, toe;
+  int ankle_k, toe_k;  // Indices in FootJoints order.
+};
+
+absl::StatusOr<std::array<Leg, 2>> Legs(const Skeleton& sk, const HumanoidRoles& roles) {
+  std::array<Leg, 2> legs;
+  const int hips[2] = {roles.left_hip, roles.right_hip};
+  const int ankles[2] = {roles.left_ankle, roles.right_ankle};
+  const int toes[2] = {roles.left_toe, roles.right_toe};
+  for (int s = 0; s < 2; ++s) {
+    const int knee = sk.joint(ankles[s]).parent;
+    if (knee < 0 || sk.joint(knee).parent != hips[s] || sk.joint(toes[s]).parent != ankles[s]) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "leg of '", sk.joint(ankles[s]).name,
+          "' is not a hip -> knee -> ankle -> toe chain; foot locking needs one"));
+    }
+    legs[s] = {hips[s], knee, ankles[s], toes[s], 2 * s, 2 * s + 1};
+  }
+  return legs;
+}
+
+Vec3 Lerp(const Vec3& a, const Vec3& b, double t) { return a + (b - a) * t; }
+
+bool HasPosition(const Joint& j) {
+  for (Channel c : j.channels) {
+    if (IsPosition(c)) return true;
+  }
+  return false;
+}
+
+// Joints strictly below the pelvis: their translations are bones.
+std::vector<bool> BelowPelvis(const Skeleton& sk, const HumanoidRoles& roles) {
+  std::vector<bool> below(sk.num_joints(), false);
+  for (int j = 0; j < sk.num_joints(); ++j) {
+    const int p = sk.joint(j).parent;
+    below[j] = p >= 0 && (p == roles.pelvis || below[p]);
+  }
+  return below;
+}
+
+}  // namespace
+
+absl::StatusOr<PostProcessMode> ParsePostProcessMode(absl::string_view name) {
+  if (name == "none") return PostProcessMode::kNone;
+  if (name == "feet") return PostProcessMode::kFeet;
+  if (name == "full") return PostProcessMode::kFull;
+  return absl::InvalidArgumentError(
+      absl::StrCat("post-processing '", name, "' is not one of none, feet, full"));
+}
+
+const char* PostProcessModeName(PostProcessMode mode) {
+  switch (mode) {
+    case PostProcessMode::kNone: return "none";
+    case PostProcessMode::kFeet: return "feet";
+    case PostProcessMode::kFull: return "full";
+  }
+  return "?";
+}
+
+std::array<std::vector<ContactSpan>, 4> DetectContactSpans(
+    const std::vector<std::vector<Vec3>>& pos, const HumanoidRoles& roles, double fps,
+    const ContactSpanParams& params) {
+  std::array<std::vector<ContactSpan>, 4> spans;
+  const int n = static_cast<int>(pos.size());
+  const std::array<int, 4> feet = FootJoints(roles);
+  const double leg = roles.leg_length;
+  const int min_span = std::max(2, static_cast<int>(std::lround(params.min_span_s * fps)));
+  for (int k = 0; k < 4; ++k) {
+    const int j = feet[k];
+    double floor = 1e300;
+    for (int f = 0; f < n; ++f) floor = std::min(floor, pos[f][j].y);
+    bool in = false;
+    int begin = 0;
+    for (int f = 0; f <= n; ++f) {
+      bool low_on = false, low_off = false;
+      if (f < n) {
+        const int a = std::max(0, f - 1), b = std::min(n - 1, f + 1);
+        double speed = 0;
+        if (b > a) {
+          const Vec3 d = pos[b][j] - pos[a][j];
+          speed = std::hypot(d.x, d.z) * fps / (b - a);
+        }
+        const double h = pos[f][j].y - floor;
+        low_on = h <= params.height_on * leg && speed <= params.speed_on * leg;
+        low_off = h <= params.height_off * leg && speed <= params.speed_off * leg;
+      }
+      if (!in && low_on) {
+        in = true;
+        begin = f;
+      } else if (in && !low_off) {
+        in = false;
+        if (f - begin >= min_span) spans[k].push_back({begin, f});
+      }
+    }
+  }
+  return spans;
+}
+
+void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles) {
+  const Skeleton& sk = motion->skeleton;
+  const std::vector<bool> below = BelowPelvis(sk, roles);
+  for (int f = 0; f < motion->num_frames; ++f) {
+    for (int j = 0; j < sk.num_joints(); ++j) {
+      if (!below[j]) continue;
+      const Joint& joint = sk.joint(j);
+      for (size_t c = 0; c < joint.channels.size(); ++c) {
+        if (IsPosition(joint.channels[c])) {
+          motion->frame(f)[sk.channel_start(j) + c] = joint.offset[ChannelAxis(joint.channels[c])];
+        }
+      }
+    }
+  }
+}
+
+void MakeEulerContinuous(Motion* motion) {
+  std::vector<Vec3> prev(motion->skeleton.num_joints());
+  for (int f = 0; f < motion->num_frames; ++f) {
+    const LocalPose pose = PoseAt(*motion, f);
+    if (f == 0) {
+      // Keep the first frame's angles as they are: continuity starts there.
+      const Skeleton& sk = motion->skeleton;
+      for (int j = 0; j < sk.num_joints(); ++j) {
+        const Joint& joint = sk.joint(j);
+        int k = 0;
+        for (size_t c = 0; c < joint.channels.size(); ++c) {
+          if (!IsPosition(joint.channels[c])) prev[j][k++] = motion->frame(0)[sk.channel_start(j) + c];
+        }
+      }
+      continue;
+    }
+    SetPose(motion, f, pose, &prev);
+  }
+}
+
+absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
+                                   const HumanoidRoles& roles, PostProcessMode mode,
+                                   const PostProcessParams& params) {
+  if (mode == PostProcessMode::kNone) return output;
+  const Skeleton& sk = output.skeleton;
+  if (!sk.SameTopology(content.skeleton)) {
+    return absl::InvalidArgumentError(absl::StrCat("post-processing: the content clip is on another skeleton: ",
+                                                   sk.DescribeMismatch(content.skeleton)));
+  }
+  absl::StatusOr<std::array<Leg, 2>> legs = Legs(sk, roles);
+  if (!legs.ok()) return legs.status();
+  const int n = output.num_frames;
+  if (n == 0) return output;
+  const double fps = output.fps();
+  const auto content_pos = GlobalPositions(content);
+  const auto spans = DetectContactSpans(content_pos, roles, content.fps(), params.contacts);
+  const auto out_pos = GlobalPositions(output);
+  const std::array<int, 4> feet = FootJoints(roles);
+  const int blend = std::max(1, static_cast<int>(std::lround(params.blend_s * fps)));
+
+  // Per foot joint and frame: lock weight and pinned position.
+  std::array<std::vector<double>, 4> weight;
+  std::array<std::vector<Vec3>, 4> target;
+  for (int k = 0; k < 4; ++k) {
+    weight[k].assign(n, 0.0);
+    target[k].assign(n, Vec3{});
+    const int j = feet[k];
+    for (const ContactSpan& s : spans[k]) {
+      if (s.begin >= n) continue;
+      const int last = std::min(s.end, n);
+      Vec3 pin;
+      if (params.pin_at_span_start) {
+        pin = out_pos[s.begin][j];
+      } else {
+        for (int f = s.begin; f < last; ++f) pin = pin + out_pos[f][j];
+        pin = pin * (1.0 / (last - s.begin));
+      }
+      double y = 0;
+      for (int f = s.begin; f < s.end; ++f) y += content_pos[f][j].y;
+      pin.y = y / (s.end - s.begin);
+      for (int f = std::max(0, s.begin - blend); f < std::min(n, s.end + blend); ++f) {
+        const int dist = f < s.begin ? s.begin - f : (f >= s.end ? f - s.end + 1 : 0);
+        const double w = 1.0 - static_cast<double>(dist) / (blend + 1);
+        if (w > weight[k][f]) {
+          weight[k][f] = w;
+          target[k][f] = pin;
+        }
+      }
+    }
+  }
+
+  Motion result = output;
+  const std::vector<bool> below = BelowPelvis(sk, roles);
+  std::vector<Vec3> prev_euler(sk.num_joints());
+  for (int f = 0; f < n; ++f) {
+    LocalPose local = PoseAt(output, f);
+    if (mode == PostProcessMode::kFull) {
+      for (int j = 0; j < sk.num_joints(); ++j) {
+        if (below[j] && HasPosition(sk.joint(j))) local.translations[j] = sk.joint(j).offset;
+      }
+    }
+    GlobalPose g = ForwardKinematics(sk, local);
+    for (const Leg& leg : *legs) {
+      const double wa = weight[leg.ankle_k][f], wt = weight[leg.toe_k][f];
+      if (wa <= 0 && wt <= 0) continue;
+      Vec3 ankle = g.positions[leg.ankle];
+      const Vec3 toe_offset = g.positions[leg.toe] - ankle;
+      if (wa > 0) {
+        const Vec3 want = Lerp(ankle, target[leg.ankle_k][f], wa);
+        const Vec3 forward = Rotate(g.rotations[leg.hip], {0, 0, 1});
+        const TwoBoneResult ik = SolveTwoBone(g.positions[leg.hip], g.positions[leg.knee], ankle,
+                                              want, forward);
+        g.rotations[leg.hip] = Normalized(ik.hip_delta * g.rotations[leg.hip]);
+        g.rotations[leg.knee] = Normalized(ik.knee_delta * g.rotations[leg.knee]);
+        ankle = ik.ankle;
+      }
+      if (wt > 0) {
+        // Toes pinned too (heel-off): turn the ankle so the toe reaches its pin.
+        const Vec3 toe = ankle + toe_offset;
+        const Vec3 want = Lerp(toe, target[leg.toe_k][f], wt);
+        g.rotations[leg.ankle] =
+            Normalized(RotationBetween(toe - ankle, want - ankle) * g.rotations[leg.ankle]);
+      }
+      const int hip_parent = sk.joint(leg.hip).parent;
+      local.rotations[leg.hip] =
+          Normalized(Conjugate(g.rotations[hip_parent]) * g.rotations[leg.hip]);
+      local.rotations[leg.knee] = Normalized(Conjugate(g.rotations[leg.hip]) * g.rotations[leg.knee]);
+      local.rotations[leg.ankle] =
+          Normalized(Conjugate(g.rotations[leg.knee]) * g.rotations[leg.ankle]);
+    }
+    SetPose(&result, f, local, &prev_euler);
+  }
+  return result;
+}
+
+}  // namespace stylus::motion

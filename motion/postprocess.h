@@ -1,0 +1,79 @@
+// Post-processing of generated motion, what animators check first: planted
+// feet (contact spans of the content clip, foot locking with two-bone leg IK),
+// bone lengths equal to the skeleton's offsets, and continuous Euler angles.
+// docs/postprocess.md explains the choices.
+#ifndef STYLUS_MOTION_POSTPROCESS_H_
+#define STYLUS_MOTION_POSTPROCESS_H_
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+#include "motion/humanoid.h"
+#include "motion/motion.h"
+
+namespace stylus::motion {
+
+// none: the network's output as is; feet: foot locking; full: feet, bone
+// lengths and Euler continuity.
+enum class PostProcessMode { kNone, kFeet, kFull };
+// "none", "feet", "full"; INVALID_ARGUMENT otherwise.
+absl::StatusOr<PostProcessMode> ParsePostProcessMode(absl::string_view name);
+const char* PostProcessModeName(PostProcessMode mode);
+
+// Contact thresholds, in leg lengths (so they hold at any scale) and seconds
+// (so they hold at any frame rate). A foot joint enters contact when it is
+// within `height_on` of its floor and slower than `speed_on` (horizontal),
+// and leaves it only when above `height_off` or faster than `speed_off`
+// (hysteresis); spans shorter than `min_span_s` are dropped.
+struct ContactSpanParams {
+  double height_on = 0.05, height_off = 0.07;
+  double speed_on = 0.5, speed_off = 0.7;
+  double min_span_s = 0.1;
+};
+
+struct ContactSpan {
+  int begin = 0, end = 0;  // Frames [begin, end).
+};
+
+// Spans per foot joint, in FootJoints order (left ankle, left toe, right
+// ankle, right toe). `positions`: frames x joints world positions, Y up. A
+// joint's floor is its lowest height in `positions`.
+std::array<std::vector<ContactSpan>, 4> DetectContactSpans(
+    const std::vector<std::vector<Vec3>>& positions, const HumanoidRoles& roles, double fps,
+    const ContactSpanParams& params = {});
+
+struct PostProcessParams {
+  ContactSpanParams contacts;
+  double blend_s = 0.1;  // Locks blend in and out over this long.
+  // Where a locked foot is pinned: the mean of its span (offline), or, for
+  // streaming, where it is at the span's first frame (known without waiting
+  // for the span's end).
+  bool pin_at_span_start = false;
+};
+
+// The two-bone solve for one leg with toes following is applied to every frame
+// where a foot of `output` is locked. `content` decides the contacts (it may
+// have more frames than `output`, e.g. look-ahead in a stream; frame i of
+// both is the same instant). The root and everything above the hips keep
+// their values; frame count and channel layout are unchanged. INVALID_ARGUMENT
+// when the clips' skeletons differ in topology, or the legs are not
+// hip -> knee -> ankle -> toe chains.
+absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
+                                   const HumanoidRoles& roles, PostProcessMode mode,
+                                   const PostProcessParams& params = {});
+
+// Position channels of every joint below the pelvis set to its offset (its
+// bone length and direction at rest).
+void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles);
+
+// Rewrites every rotation as the Euler angles, in the joint's own order,
+// nearest to the previous frame's: the same rotations without 360-degree (or
+// gimbal-flip) jumps.
+void MakeEulerContinuous(Motion* motion);
+
+}  // namespace stylus::motion
+
+#endif  // STYLUS_MOTION_POSTPROCESS_H_

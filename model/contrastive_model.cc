@@ -132,13 +132,15 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
 }
 
 absl::StatusOr<motion::Motion> ContrastiveModel::Transfer(const motion::Motion& content,
-                                                          const StyleCode& style) const {
-  return Interpolate(content, {style}, StyleWeights{{1.0}, {}});
+                                                          const StyleCode& style,
+                                                          motion::PostProcessMode post) const {
+  return Interpolate(content, {style}, StyleWeights{{1.0}, {}}, post);
 }
 
 absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motion& content,
                                                              const std::vector<StyleCode>& styles,
-                                                             const StyleWeights& weights) const {
+                                                             const StyleWeights& weights,
+                                                             motion::PostProcessMode post) const {
   const ContrastiveConfig& config = impl_->package.config;
   if (styles.empty()) return absl::InvalidArgumentError("no style given");
   for (const StyleCode& s : styles) {
@@ -185,8 +187,11 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
   for (size_t w = 0; w < starts.size(); ++w) blender.Add(starts[w], y->data() + w * per_window);
   motion::FeatureClip out = blender.Take(content.num_frames);  // Drops the padding.
   impl_->package.norm.Denormalize(&out);
-  return motion::MotionFromFeatures(out, content.skeleton, impl_->package.roles, content.frame_time,
-                                    motion::RootAt(content, impl_->package.roles, 0));
+  absl::StatusOr<motion::Motion> raw =
+      motion::MotionFromFeatures(out, content.skeleton, impl_->package.roles, content.frame_time,
+                                 motion::RootAt(content, impl_->package.roles, 0));
+  if (!raw.ok()) return raw.status();
+  return motion::PostProcess(*raw, content, impl_->package.roles, post);
 }
 
 }  // namespace stylus::model

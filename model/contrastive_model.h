@@ -17,6 +17,7 @@
 #include "model/package.h"
 #include "motion/features.h"
 #include "motion/motion.h"
+#include "motion/postprocess.h"
 
 namespace stylus::model {
 
@@ -50,15 +51,18 @@ class ContrastiveModel {
 
   // The content clip re-generated with `style`: same skeleton, channel layout,
   // frame count and frame rate; overlapping windows are cross-faded, and the
-  // root starts where the content's does.
-  absl::StatusOr<motion::Motion> Transfer(const motion::Motion& content,
-                                          const StyleCode& style) const;
+  // root starts where the content's does. `post` cleans the result
+  // (motion/postprocess.h; feet locked where the content's feet are planted).
+  absl::StatusOr<motion::Motion> Transfer(
+      const motion::Motion& content, const StyleCode& style,
+      motion::PostProcessMode post = motion::PostProcessMode::kFull) const;
 
   // Transfer with a blend of `styles`: each window uses sum_k w_k s_k, the
   // weights taken at the window's centre frame.
-  absl::StatusOr<motion::Motion> Interpolate(const motion::Motion& content,
-                                             const std::vector<StyleCode>& styles,
-                                             const StyleWeights& weights) const;
+  absl::StatusOr<motion::Motion> Interpolate(
+      const motion::Motion& content, const std::vector<StyleCode>& styles,
+      const StyleWeights& weights,
+      motion::PostProcessMode post = motion::PostProcessMode::kFull) const;
 
   // Lower-level steps of Transfer, for streaming (model/stream_transfer.h).
   // The clip's normalized features, checked as Transfer checks a content clip

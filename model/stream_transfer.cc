@@ -19,7 +19,7 @@ constexpr int kHistoryWindows = 2;
 
 absl::StatusOr<std::unique_ptr<StreamTransfer>> StreamTransfer::Create(
     std::shared_ptr<const ContrastiveModel> model, StyleCode style,
-    const motion::Skeleton& skeleton, double frame_time) {
+    const motion::Skeleton& skeleton, double frame_time, motion::PostProcessMode post) {
   if (!model) return absl::InvalidArgumentError("no model");
   const PackageContents& p = model->package();
   if (static_cast<int>(style.values.size()) != p.config.channels) {
@@ -32,17 +32,19 @@ absl::StatusOr<std::unique_ptr<StreamTransfer>> StreamTransfer::Create(
   probe.num_frames = 0;
   probe.values.clear();
   return std::unique_ptr<StreamTransfer>(
-      new StreamTransfer(std::move(model), std::move(style), probe));
+      new StreamTransfer(std::move(model), std::move(style), probe, post));
 }
 
 StreamTransfer::StreamTransfer(std::shared_ptr<const ContrastiveModel> model, StyleCode style,
-                               const motion::Motion& empty)
+                               const motion::Motion& empty, motion::PostProcessMode post)
     : model_(std::move(model)),
       style_(std::move(style)),
       window_(model_->package().config.window),
       hop_(model_->package().config.hop),
       input_(empty),
-      blender_(window_, window_ - hop_, model_->package().norm.dim()) {}
+      blender_(window_, window_ - hop_, model_->package().norm.dim()),
+      post_(post),
+      done_(empty) {}
 
 absl::StatusOr<motion::Motion> StreamTransfer::Push(const motion::Motion& frames) {
   const int channels = input_.skeleton.num_channels();
@@ -131,8 +133,53 @@ absl::StatusOr<motion::Motion> StreamTransfer::Emit(int64_t end) {
     return empty;
   }
   model_->package().norm.Denormalize(&out);
-  return motion::MotionFromFeatures(out, input_.skeleton, model_->package().roles,
-                                    input_.frame_time, &decode_);
+  const int64_t first = blender_.taken() - out.frames;
+  absl::StatusOr<motion::Motion> raw = motion::MotionFromFeatures(
+      out, input_.skeleton, model_->package().roles, input_.frame_time, &decode_);
+  if (!raw.ok() || post_ == motion::PostProcessMode::kNone) return raw;
+  return Clean(*raw, first);
+}
+
+absl::StatusOr<motion::Motion> StreamTransfer::Clean(const motion::Motion& raw, int64_t first) {
+  const int channels = input_.skeleton.num_channels();
+  // Output: the post-processed history, then the new raw frames; content: the
+  // held input over the same frames and every later one received (the
+  // look-ahead the current window already has).
+  const int64_t from = std::max({base_, done_base_, first - window_});
+  motion::Motion output = done_;
+  output.num_frames = static_cast<int>(first - from);
+  output.values.assign(done_.values.begin() + (from - done_base_) * channels, done_.values.end());
+  output.values.insert(output.values.end(), raw.values.begin(), raw.values.end());
+  output.num_frames += raw.num_frames;
+  motion::Motion content = input_;
+  content.num_frames = static_cast<int>(received_ - from);
+  content.values.assign(input_.values.begin() + (from - base_) * channels, input_.values.end());
+  motion::PostProcessParams params;
+  params.pin_at_span_start = true;
+  absl::StatusOr<motion::Motion> cleaned =
+      motion::PostProcess(output, content, model_->package().roles, post_, params);
+  if (!cleaned.ok()) return cleaned.status();
+  // The new frames' Euler angles continue from the last frame sent (the
+  // history was re-solved above and may sit on another Euler branch).
+  motion::Motion fresh = raw;
+  const int64_t lead = first > from ? 1 : 0;
+  fresh.values.assign(done_.values.end() - lead * channels, done_.values.end());
+  fresh.values.insert(fresh.values.end(), cleaned->values.begin() + (first - from) * channels,
+                      cleaned->values.end());
+  fresh.num_frames = raw.num_frames + static_cast<int>(lead);
+  motion::MakeEulerContinuous(&fresh);
+  fresh.values.erase(fresh.values.begin(), fresh.values.begin() + lead * channels);
+  fresh.num_frames = raw.num_frames;
+  // Keep one window of the frames as sent.
+  done_.values.erase(done_.values.begin(), done_.values.begin() + (from - done_base_) * channels);
+  done_.values.insert(done_.values.end(), fresh.values.begin(), fresh.values.end());
+  done_.num_frames = static_cast<int>(done_.values.size() / channels);
+  done_base_ = from;
+  const int64_t keep = std::max(done_base_, first + raw.num_frames - window_);
+  done_.values.erase(done_.values.begin(), done_.values.begin() + (keep - done_base_) * channels);
+  done_.num_frames -= static_cast<int>(keep - done_base_);
+  done_base_ = keep;
+  return fresh;
 }
 
 void StreamTransfer::Trim() {

@@ -28,9 +28,13 @@ class StreamTransfer {
  public:
   // INVALID_ARGUMENT when frames on `skeleton` at `frame_time` cannot feed the
   // model or `style` does not fit it. Shares ownership of `model`.
+  // `post` as in Transfer, decided causally: contacts from the input frames
+  // held (the current window and the history before it), locked feet pinned
+  // where they were at the start of their contact.
   static absl::StatusOr<std::unique_ptr<StreamTransfer>> Create(
       std::shared_ptr<const ContrastiveModel> model, StyleCode style,
-      const motion::Skeleton& skeleton, double frame_time);
+      const motion::Skeleton& skeleton, double frame_time,
+      motion::PostProcessMode post = motion::PostProcessMode::kFull);
 
   // Appends `frames` (a motion on the stream's skeleton; its values only are
   // read) and returns the output frames that became final, in order: they
@@ -46,7 +50,9 @@ class StreamTransfer {
 
  private:
   StreamTransfer(std::shared_ptr<const ContrastiveModel> model, StyleCode style,
-                 const motion::Motion& empty);
+                 const motion::Motion& empty, motion::PostProcessMode post);
+  // Post-processes output frames [emitted, emitted + raw.num_frames).
+  absl::StatusOr<motion::Motion> Clean(const motion::Motion& raw, int64_t first);
   // Generates the window starting at `start` using input features computed
   // over the frames held; `end` is one past the last frame they may use.
   absl::Status Generate(int64_t start, int64_t end);
@@ -67,6 +73,9 @@ class StreamTransfer {
   // so held frames get the signs the whole clip would give them.
   std::vector<motion::Quat> signs_;
   bool started_ = false;
+  motion::PostProcessMode post_;
+  motion::Motion done_;  // The last post-processed output frames (history).
+  int64_t done_base_ = 0;  // Stream index of done_'s first frame.
 };
 
 }  // namespace stylus::model

@@ -113,6 +113,27 @@ double MaxEulerStep(const Motion& clip) {
   return worst;
 }
 
+int EulerDiscontinuities(const Motion& clip) {
+  const Skeleton& sk = clip.skeleton;
+  int count = 0;
+  LocalPose prev = clip.num_frames > 0 ? PoseAt(clip, 0) : LocalPose{};
+  for (int f = 1; f < clip.num_frames; ++f) {
+    LocalPose pose = PoseAt(clip, f);
+    for (int j = 0; j < sk.num_joints(); ++j) {
+      const Joint& joint = sk.joint(j);
+      double step = 0;
+      for (size_t c = 0; c < joint.channels.size(); ++c) {
+        if (IsPosition(joint.channels[c])) continue;
+        const int i = sk.channel_start(j) + static_cast<int>(c);
+        step = std::max(step, std::abs(clip.frame(f)[i] - clip.frame(f - 1)[i]));
+      }
+      if (step > 90 && AngleBetween(pose.rotations[j], prev.rotations[j]) < M_PI / 4) ++count;
+    }
+    prev = std::move(pose);
+  }
+  return count;
+}
+
 absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const Motion& clip,
                                                              const Motion* reference) {
   if (clip.num_frames <= 0) return absl::InvalidArgumentError("the clip has no frames");
@@ -135,6 +156,7 @@ absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const Motion& clip,
   m["bone_length_error"] = BoneLengthError(clip, *roles);
   m["jitter"] = Jitter(clip);
   m["max_euler_step_deg"] = MaxEulerStep(clip);
+  m["euler_discontinuities"] = EulerDiscontinuities(clip);
   if (reference) m["trajectory_error"] = TrajectoryError(clip, ref, *roles);
   return m;
 }

@@ -41,10 +41,16 @@ double TrajectoryError(const Motion& clip, const Motion& reference, const Humano
 // degrees (a jump > 90 means a discontinuity).
 double MaxEulerStep(const Motion& clip);
 
+// Joint-frames where an Euler channel steps by more than 90 degrees while the
+// joint's rotation itself turns by less than 45 degrees: jumps of the
+// representation (wrapping, flipped branches), not of the motion.
+int EulerDiscontinuities(const Motion& clip);
+
 // Every metric above that the given clips allow, by name: "foot_skating",
 // "foot_height_error", "trajectory_error" need `reference` (may be null: then
 // they are measured against `clip` itself where that makes sense);
-// "bone_length_error", "jitter", "max_euler_step_deg" need only `clip`.
+// "bone_length_error", "jitter", "max_euler_step_deg", "euler_discontinuities"
+// need only `clip`.
 // INVALID_ARGUMENT when the clip has no frames, is not a humanoid, or the
 // reference has another topology.
 absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const Motion& clip,

@@ -52,6 +52,20 @@ std::vector<bool> BelowPelvis(const Skeleton& sk, const HumanoidRoles& roles) {
   return below;
 }
 
+// The Euler angles frame `f` holds, one triple per joint in its axis order.
+std::vector<Vec3> EulerAt(const Motion& motion, int f) {
+  const Skeleton& sk = motion.skeleton;
+  std::vector<Vec3> out(sk.num_joints());
+  for (int j = 0; j < sk.num_joints(); ++j) {
+    const Joint& joint = sk.joint(j);
+    int k = 0;
+    for (size_t c = 0; c < joint.channels.size(); ++c) {
+      if (!IsPosition(joint.channels[c])) out[j][k++] = motion.frame(f)[sk.channel_start(j) + c];
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 absl::StatusOr<PostProcessMode> ParsePostProcessMode(absl::string_view name) {
@@ -126,24 +140,37 @@ void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles) {
   }
 }
 
-void MakeEulerContinuous(Motion* motion) {
-  std::vector<Vec3> prev(motion->skeleton.num_joints());
-  for (int f = 0; f < motion->num_frames; ++f) {
-    const LocalPose pose = PoseAt(*motion, f);
-    if (f == 0) {
-      // Keep the first frame's angles as they are: continuity starts there.
-      const Skeleton& sk = motion->skeleton;
-      for (int j = 0; j < sk.num_joints(); ++j) {
-        const Joint& joint = sk.joint(j);
-        int k = 0;
-        for (size_t c = 0; c < joint.channels.size(); ++c) {
-          if (!IsPosition(joint.channels[c])) prev[j][k++] = motion->frame(0)[sk.channel_start(j) + c];
-        }
-      }
-      continue;
+void SmoothRotations(Motion* motion, int radius) {
+  const int n = motion->num_frames;
+  if (radius <= 0 || n < 2) return;
+  const Skeleton& sk = motion->skeleton;
+  std::vector<LocalPose> poses(n);
+  for (int f = 0; f < n; ++f) poses[f] = PoseAt(*motion, f);
+  for (int j = 1; j < sk.num_joints(); ++j) {
+    std::vector<Quat> q(n);
+    for (int f = 0; f < n; ++f) {
+      q[f] = f == 0 ? poses[f].rotations[j] : SameHemisphere(poses[f].rotations[j], q[f - 1]);
     }
-    SetPose(motion, f, pose, &prev);
+    for (int f = 0; f < n; ++f) {
+      Quat sum{0, 0, 0, 0};
+      for (int d = -radius; d <= radius; ++d) {
+        const int i = std::clamp(f + d, 0, n - 1);
+        const double w = radius + 1 - std::abs(d);
+        const Quat a = SameHemisphere(q[i], q[f]);
+        sum = {sum.w + w * a.w, sum.x + w * a.x, sum.y + w * a.y, sum.z + w * a.z};
+      }
+      poses[f].rotations[j] = Normalized(sum);
+    }
   }
+  std::vector<Vec3> prev = EulerAt(*motion, 0);
+  for (int f = 0; f < n; ++f) SetPose(motion, f, poses[f], &prev);
+}
+
+void MakeEulerContinuous(Motion* motion) {
+  if (motion->num_frames == 0) return;
+  // The first frame's angles stay as they are: continuity starts there.
+  std::vector<Vec3> prev = EulerAt(*motion, 0);
+  for (int f = 1; f < motion->num_frames; ++f) SetPose(motion, f, PoseAt(*motion, f), &prev);
 }
 
 absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
@@ -162,7 +189,9 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
   const double fps = output.fps();
   const auto content_pos = GlobalPositions(content);
   const auto spans = DetectContactSpans(content_pos, roles, content.fps(), params.contacts);
-  const auto out_pos = GlobalPositions(output);
+  Motion source = output;
+  if (mode == PostProcessMode::kFull) SmoothRotations(&source, params.smooth_radius);
+  const auto out_pos = GlobalPositions(source);
   const std::array<int, 4> feet = FootJoints(roles);
   const int blend = std::max(1, static_cast<int>(std::lround(params.blend_s * fps)));
 
@@ -199,9 +228,11 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
 
   Motion result = output;
   const std::vector<bool> below = BelowPelvis(sk, roles);
-  std::vector<Vec3> prev_euler(sk.num_joints());
+  // Continuity starts from the output's own first frame (in a stream, the
+  // last frame already sent).
+  std::vector<Vec3> prev_euler = EulerAt(output, 0);
   for (int f = 0; f < n; ++f) {
-    LocalPose local = PoseAt(output, f);
+    LocalPose local = PoseAt(source, f);
     if (mode == PostProcessMode::kFull) {
       for (int j = 0; j < sk.num_joints(); ++j) {
         if (below[j] && HasPosition(sk.joint(j))) local.translations[j] = sk.joint(j).offset;
@@ -215,9 +246,27 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
       const Vec3 toe_offset = g.positions[leg.toe] - ankle;
       if (wa > 0) {
         const Vec3 want = Lerp(ankle, target[leg.ankle_k][f], wa);
-        const Vec3 forward = Rotate(g.rotations[leg.hip], {0, 0, 1});
-        const TwoBoneResult ik = SolveTwoBone(g.positions[leg.hip], g.positions[leg.knee], ankle,
-                                              want, forward);
+        // Knees bend forward: keep the pose's own knee direction unless it
+        // points backwards or along the leg, where the solve would flip.
+        const Vec3 forward = Normalized(Cross(g.positions[roles.left_hip] - g.positions[roles.right_hip],
+                                              Vec3{0, 1, 0}), {0, 0, 1});
+        const Vec3 hip = g.positions[leg.hip];
+        const Vec3 line = Normalized(want - hip, {0, -1, 0});
+        Vec3 bend = (g.positions[leg.knee] - hip) - line * Dot(g.positions[leg.knee] - hip, line);
+        const Vec3 forward_perp = Normalized(forward - line * Dot(forward, line), forward);
+        Vec3 knee = g.positions[leg.knee];
+        if (Dot(Normalized(bend, forward_perp), forward_perp) < 0.3) {
+          knee = hip + line * Dot(knee - hip, line) + forward_perp * std::max(1e-3, Norm(bend));
+        }
+        TwoBoneResult ik = SolveTwoBone(hip, knee, ankle, want, forward_perp);
+        if (knee.x != g.positions[leg.knee].x || knee.y != g.positions[leg.knee].y ||
+            knee.z != g.positions[leg.knee].z) {
+          // Solved from a moved knee: rotate from the pose's real bones.
+          ik.hip_delta = RotationBetween(g.positions[leg.knee] - hip, ik.knee - hip);
+          ik.knee_delta = RotationBetween(Rotate(ik.hip_delta, ankle - g.positions[leg.knee]),
+                                          ik.ankle - ik.knee) *
+                          ik.hip_delta;
+        }
         g.rotations[leg.hip] = Normalized(ik.hip_delta * g.rotations[leg.hip]);
         g.rotations[leg.knee] = Normalized(ik.knee_delta * g.rotations[leg.knee]);
         ankle = ik.ankle;
@@ -226,8 +275,12 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
         // Toes pinned too (heel-off): turn the ankle so the toe reaches its pin.
         const Vec3 toe = ankle + toe_offset;
         const Vec3 want = Lerp(toe, target[leg.toe_k][f], wt);
-        g.rotations[leg.ankle] =
-            Normalized(RotationBetween(toe - ankle, want - ankle) * g.rotations[leg.ankle]);
+        // At most a small turn: a toe pin far from where the foot points is
+        // the network's foot, not a reason to spin the ankle.
+        Quat turn = RotationBetween(toe - ankle, want - ankle);
+        const double angle = AngleBetween(Quat{}, turn), limit = 25 * M_PI / 180;
+        if (angle > limit) turn = Slerp(Quat{}, turn, limit / angle);
+        g.rotations[leg.ankle] = Normalized(turn * g.rotations[leg.ankle]);
       }
       const int hip_parent = sk.joint(leg.hip).parent;
       local.rotations[leg.hip] =

@@ -47,6 +47,9 @@ std::array<std::vector<ContactSpan>, 4> DetectContactSpans(
 
 struct PostProcessParams {
   ContactSpanParams contacts;
+  // `full` first smooths every joint's local rotation over +-this many frames
+  // (triangle weights): generated rotations carry frame-to-frame noise.
+  int smooth_radius = 2;
   double blend_s = 0.1;  // Locks blend in and out over this long.
   // Where a locked foot is pinned: the mean of its span (offline), or, for
   // streaming, where it is at the span's first frame (known without waiting
@@ -68,6 +71,11 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
 // Position channels of every joint below the pelvis set to its offset (its
 // bone length and direction at rest).
 void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles);
+
+// Replaces each non-root joint's local rotation by the triangle-weighted mean
+// of its rotations over [f - radius, f + radius] (quaternions aligned to one
+// hemisphere, renormalized). Translations are kept.
+void SmoothRotations(Motion* motion, int radius);
 
 // Rewrites every rotation as the Euler angles, in the joint's own order,
 // nearest to the previous frame's: the same rotations without 360-degree (or

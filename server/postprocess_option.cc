@@ -1,14 +1,21 @@
 #include "server/postprocess_option.h"
 
+#include "absl/strings/str_cat.h"
+
 namespace stylus::server {
 
-absl::Status ToPostProcessMode(v1::PostProcess mode) {
+absl::StatusOr<motion::PostProcessMode> ToPostProcessMode(v1::PostProcess mode) {
   switch (mode) {
     case v1::POSTPROCESS_DEFAULT:
+    case v1::POSTPROCESS_FULL:
+      return motion::PostProcessMode::kFull;
     case v1::POSTPROCESS_NONE:
-      return absl::OkStatus();
+      return motion::PostProcessMode::kNone;
+    case v1::POSTPROCESS_FEET:
+      return motion::PostProcessMode::kFeet;
     default:
-      return absl::UnimplementedError("post-processing 'feet' and 'full' are not available yet");
+      return absl::InvalidArgumentError(
+          absl::StrCat("unknown postprocess value ", static_cast<int>(mode)));
   }
 }
 

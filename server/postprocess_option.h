@@ -2,13 +2,14 @@
 #ifndef STYLUS_SERVER_POSTPROCESS_OPTION_H_
 #define STYLUS_SERVER_POSTPROCESS_OPTION_H_
 
-#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "motion/postprocess.h"
 #include "stylus/v1/stylus.pb.h"
 
 namespace stylus::server {
 
-// OK for the modes this server applies; UNIMPLEMENTED names the others.
-absl::Status ToPostProcessMode(v1::PostProcess mode);
+// DEFAULT is `full`. INVALID_ARGUMENT for a value this server does not know.
+absl::StatusOr<motion::PostProcessMode> ToPostProcessMode(v1::PostProcess mode);
 
 }  // namespace stylus::server
 

@@ -127,7 +127,8 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     absl::StatusOr<HostedModel> m = service_->registry->Get(config.model());
     if (!m.ok()) return m.status();
     outcome_.model = m->id;
-    if (absl::Status s = ToPostProcessMode(config.postprocess()); !s.ok()) return s;
+    absl::StatusOr<motion::PostProcessMode> post = ToPostProcessMode(config.postprocess());
+    if (!post.ok()) return post.status();
     if (!(std::isfinite(config.fps()) && config.fps() > 0)) {
       return absl::InvalidArgumentError(
           absl::StrCat("config: fps must be a positive number, got ", config.fps()));
@@ -138,7 +139,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
         ResolveStyle(*service_, *m, config.style(), "config style");
     if (!style.ok()) return style.status();
     absl::StatusOr<std::unique_ptr<model::StreamTransfer>> st =
-        model::StreamTransfer::Create(m->model, *style, *sk, 1.0 / config.fps());
+        model::StreamTransfer::Create(m->model, *style, *sk, 1.0 / config.fps(), *post);
     if (!st.ok()) return st.status();
     streamer_ = *std::move(st);
     chunk_ = motion::RestMotion(*sk, 0, 1.0 / config.fps());

@@ -41,14 +41,14 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
     absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
     if (!m.ok()) return out.status = m.status(), out;
     out.model = m->id;
-    absl::Status post = ToPostProcessMode(request->postprocess());
-    if (!post.ok()) return out.status = post, out;
+    absl::StatusOr<motion::PostProcessMode> post = ToPostProcessMode(request->postprocess());
+    if (!post.ok()) return out.status = post.status(), out;
     absl::StatusOr<motion::Motion> content = wire::ClipFromProto(request->content(), "content clip");
     if (!content.ok()) return out.status = content.status(), out;
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, *m, request->style(), "style clip");
     if (!style.ok()) return out.status = style.status(), out;
-    absl::StatusOr<motion::Motion> result = m->model->Transfer(*content, *style);
+    absl::StatusOr<motion::Motion> result = m->model->Transfer(*content, *style, *post);
     if (!result.ok()) return out.status = result.status(), out;
     wire::ClipToProto(*result, response->mutable_output());
     response->set_model(m->id);
@@ -89,8 +89,8 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
     absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
     if (!m.ok()) return out.status = m.status(), out;
     out.model = m->id;
-    absl::Status post = ToPostProcessMode(request->postprocess());
-    if (!post.ok()) return out.status = post, out;
+    absl::StatusOr<motion::PostProcessMode> post = ToPostProcessMode(request->postprocess());
+    if (!post.ok()) return out.status = post.status(), out;
     if (request->styles_size() < 2) {
       out.status = absl::InvalidArgumentError(
           absl::StrCat("Interpolate needs two or more styles, got ", request->styles_size()));
@@ -112,7 +112,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
     } else {
       weights.fixed.assign(request->weights().values().begin(), request->weights().values().end());
     }
-    absl::StatusOr<motion::Motion> result = m->model->Interpolate(*content, styles, weights);
+    absl::StatusOr<motion::Motion> result = m->model->Interpolate(*content, styles, weights, *post);
     if (!result.ok()) return out.status = result.status(), out;
     wire::ClipToProto(*result, response->mutable_output());
     response->set_model(m->id);

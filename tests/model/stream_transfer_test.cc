@@ -9,6 +9,7 @@
 #include "model/window_blend.h"
 #include "motion/bvh.h"
 #include "motion/kinematics.h"
+#include "motion/metrics.h"
 #include "tests/test_support.h"
 
 namespace stylus::model {
@@ -33,8 +34,9 @@ void Append(const motion::Motion& chunk, motion::Motion* all) {
 // Streams `clip` in chunks of random sizes (1..max_chunk) and returns the
 // output, checking that frames come out in order and only after enough input.
 motion::Motion Stream(std::shared_ptr<const ContrastiveModel> model, const StyleCode& style,
-                      const motion::Motion& clip, int max_chunk, uint64_t seed) {
-  auto s = StreamTransfer::Create(model, style, clip.skeleton, clip.frame_time);
+                      const motion::Motion& clip, int max_chunk, uint64_t seed,
+                      motion::PostProcessMode post = motion::PostProcessMode::kNone) {
+  auto s = StreamTransfer::Create(model, style, clip.skeleton, clip.frame_time, post);
   EXPECT_TRUE(s.ok()) << s.status();
   motion::Motion out = Frames(clip, 0, 0);
   std::mt19937_64 rng(seed);
@@ -85,7 +87,7 @@ TEST(StreamTransferTest, RealClipStreamedMatchesWholeClipTransfer) {
   const motion::Motion style =
       *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_old_001.bvh");
   const StyleCode code = *model->EncodeStyle(style);
-  const motion::Motion whole = *model->Transfer(content, code);
+  const motion::Motion whole = *model->Transfer(content, code, motion::PostProcessMode::kNone);
   for (int max_chunk : {1, 7, 40}) {
     const motion::Motion streamed = Stream(model, code, content, max_chunk, max_chunk);
     ASSERT_EQ(streamed.num_frames, whole.num_frames);
@@ -93,6 +95,25 @@ TEST(StreamTransferTest, RealClipStreamedMatchesWholeClipTransfer) {
     // stream's contact detector sees a bounded, causal history of the feet.
     EXPECT_LT(motion::MaxPositionDifference(streamed, whole), 0.05) << "chunks of " << max_chunk;
   }
+}
+
+TEST(StreamTransferTest, StreamedFeetAreLockedCausally) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> loaded = ContrastiveModel::Load(kModel);
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  std::shared_ptr<const ContrastiveModel> model = std::move(*loaded);
+  const motion::Motion content =
+      *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_normal_001.bvh");
+  const StyleCode code = *model->EncodeStyle(
+      *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_old_001.bvh"));
+  const auto& roles = model->package().roles;
+  const motion::Motion raw = Stream(model, code, content, 9, 3, motion::PostProcessMode::kNone);
+  const motion::Motion locked = Stream(model, code, content, 9, 3, motion::PostProcessMode::kFull);
+  ASSERT_EQ(locked.num_frames, content.num_frames);
+  const double before = motion::FootSkating(raw, content, roles);
+  const double after = motion::FootSkating(locked, content, roles);
+  EXPECT_LT(after, 0.5 * before) << before << " -> " << after;
+  EXPECT_EQ(motion::EulerDiscontinuities(locked), 0);
 }
 
 TEST(StreamTransferTest, ShortStreamIsPaddedLikeAShortClip) {
@@ -103,7 +124,7 @@ TEST(StreamTransferTest, ShortStreamIsPaddedLikeAShortClip) {
       *motion::ReadBvhFile(testing::SourceDir() + "/samples/walk_normal.bvh");
   const motion::Motion shortclip = Frames(clip, 0, 20);
   const StyleCode code = *model->EncodeStyle(clip);
-  const motion::Motion whole = *model->Transfer(shortclip, code);
+  const motion::Motion whole = *model->Transfer(shortclip, code, motion::PostProcessMode::kNone);
   const motion::Motion streamed = Stream(model, code, shortclip, 5, 1);
   ASSERT_EQ(streamed.num_frames, 20);
   EXPECT_LT(motion::MaxPositionDifference(streamed, whole), 1e-3);

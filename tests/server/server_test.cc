@@ -168,8 +168,10 @@ TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
   STYLUS_REQUIRE_BANDAI(dir);
   const motion::Motion content = BandaiClip(dir, "walk_normal_002");
   const motion::Motion style = BandaiClip(dir, "walk_proud_001");
-  auto unary = client().Transfer(content, {&style, ""});
-  auto streamed = client().Stream(content, {&style, ""}, /*rate=*/0);
+  CallOptions raw;
+  raw.postprocess = v1::POSTPROCESS_NONE;
+  auto unary = client().Transfer(content, {&style, ""}, raw);
+  auto streamed = client().Stream(content, {&style, ""}, /*rate=*/0, raw);
   ASSERT_TRUE(unary.ok()) << unary.status();
   ASSERT_TRUE(streamed.ok()) << streamed.status();
   ASSERT_EQ(streamed->output.num_frames, content.num_frames);

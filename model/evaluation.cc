@@ -49,9 +49,11 @@ absl::StatusOr<EvalReport> Evaluate(const ContrastiveModel& model, const Judges&
                                     const std::vector<EvalPair>& pairs,
                                     const std::function<void(int, int)>& progress) {
   EvalReport report;
-  report.rows = {{"model"}, {"identity (output = content)"}, {"copy-style (output = style)"}};
+  report.rows = {{"model, no post-processing"},
+                 {"model, post-processing full"},
+                 {"identity (output = content)"},
+                 {"copy-style (output = style)"}};
   const motion::HumanoidRoles& roles = model.package().roles;
-  double real_skating = 0;
   int done = 0;
   for (const EvalPair& p : pairs) {
     absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(p.content_path);
@@ -70,42 +72,71 @@ absl::StatusOr<EvalReport> Evaluate(const ContrastiveModel& model, const Judges&
         std::find(contents.begin(), contents.end(), content_label->content) - contents.begin());
     absl::StatusOr<StyleCode> code = model.EncodeStyle(*style);
     if (!code.ok()) return code.status();
-    absl::StatusOr<motion::Motion> out = model.Transfer(*content, *code);
-    if (!out.ok()) return out.status();
-    const motion::Motion* outputs[3] = {&*out, &*content, &*style};
-    for (int r = 0; r < 3; ++r) {
+    absl::StatusOr<motion::Motion> raw =
+        model.Transfer(*content, *code, motion::PostProcessMode::kNone);
+    if (!raw.ok()) return raw.status();
+    absl::StatusOr<motion::Motion> full =
+        motion::PostProcess(*raw, *content, roles, motion::PostProcessMode::kFull);
+    if (!full.ok()) return full.status();
+    const motion::Motion* outputs[4] = {&*raw, &*full, &*content, &*style};
+    for (int r = 0; r < 4; ++r) {
       absl::StatusOr<int> s = judges.ClassifyStyle(*outputs[r]);
       if (!s.ok()) return s.status();
       absl::StatusOr<int> c = judges.ClassifyContent(*outputs[r]);
       if (!c.ok()) return c.status();
-      report.rows[r].style_accuracy += *s == want_style;
-      report.rows[r].content_accuracy += *c == want_content;
-      // Copy-style has another length: its skating is measured against itself.
-      report.rows[r].foot_skating += motion::FootSkating(*outputs[r], r == 2 ? *style : *content, roles);
-      ++report.rows[r].pairs;
+      EvalRow& row = report.rows[r];
+      row.style_accuracy += *s == want_style;
+      row.content_accuracy += *c == want_content;
+      // Copy-style has another length: its feet are measured against itself.
+      const motion::Motion& planted = r == 3 ? *style : *content;
+      row.foot_skating += motion::FootSkating(*outputs[r], planted, roles);
+      row.foot_height_error += motion::FootHeightError(*outputs[r], planted, roles);
+      row.bone_length_error += motion::BoneLengthError(*outputs[r], roles);
+      row.jitter += motion::Jitter(*outputs[r]);
+      row.euler_discontinuities += motion::EulerDiscontinuities(*outputs[r]);
+      ++row.pairs;
     }
-    real_skating += motion::FootSkating(*content, *content, roles);
     if (progress) progress(++done, static_cast<int>(pairs.size()));
   }
   for (EvalRow& r : report.rows) {
     r.style_accuracy /= r.pairs;
     r.content_accuracy /= r.pairs;
     r.foot_skating /= r.pairs;
+    r.foot_height_error /= r.pairs;
+    r.bone_length_error /= r.pairs;
+    r.jitter /= r.pairs;
   }
-  report.real_foot_skating = real_skating / pairs.size();
   return report;
 }
 
 std::string EvalReport::Markdown() const {
   std::string s =
-      "| output | pairs | style accuracy | content accuracy | foot skating (units/s) |\n| --- | "
-      "--- | --- | --- | --- |\n";
+      "| output | pairs | style accuracy | content accuracy |\n| --- | --- | --- | --- |\n";
   for (const EvalRow& r : rows) {
-    absl::StrAppendFormat(&s, "| %s | %d | %.3f | %.3f | %.2f |\n", r.name, r.pairs,
-                          r.style_accuracy, r.content_accuracy, r.foot_skating);
+    absl::StrAppendFormat(&s, "| %s | %d | %.3f | %.3f |\n", r.name, r.pairs, r.style_accuracy,
+                          r.content_accuracy);
   }
-  absl::StrAppendFormat(&s, "\nReal data's own foot skating (content clips): %.2f units/s.\n",
-                        real_foot_skating);
+  s +=
+      "\nKinematics (means over pairs; feet measured where the content clip's feet are "
+      "planted, copy-style against the style clip itself):\n\n"
+      "| output | foot skating (units/s) | foot height error (units) | bone length error | "
+      "jitter (units/s^3) | Euler discontinuities |\n| --- | --- | --- | --- | --- | --- |\n";
+  for (const EvalRow& r : rows) {
+    absl::StrAppendFormat(&s, "| %s | %.2f | %.2f | %.4f%% | %.0f | %d |\n", r.name,
+                          r.foot_skating, r.foot_height_error, 100 * r.bone_length_error,
+                          r.jitter, r.euler_discontinuities);
+  }
+  if (rows.size() >= 3) {
+    const EvalRow &full = rows[1], &real = rows[2];
+    absl::StrAppendFormat(
+        &s,
+        "\nPost-processed against real data (identity row): foot skating %.2fx (target <= 1.2x), "
+        "jitter %.2fx (target <= 1.5x), bone length error %.4f%% (target < 0.1%%), Euler "
+        "discontinuities %d (real data: %d).\n",
+        full.foot_skating / std::max(real.foot_skating, 1e-9),
+        full.jitter / std::max(real.jitter, 1e-9), 100 * full.bone_length_error,
+        full.euler_discontinuities, real.euler_discontinuities);
+  }
   return s;
 }
 

@@ -24,18 +24,24 @@ struct EvalPair {
 absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::string>& dirs,
                                                     int per_content);
 
+// Kinematic metrics (motion/metrics.h) are measured against the clip whose
+// feet should be planted: the content clip, or for copy-style the style clip.
 struct EvalRow {
   std::string name;
   double style_accuracy = 0;    // Judged style == the style clip's style.
   double content_accuracy = 0;  // Judged content == the content clip's content.
-  double foot_skating =
-      0;  // Mean horizontal foot speed (units/s) where the content clip's feet are planted.
+  double foot_skating = 0;      // Mean horizontal foot speed in contact (units/s).
+  double foot_height_error = 0;  // Mean height of contact feet above their floor (units).
+  double bone_length_error = 0;  // Mean relative bone length error.
+  double jitter = 0;             // Mean jerk (units/s^3).
+  int euler_discontinuities = 0;  // Summed over all pairs.
   int pairs = 0;
 };
 
 struct EvalReport {
-  std::vector<EvalRow> rows;     // Model, identity, copy-style.
-  double real_foot_skating = 0;  // The content clips' own value.
+  // Model without post-processing, model with `full` post-processing,
+  // identity (the content clips: real data), copy-style (the style clips).
+  std::vector<EvalRow> rows;
   std::string Markdown() const;
 };
 

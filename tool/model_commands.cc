@@ -95,7 +95,8 @@ namespace {
 std::string Stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
 absl::Status TransferOne(const model::ContrastiveModel& m, const std::string& content_path,
-                         const std::string& style_path, const std::string& out_path) {
+                         const std::string& style_path, const std::string& out_path,
+                         motion::PostProcessMode post) {
   absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(content_path);
   if (!content.ok()) return content.status();
   absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(style_path);
@@ -104,7 +105,7 @@ absl::Status TransferOne(const model::ContrastiveModel& m, const std::string& co
   if (!code.ok())
     return absl::Status(code.status().code(),
                         absl::StrCat(style_path, ": ", code.status().message()));
-  absl::StatusOr<motion::Motion> out = m.Transfer(*content, *code);
+  absl::StatusOr<motion::Motion> out = m.Transfer(*content, *code, post);
   if (!out.ok())
     return absl::Status(out.status().code(),
                         absl::StrCat(content_path, ": ", out.status().message()));
@@ -122,10 +123,14 @@ int Transfer(const Argv& argv) {
       "transfers every row of PAIRS.csv (columns content_bvh,style_bvh; a header\n"
       "line is allowed) into DIR/<content>__<style>.bvh; a failed row is reported\n"
       "and the others still run (exit 1 if any failed). --threads N sets the\n"
-      "compute threads (default: one per core).\n";
+      "compute threads (default: one per core). --postprocess none|feet|full\n"
+      "(default full): feet locked where the content's feet are planted, bone\n"
+      "lengths restored, rotations smoothed and written continuously.\n";
   int code = 0;
   auto args = ParseOrExit("transfer", argv,
-                          {{"model", "content", "style", "out", "pairs", "out-dir", "threads"}, {}},
+                          {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
+                            "postprocess"},
+                           {}},
                           kHelp, &code);
   if (!args) return code;
   const bool batch = args->Has("pairs");
@@ -138,12 +143,15 @@ int Transfer(const Argv& argv) {
   absl::StatusOr<int> threads = args->GetInt("threads", 0);
   if (!threads.ok()) return Fail("transfer", threads.status());
   model::SetComputeThreads(*threads);
+  absl::StatusOr<motion::PostProcessMode> post =
+      motion::ParsePostProcessMode(args->Get("postprocess", "full"));
+  if (!post.ok()) return Fail("transfer", post.status());
   absl::StatusOr<std::unique_ptr<model::ContrastiveModel>> m =
       model::ContrastiveModel::Load(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {
     if (absl::Status s =
-            TransferOne(**m, args->Get("content"), args->Get("style"), args->Get("out"));
+            TransferOne(**m, args->Get("content"), args->Get("style"), args->Get("out"), *post);
         !s.ok()) {
       return Fail("transfer", s);
     }
@@ -168,7 +176,7 @@ int Transfer(const Argv& argv) {
     }
     const std::string out =
         absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
-    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out); !s.ok()) {
+    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, *post); !s.ok()) {
       std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
                    std::string(s.message()).c_str());
       ++failed;

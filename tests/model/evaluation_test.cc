@@ -70,12 +70,17 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   ASSERT_TRUE(pairs.ok()) << pairs.status();
   absl::StatusOr<EvalReport> report = Evaluate(**model, **judges, *pairs);
   ASSERT_TRUE(report.ok()) << report.status();
-  ASSERT_EQ(report->rows.size(), 3u);
+  ASSERT_EQ(report->rows.size(), 4u);
   for (const EvalRow& r : report->rows) EXPECT_EQ(r.pairs, static_cast<int>(pairs->size()));
+  // Post-processing plants the feet of the model's output.
+  EXPECT_LT(report->rows[1].foot_skating, report->rows[0].foot_skating);
+  // Real capture: bones exactly as the offsets say.
+  EXPECT_LT(report->rows[2].bone_length_error, 1e-4);
   // By construction the identity output never has the style clip's style label
   // and copy-style never the content clip's content, so a judge that is right
   // about real clips scores them low there.
-  EXPECT_NE(report->Markdown().find("| model |"), std::string::npos);
+  EXPECT_NE(report->Markdown().find("| model, post-processing full |"), std::string::npos);
+  EXPECT_NE(report->Markdown().find("foot skating"), std::string::npos);
 }
 
 TEST(EvaluationTest, BandaiPairsDifferInContentAndStyleAndAreDeterministic) {

@@ -63,6 +63,12 @@ check "train bad family" 1 "only 'contrastive'" -- "$tool" train --family cyclic
 check "transfer" 0 "wrote .*styled.bvh" -- "$tool" transfer --model "$work/model" --content "$work/old.bvh" \
   --style "$work/proud.bvh" -o "$work/styled.bvh"
 check "transfer output" 0 "frames: 45" -- "$tool" bvh-info "$work/styled.bvh"
+for post in none feet full; do
+  check "transfer --postprocess $post" 0 "wrote" -- "$tool" transfer --model "$work/model" --content "$work/old.bvh" \
+    --style "$work/proud.bvh" -o "$work/styled_$post.bvh" --postprocess $post
+done
+check "transfer bad --postprocess" 1 "'most' is not one of none, feet, full" -- "$tool" transfer --model "$work/model" \
+  --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.bvh" --postprocess most
 check "transfer wrong skeleton" 1 "another skeleton" -- "$tool" transfer --model "$work/model" \
   --content "$good" --style "$work/proud.bvh" -o "$work/x.bvh"
 check "transfer no model" 1 "no such model directory" -- "$tool" transfer --model "$work/none" \

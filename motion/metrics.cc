@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "motion/contacts.h"
 #include "motion/kinematics.h"
+#include "motion/postprocess.h"
 
 namespace stylus::motion {
 namespace {
@@ -14,9 +15,26 @@ double Length(const Vec3& v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.
 
 }  // namespace
 
+namespace {
+
+// contacts[f][k]: foot joint k of `reference` is in one of its contact spans.
+std::vector<std::array<bool, 4>> Contacts(const std::vector<std::vector<Vec3>>& ref,
+                                          const HumanoidRoles& roles, double fps) {
+  std::vector<std::array<bool, 4>> out(ref.size(), {false, false, false, false});
+  const auto spans = DetectContactSpans(ref, roles, fps);
+  for (int k = 0; k < 4; ++k) {
+    for (const ContactSpan& s : spans[k]) {
+      for (int f = s.begin; f < s.end; ++f) out[f][k] = true;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 double FootSkating(const Motion& clip, const Motion& reference, const HumanoidRoles& roles) {
   const auto pos = GlobalPositions(clip);
-  const auto contacts = DetectFootContacts(GlobalPositions(reference), roles, reference.fps());
+  const auto contacts = Contacts(GlobalPositions(reference), roles, reference.fps());
   const auto feet = FootJoints(roles);
   double sum = 0;
   int n = 0;
@@ -34,7 +52,7 @@ double FootSkating(const Motion& clip, const Motion& reference, const HumanoidRo
 double FootHeightError(const Motion& clip, const Motion& reference, const HumanoidRoles& roles) {
   const auto ref = GlobalPositions(reference);
   const auto pos = GlobalPositions(clip);
-  const auto contacts = DetectFootContacts(ref, roles, reference.fps());
+  const auto contacts = Contacts(ref, roles, reference.fps());
   const auto feet = FootJoints(roles);
   double sum = 0;
   int n = 0;

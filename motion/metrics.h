@@ -14,7 +14,7 @@
 namespace stylus::motion {
 
 // Mean horizontal speed (units/s) of the foot joints while in contact, with
-// contacts detected on `reference` (the clip whose feet should be planted:
+// contacts (motion/postprocess.h DetectContactSpans) detected on `reference` (the clip whose feet should be planted:
 // for a transfer, its content clip). Both on the same skeleton topology; only
 // the frames both have are used. 0 when no foot is in contact.
 double FootSkating(const Motion& clip, const Motion& reference, const HumanoidRoles& roles);

@@ -22,6 +22,9 @@ constexpr char kUsage[] =
     "Calls a Stylus server (default localhost:50051).\n\n"
     "commands:\n"
     "  models                                   list the server's models\n"
+    "  model-info [--model M]                   one model (default: the default)\n"
+    "  load --model NAME/VERSION                load models/NAME/VERSION on the server\n"
+    "  unload --model NAME/VERSION              unload it\n"
     "  transfer --content C.bvh (--style S.bvh | --style-name N) -o OUT.bvh\n"
     "  interpolate --content C.bvh --style A.bvh --style B.bvh [--style ...]\n"
     "              --weights 0,0.5,1 -o PREFIX  one output per weight of the\n"
@@ -81,6 +84,34 @@ int Models(stylus::Client& client) {
                  m.is_default() ? " (default)" : "", m.family(), m.skeleton().joints_size(), m.fps(),
                  m.window(), m.hop(), m.trained_iterations());
   }
+  return 0;
+}
+
+int ModelInfo(stylus::Client& client, const Args& a) {
+  auto m = client.GetModel(a.Get("model"));
+  if (!m.ok()) return Fail("model-info", m.status());
+  absl::PrintF("id %s\nfamily %s\nversion %s\ndefault %s\njoints %d\nfps %.3f\nwindow %d\nhop %d\n"
+               "trained_iterations %d\n",
+               m->id(), m->family(), m->version(), m->is_default() ? "yes" : "no",
+               m->skeleton().joints_size(), m->fps(), m->window(), m->hop(),
+               m->trained_iterations());
+  return 0;
+}
+
+int Load(stylus::Client& client, const Args& a) {
+  if (a.Get("model").empty()) return Fail("load", absl::InvalidArgumentError("--model is required"));
+  auto m = client.LoadModel(a.Get("model"));
+  if (!m.ok()) return Fail("load", m.status());
+  absl::PrintF("loaded %s%s\n", m->id(), m->is_default() ? " (default)" : "");
+  return 0;
+}
+
+int Unload(stylus::Client& client, const Args& a) {
+  if (a.Get("model").empty()) {
+    return Fail("unload", absl::InvalidArgumentError("--model is required"));
+  }
+  if (absl::Status s = client.UnloadModel(a.Get("model")); !s.ok()) return Fail("unload", s);
+  absl::PrintF("unloaded %s\n", a.Get("model"));
   return 0;
 }
 
@@ -269,6 +300,9 @@ int main(int argc, char** argv) {
   }
   stylus::Client client(options);
   if (command == "models") return Models(client);
+  if (command == "model-info") return ModelInfo(client, *a);
+  if (command == "load") return Load(client, *a);
+  if (command == "unload") return Unload(client, *a);
   if (command == "transfer") return Transfer(client, *a);
   if (command == "interpolate") return Interpolate(client, *a);
   if (command == "stream") return Stream(client, *a);

@@ -39,6 +39,13 @@ s=(--server "$addr")
 walk=$src/samples/walk_normal.bvh old=$src/samples/walk_old.bvh run=$src/samples/run.bvh
 
 check "models" 0 "contrastive/v1 \(default\)" -- "$cli" "${s[@]}" models
+check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrastive
+check "model-info unknown" 1 "NOT_FOUND" -- "$cli" "${s[@]}" model-info --model nope/v1
+check "unload" 0 "unloaded contrastive/v1" -- "$cli" "${s[@]}" unload --model contrastive/v1
+check "transfer without models" 1 "NOT_FOUND: no default model" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/x.bvh"
+check "load" 0 "loaded contrastive/v1 \(default\)" -- "$cli" "${s[@]}" load --model contrastive/v1
+check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model contrastive/v1
+check "transfer --postprocess none" 0 "wrote" -- "$cli" "${s[@]}" transfer --postprocess none --content "$walk" --style "$old" -o "$work/raw.bvh"
 check "transfer" 0 "wrote .*out.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/out.bvh"
 check "transfer output is BVH" 0 "HIERARCHY" -- head -1 "$work/out.bvh"
 check "transfer --model" 0 "wrote" -- "$cli" "${s[@]}" transfer --model contrastive/v1 --content "$walk" --style "$old" -o "$work/out2.bvh"

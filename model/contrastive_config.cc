@@ -29,6 +29,7 @@ std::string ContrastiveConfig::Serialize() const {
   put("local_style", local_style ? "1" : "0");
   put("keep_amplitude", keep_amplitude ? "1" : "0");
   if (centred_style) put("centred_style", "1");
+  if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -88,6 +89,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
       s = to_double(&c.beta, 0, 1e6);
     } else if (key == "gamma") {
       s = to_double(&c.gamma, 0, 1e6);
+    } else if (key == "content_weight") {
+      s = to_double(&c.content_weight, 0, 1e6);
     } else if (key == "margin") {
       s = to_double(&c.margin, 0, 1e6);
     } else if (key == "temperature") {

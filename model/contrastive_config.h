@@ -40,6 +40,11 @@ struct ContrastiveConfig {
   // mean pose is, so the mean pose (what is being done) must come through the
   // content code.
   bool centred_style = false;
+  // Weight of a content-keeping term on the transfer M_G (0: off): the L1
+  // distance between M_G and its content input M_T over the channels that say
+  // what is being done and where: root trajectory, foot contacts and the
+  // legs' positions and rotations (docs/contrastive.md).
+  double content_weight = 0;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

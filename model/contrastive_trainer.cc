@@ -66,6 +66,7 @@ struct Trainer {
   ContrastiveNet net{nullptr};
   Discriminator disc{nullptr};
   std::unique_ptr<torch::optim::Adam> opt_g, opt_d;
+  torch::Tensor content_mask;  // (1, dim, 1): channels of the content-keeping term.
   std::mt19937_64 rng;
   TrainState state;
 
@@ -116,6 +117,11 @@ struct Trainer {
       const torch::Tensor gan = GeneratorGanLoss(disc->forward(x_g));
       r.gan = gan.item<double>();
       total = total + config.alpha * gan;
+    }
+    if (config.content_weight > 0) {
+      const torch::Tensor keep = ((x_g - x_t).abs() * content_mask).sum() /
+                                 (content_mask.sum() * x_g.size(0) * x_g.size(2));
+      total = total + config.content_weight * keep;
     }
     if (config.use_nce && config.beta > 0) {
       const torch::Tensor nce = NceLoss(net->content(x_g), c_t, net->nce_w, config.temperature);
@@ -190,6 +196,22 @@ struct Trainer {
     return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
   }
 
+  torch::Tensor ContentMask() const {
+    const motion::Skeleton& sk = data.skeleton;
+    const motion::FeatureLayout layout(sk.num_joints());
+    torch::Tensor mask = torch::zeros({1, config.dim, 1});
+    std::vector<bool> leg(sk.num_joints(), false);
+    for (int j = 0; j < sk.num_joints(); ++j) {
+      const int p = sk.joint(j).parent;
+      leg[j] = j == data.roles.left_hip || j == data.roles.right_hip || (p >= 0 && leg[p]);
+      if (!leg[j]) continue;
+      for (int c = 0; c < 3; ++c) mask[0][layout.position(j) + c][0] = 1;
+      for (int c = 0; c < 4; ++c) mask[0][layout.rotation(j) + c][0] = 1;
+    }
+    for (int c = 0; c < 8; ++c) mask[0][layout.trajectory() + c][0] = 1;
+    return mask;
+  }
+
   absl::Status Resume() {
     const std::string dir = opt.out + "/checkpoint";
     if (!fs::exists(dir + "/state.txt")) {
@@ -239,6 +261,7 @@ struct Trainer {
     Log(absl::StrFormat("loaded %d clips, %d windows of %d frames, %d channels in %.1f s",
                         data.clips.size(), data.windows.size(), config.window, config.dim,
                         std::chrono::duration<double>(Clock::now() - t_load).count()));
+    content_mask = ContentMask();
     torch::manual_seed(config.seed);
     rng.seed(config.seed);
     net = ContrastiveNet(config);
@@ -295,7 +318,7 @@ absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
-  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, {}, {}};
+  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, {}, {}, {}};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -20,7 +20,7 @@ int Train(const Argv& argv) {
       "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
-      "         [--keep-amplitude] [--centred-style] [--threads N]\n"
+      "         [--keep-amplitude] [--centred-style] [--content-weight W] [--threads N]\n"
       "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly) without using any label. Prints the losses,\n"
@@ -32,12 +32,14 @@ int Train(const Argv& argv) {
       "(docs/contrastive.md). --local-style gives the style encoder a 3-frame\n"
       "receptive field. --keep-amplitude makes the generator's AdaIN keep each\n"
       "channel's temporal spread (it still removes the mean). --centred-style\n"
-      "feeds the style encoder each window minus its mean pose.\n";
+      "feeds the style encoder each window minus its mean pose. --content-weight W\n"
+      "adds W x the L1 distance between the transfer and its content input over\n"
+      "the root trajectory, foot contacts and legs (default 0: off).\n";
   int code = 0;
   auto args =
       ParseOrExit("train", argv,
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
-                    "seed", "threads", "checkpoint-every", "log-every", "commit"},
+                    "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude", "centred-style", "resume"}},
                   kHelp, &code);
   if (!args) return code;
@@ -80,6 +82,11 @@ int Train(const Argv& argv) {
   c.local_style = args->switches.count("local-style") > 0;
   c.keep_amplitude = args->switches.count("keep-amplitude") > 0;
   c.centred_style = args->switches.count("centred-style") > 0;
+  absl::StatusOr<double> content_weight = args->GetDouble("content-weight", 0);
+  if (!content_weight.ok() || *content_weight < 0) {
+    return Fail("train", absl::InvalidArgumentError("--content-weight must be a number >= 0"));
+  }
+  c.content_weight = *content_weight;
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

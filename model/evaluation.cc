@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
+#include <tuple>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -45,15 +47,23 @@ absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::strin
   return pairs;
 }
 
-absl::StatusOr<EvalReport> Evaluate(const ContrastiveModel& model, const Judges& judges,
+absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const Judges& judges,
+                                    const FeatureJudge* features,
+                                    const std::vector<motion::Motion>& reference,
                                     const std::vector<EvalPair>& pairs,
                                     const std::function<void(int, int)>& progress) {
+  if (models.empty()) return absl::InvalidArgumentError("no model to evaluate");
   EvalReport report;
-  report.rows = {{"model, no post-processing"},
-                 {"model, post-processing full"},
-                 {"identity (output = content)"},
-                 {"copy-style (output = style)"}};
-  const motion::HumanoidRoles& roles = model.package().roles;
+  for (const EvalModel& m : models) {
+    report.rows.push_back({m.name + ", no post-processing"});
+    if (m.postprocess) report.rows.push_back({m.name + ", post-processing full"});
+  }
+  report.identity_row = static_cast<int>(report.rows.size());
+  report.rows.push_back({"identity (output = content)"});
+  report.rows.push_back({"copy-style (output = style)"});
+  const size_t n_rows = report.rows.size();
+  std::vector<std::vector<std::vector<double>>> embeddings(n_rows);
+  const motion::HumanoidRoles& roles = models[0].model->package().roles;
   int done = 0;
   for (const EvalPair& p : pairs) {
     absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(p.content_path);
@@ -70,51 +80,102 @@ absl::StatusOr<EvalReport> Evaluate(const ContrastiveModel& model, const Judges&
         std::find(styles.begin(), styles.end(), style_label->style) - styles.begin());
     const int want_content = static_cast<int>(
         std::find(contents.begin(), contents.end(), content_label->content) - contents.begin());
-    absl::StatusOr<StyleCode> code = model.EncodeStyle(*style);
-    if (!code.ok()) return code.status();
-    absl::StatusOr<motion::Motion> raw =
-        model.Transfer(*content, *code, motion::PostProcessMode::kNone);
-    if (!raw.ok()) return raw.status();
-    absl::StatusOr<motion::Motion> full =
-        motion::PostProcess(*raw, *content, roles, motion::PostProcessMode::kFull);
-    if (!full.ok()) return full.status();
-    const motion::Motion* outputs[4] = {&*raw, &*full, &*content, &*style};
-    for (int r = 0; r < 4; ++r) {
-      absl::StatusOr<int> s = judges.ClassifyStyle(*outputs[r]);
+    std::vector<motion::Motion> outputs;
+    for (const EvalModel& m : models) {
+      absl::StatusOr<StyleCode> code = m.model->EncodeStyle(*style);
+      if (!code.ok()) return code.status();
+      absl::StatusOr<motion::Motion> raw =
+          m.model->Transfer(*content, *code, motion::PostProcessMode::kNone);
+      if (!raw.ok()) return raw.status();
+      outputs.push_back(*raw);
+      if (m.postprocess) {
+        absl::StatusOr<motion::Motion> full =
+            motion::PostProcess(*raw, *content, roles, motion::PostProcessMode::kFull);
+        if (!full.ok()) return full.status();
+        outputs.push_back(*std::move(full));
+      }
+    }
+    outputs.push_back(*content);
+    outputs.push_back(*style);
+    std::optional<FeatureMap> content_features, style_features;
+    if (features) {
+      absl::StatusOr<FeatureMap> c = features->Features(*content), s = features->Features(*style);
+      if (!c.ok()) return c.status();
       if (!s.ok()) return s.status();
-      absl::StatusOr<int> c = judges.ClassifyContent(*outputs[r]);
+      content_features = *std::move(c);
+      style_features = *std::move(s);
+    }
+    for (size_t r = 0; r < n_rows; ++r) {
+      const motion::Motion& out = outputs[r];
+      absl::StatusOr<int> s = judges.ClassifyStyle(out);
+      if (!s.ok()) return s.status();
+      absl::StatusOr<int> c = judges.ClassifyContent(out);
       if (!c.ok()) return c.status();
       EvalRow& row = report.rows[r];
       row.style_accuracy += *s == want_style;
       row.content_accuracy += *c == want_content;
       // Copy-style has another length: its feet are measured against itself.
-      const motion::Motion& planted = r == 3 ? *style : *content;
-      row.foot_skating += motion::FootSkating(*outputs[r], planted, roles);
-      row.foot_height_error += motion::FootHeightError(*outputs[r], planted, roles);
-      row.bone_length_error += motion::BoneLengthError(*outputs[r], roles);
-      row.jitter += motion::Jitter(*outputs[r]);
-      row.euler_discontinuities += motion::EulerDiscontinuities(*outputs[r]);
+      const motion::Motion& planted = r + 1 == n_rows ? *style : *content;
+      row.foot_skating += motion::FootSkating(out, planted, roles);
+      row.foot_height_error += motion::FootHeightError(out, planted, roles);
+      row.bone_length_error += motion::BoneLengthError(out, roles);
+      row.jitter += motion::Jitter(out);
+      row.euler_discontinuities += motion::EulerDiscontinuities(out);
+      if (features) {
+        absl::StatusOr<FeatureMap> f = features->Features(out);
+        if (!f.ok()) return f.status();
+        row.content_distance += ContentDistance(*f, *content_features);
+        row.style_distance += StyleDistance(*f, *style_features);
+        embeddings[r].push_back(Embedding(*f));
+      }
       ++row.pairs;
     }
     if (progress) progress(++done, static_cast<int>(pairs.size()));
   }
-  for (EvalRow& r : report.rows) {
-    r.style_accuracy /= r.pairs;
-    r.content_accuracy /= r.pairs;
-    r.foot_skating /= r.pairs;
-    r.foot_height_error /= r.pairs;
-    r.bone_length_error /= r.pairs;
-    r.jitter /= r.pairs;
+  std::vector<std::vector<double>> real;
+  if (features) {
+    for (const motion::Motion& clip : reference) {
+      absl::StatusOr<FeatureMap> f = features->Features(clip);
+      if (!f.ok()) return f.status();
+      real.push_back(Embedding(*f));
+    }
+    report.reference_clips = static_cast<int>(real.size());
+    if (real.size() >= 2) report.real_diversity = Diversity(real, 1000, 7);
+  }
+  for (size_t r = 0; r < n_rows; ++r) {
+    EvalRow& row = report.rows[r];
+    row.style_accuracy /= row.pairs;
+    row.content_accuracy /= row.pairs;
+    row.foot_skating /= row.pairs;
+    row.foot_height_error /= row.pairs;
+    row.bone_length_error /= row.pairs;
+    row.jitter /= row.pairs;
+    row.content_distance /= row.pairs;
+    row.style_distance /= row.pairs;
+    if (features && real.size() >= 2 && embeddings[r].size() >= 2) {
+      row.fmd = FrechetDistance(embeddings[r], real);
+      std::tie(row.kid, row.kid_std) = KernelInceptionDistance(embeddings[r], real, 10, 100, 11);
+      row.diversity = Diversity(embeddings[r], 1000, 7);
+    }
   }
   return report;
 }
 
 std::string EvalReport::Markdown() const {
   std::string s =
-      "| output | pairs | style accuracy | content accuracy |\n| --- | --- | --- | --- |\n";
+      "| output | pairs | style accuracy | content accuracy | FMD | KID | diversity | content "
+      "distance | style distance |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const EvalRow& r : rows) {
-    absl::StrAppendFormat(&s, "| %s | %d | %.3f | %.3f |\n", r.name, r.pairs, r.style_accuracy,
-                          r.content_accuracy);
+    absl::StrAppendFormat(&s, "| %s | %d | %.3f | %.3f | %.2f | %.3f +- %.3f | %.2f | %.3f | %.4f |\n",
+                          r.name, r.pairs, r.style_accuracy, r.content_accuracy, r.fmd, r.kid,
+                          r.kid_std, r.diversity, r.content_distance, r.style_distance);
+  }
+  if (reference_clips > 0) {
+    absl::StrAppendFormat(&s,
+                          "\nFMD and KID against %d real clips (the feature judge's hidden layer: "
+                          "per-channel mean and standard deviation over time); real clips' own "
+                          "diversity: %.2f.\n",
+                          reference_clips, real_diversity);
   }
   s +=
       "\nKinematics (means over pairs; feet measured where the content clip's feet are "
@@ -126,14 +187,14 @@ std::string EvalReport::Markdown() const {
                           r.foot_skating, r.foot_height_error, 100 * r.bone_length_error,
                           r.jitter, r.euler_discontinuities);
   }
-  if (rows.size() >= 3) {
-    const EvalRow &full = rows[1], &real = rows[2];
+  if (identity_row >= 2) {
+    const EvalRow &full = rows[1], &real = rows[identity_row];
     absl::StrAppendFormat(
         &s,
-        "\nPost-processed against real data (identity row): foot skating %.2fx (target <= 1.2x), "
+        "\n%s against real data (identity row): foot skating %.2fx (target <= 1.2x), "
         "jitter %.2fx (target <= 1.5x), bone length error %.4f%% (target < 0.1%%), Euler "
         "discontinuities %d (real data: %d).\n",
-        full.foot_skating / std::max(real.foot_skating, 1e-9),
+        full.name, full.foot_skating / std::max(real.foot_skating, 1e-9),
         full.jitter / std::max(real.jitter, 1e-9), 100 * full.bone_length_error,
         full.euler_discontinuities, real.euler_discontinuities);
   }

@@ -10,6 +10,7 @@
 
 #include "absl/status/statusor.h"
 #include "model/contrastive_model.h"
+#include "model/feature_judge.h"
 #include "model/judges.h"
 
 namespace stylus::model {
@@ -35,18 +36,38 @@ struct EvalRow {
   double bone_length_error = 0;  // Mean relative bone length error.
   double jitter = 0;             // Mean jerk (units/s^3).
   int euler_discontinuities = 0;  // Summed over all pairs.
+  // Feature-judge metrics (when a feature judge is given): distribution
+  // distances of the outputs to real clips, their diversity, and the mean
+  // distances to the pair's content (features) and style (Gram matrices).
+  double fmd = 0, kid = 0, kid_std = 0, diversity = 0;
+  double content_distance = 0, style_distance = 0;
   int pairs = 0;
 };
 
+// A model to evaluate; `postprocess` adds a second row with `full`
+// post-processing.
+struct EvalModel {
+  std::string name;
+  const ContrastiveModel* model = nullptr;
+  bool postprocess = false;
+};
+
 struct EvalReport {
-  // Model without post-processing, model with `full` post-processing,
-  // identity (the content clips: real data), copy-style (the style clips).
+  // Each model's rows (no post-processing; then `full` if asked), identity
+  // (the content clips: real data), copy-style (the style clips).
   std::vector<EvalRow> rows;
+  int identity_row = -1;
+  double real_diversity = 0;  // Of the reference clips (with a feature judge).
+  int reference_clips = 0;
   std::string Markdown() const;
 };
 
-// Runs the model over every pair; `progress(done, total)` may be empty.
-absl::StatusOr<EvalReport> Evaluate(const ContrastiveModel& model, const Judges& judges,
+// Runs every model over every pair. With `features` (may be null), FMD and KID
+// compare each row's outputs with `reference` (real clips, e.g. all of the
+// dataset). `progress(done, total)` may be empty.
+absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const Judges& judges,
+                                    const FeatureJudge* features,
+                                    const std::vector<motion::Motion>& reference,
                                     const std::vector<EvalPair>& pairs,
                                     const std::function<void(int, int)>& progress = {});
 

@@ -2,7 +2,9 @@
 #include <cstdio>
 
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_cat.h"
 #include "model/evaluation.h"
+#include "model/feature_judge.h"
 #include "model/judges.h"
 #include "model/package.h"
 #include "model/runtime.h"
@@ -17,13 +19,18 @@ namespace stylus::tool {
 int TrainJudges(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool train-judges --data DIR... --out models/judges/VERSION\n"
-      "         [--iters 3000] [--batch 32] [--seed S] [--threads N]\n\n"
+      "         [--iters 3000] [--batch 32] [--dae-iters 3000] [--dae-only] [--seed S]\n"
+      "         [--threads N]\n\n"
       "Trains, on the labelled training split of DIR, a style classifier and a\n"
-      "content classifier (class-balanced batches), reports their clip-level\n"
-      "accuracy on the held-out split and writes them to --out for `eval`.\n";
+      "content classifier (class-balanced batches) and reports their clip-level\n"
+      "accuracy on the held-out split; then the feature judge, a denoising\n"
+      "autoencoder (no labels) whose hidden layer `eval` reads for FMD, KID,\n"
+      "diversity and the content and style distances, and reports its held-out\n"
+      "denoising error. --dae-only adds the feature judge to existing judges.\n";
   int code = 0;
   auto args = ParseOrExit("train-judges", argv,
-                          {{"data", "out", "iters", "batch", "seed", "threads"}, {}}, kHelp, &code);
+                          {{"data", "out", "iters", "batch", "seed", "threads", "dae-iters"}, {"dae-only"}},
+                          kHelp, &code);
   if (!args) return code;
   model::JudgeTrainOptions o;
   o.data = args->All("data");
@@ -34,31 +41,47 @@ int TrainJudges(const Argv& argv) {
   }
   absl::StatusOr<int> iters = args->GetInt("iters", o.iterations),
                       batch = args->GetInt("batch", o.batch);
-  absl::StatusOr<int> seed = args->GetInt("seed", 1), threads = args->GetInt("threads", 0);
-  for (const absl::Status& s : {iters.status(), batch.status(), seed.status(), threads.status()}) {
+  absl::StatusOr<int> seed = args->GetInt("seed", 1), threads = args->GetInt("threads", 0),
+                      dae_iters = args->GetInt("dae-iters", 3000);
+  for (const absl::Status& s :
+       {iters.status(), batch.status(), seed.status(), threads.status(), dae_iters.status()}) {
     if (!s.ok()) return Fail("train-judges", s);
   }
   o.iterations = *iters, o.batch = *batch, o.seed = *seed;
   model::SetComputeThreads(*threads);
-  absl::StatusOr<model::JudgeAccuracy> acc = model::TrainJudges(o);
-  if (!acc.ok()) return Fail("train-judges", acc.status());
+  if (!args->switches.count("dae-only")) {
+    absl::StatusOr<model::JudgeAccuracy> acc = model::TrainJudges(o);
+    if (!acc.ok()) return Fail("train-judges", acc.status());
+    absl::PrintF("held-out clips: %d\nstyle accuracy: %.3f\ncontent accuracy: %.3f\n", acc->clips,
+                 acc->style, acc->content);
+  }
+  absl::StatusOr<model::DaeTrainResult> dae = model::TrainFeatureJudge(
+      o.data, o.out, *dae_iters, o.seed, [](const std::string& line) {
+        std::fprintf(stderr, "%s\n", line.c_str());
+      });
+  if (!dae.ok()) return Fail("train-judges", dae.status());
   absl::PrintF(
-      "held-out clips: %d\nstyle accuracy: %.3f\ncontent accuracy: %.3f\njudges written to %s\n",
-      acc->clips, acc->style, acc->content, o.out);
+      "feature judge: held-out denoising error %.4f (the corrupted input's: %.4f, %d clips)\n"
+      "judges written to %s\n",
+      dae->denoised_mse, dae->noisy_mse, dae->clips, o.out);
   return 0;
 }
 
 int Eval(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool eval --model DIR --judges DIR --data DIR... --out report.md\n"
-      "         [--pairs-per-content 3] [--threads N]\n\n"
+      "         [--ablation LABEL=DIR]... [--pairs-per-content 3] [--threads N]\n\n"
       "Transfers deterministic held-out pairs (content clip x style clip of another\n"
-      "content and another style) and reports style and content recognition\n"
-      "accuracy (by the judges) and foot skating, for the model and for the\n"
-      "identity and copy-style baselines, as a Markdown table.\n";
+      "content and another style) and reports, as Markdown: style and content\n"
+      "recognition accuracy (by the judges); FMD and KID against every clip of\n"
+      "DIR, diversity, content and style (Gram) distances (by the feature judge,\n"
+      "when the judges have one); foot skating, foot height error, bone length\n"
+      "error, jitter and Euler discontinuities. Rows: the model without and with\n"
+      "post-processing, each --ablation model (without), and the identity and\n"
+      "copy-style baselines.\n";
   int code = 0;
   auto args = ParseOrExit("eval", argv,
-                          {{"model", "judges", "data", "out", "pairs-per-content", "threads"}, {}},
+                          {{"model", "judges", "data", "out", "pairs-per-content", "threads", "ablation"}, {}},
                           kHelp, &code);
   if (!args) return code;
   if (!args->Has("model") || !args->Has("judges") || !args->Has("data") || !args->Has("out")) {
@@ -75,9 +98,37 @@ int Eval(const Argv& argv) {
   if (!m.ok()) return Fail("eval", m.status());
   auto judges = model::Judges::Load(args->Get("judges"));
   if (!judges.ok()) return Fail("eval", judges.status());
+  std::vector<model::EvalModel> models = {{"model", m->get(), true}};
+  std::vector<std::unique_ptr<model::ContrastiveModel>> ablations;
+  for (const std::string& spec : args->All("ablation")) {
+    const size_t eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      return Fail("eval", absl::InvalidArgumentError("--ablation wants LABEL=DIR, got '" + spec + "'"));
+    }
+    auto a = model::ContrastiveModel::Load(spec.substr(eq + 1));
+    if (!a.ok()) return Fail("eval", a.status());
+    ablations.push_back(*std::move(a));
+    models.push_back({spec.substr(0, eq), ablations.back().get(), false});
+  }
+  std::unique_ptr<model::FeatureJudge> features;
+  std::vector<motion::Motion> reference;
+  if (auto f = model::FeatureJudge::Load(args->Get("judges")); f.ok()) {
+    features = *std::move(f);
+    auto index = motion::IndexDataset(args->All("data"));
+    if (!index.ok()) return Fail("eval", index.status());
+    for (const motion::ClipEntry& c : index->clips) {
+      auto clip = motion::ReadBvhFile(c.path);
+      if (!clip.ok()) return Fail("eval", clip.status());
+      reference.push_back(*std::move(clip));
+    }
+  } else {
+    std::fprintf(stderr, "stylus-tool eval: no feature judge (%s); FMD, KID, diversity and the "
+                 "distances are left at 0\n", std::string(f.status().message()).c_str());
+  }
   auto pairs = model::MakeEvalPairs(args->All("data"), *per);
   if (!pairs.ok()) return Fail("eval", pairs.status());
-  auto report = model::Evaluate(**m, **judges, *pairs, [](int done, int total) {
+  auto report = model::Evaluate(models, **judges, features.get(), reference, *pairs,
+                                [](int done, int total) {
     if (done % 20 == 0 || done == total)
       std::fprintf(stderr, "\revaluated %d/%d pairs", done, total);
   });

@@ -3,6 +3,8 @@
 #include "model/evaluation.h"
 
 #include <filesystem>
+#include <cmath>
+#include <random>
 #include <set>
 
 #include "gtest/gtest.h"
@@ -68,19 +70,65 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
 
   absl::StatusOr<std::vector<EvalPair>> pairs = MakeEvalPairs({data}, 2);
   ASSERT_TRUE(pairs.ok()) << pairs.status();
-  absl::StatusOr<EvalReport> report = Evaluate(**model, **judges, *pairs);
+  absl::StatusOr<DaeTrainResult> dae = TrainFeatureJudge({data}, jo.out, 150, 1, {});
+  ASSERT_TRUE(dae.ok()) << dae.status();
+  EXPECT_LT(dae->denoised_mse, dae->noisy_mse);  // It learned to denoise.
+  absl::StatusOr<std::unique_ptr<FeatureJudge>> features = FeatureJudge::Load(jo.out);
+  ASSERT_TRUE(features.ok()) << features.status();
+  std::vector<motion::Motion> reference;
+  for (const auto& e : fs::directory_iterator(data))
+    reference.push_back(*motion::ReadBvhFile(e.path().string()));
+  absl::StatusOr<EvalReport> report = Evaluate({{"model", model->get(), true}, {"again", model->get(), false}},
+                                               **judges, features->get(), reference, *pairs);
   ASSERT_TRUE(report.ok()) << report.status();
-  ASSERT_EQ(report->rows.size(), 4u);
+  ASSERT_EQ(report->rows.size(), 5u);
+  EXPECT_EQ(report->identity_row, 3);
+  EXPECT_EQ(report->rows[2].name, "again, no post-processing");
+  // The same model twice gives the same row.
+  EXPECT_DOUBLE_EQ(report->rows[2].fmd, report->rows[0].fmd);
+  // Identity's content distance is 0; the untrained model's output is far
+  // from real motion in FMD compared with the real clips themselves.
+  EXPECT_DOUBLE_EQ(report->rows[3].content_distance, 0.0);
+  EXPECT_GT(report->rows[0].fmd, report->rows[3].fmd);
+  EXPECT_GT(report->real_diversity, 0);
   for (const EvalRow& r : report->rows) EXPECT_EQ(r.pairs, static_cast<int>(pairs->size()));
   // Post-processing plants the feet of the model's output.
   EXPECT_LT(report->rows[1].foot_skating, report->rows[0].foot_skating);
   // Real capture: bones exactly as the offsets say.
-  EXPECT_LT(report->rows[2].bone_length_error, 1e-4);
+  EXPECT_LT(report->rows[3].bone_length_error, 1e-4);
   // By construction the identity output never has the style clip's style label
   // and copy-style never the content clip's content, so a judge that is right
   // about real clips scores them low there.
   EXPECT_NE(report->Markdown().find("| model, post-processing full |"), std::string::npos);
   EXPECT_NE(report->Markdown().find("foot skating"), std::string::npos);
+}
+
+TEST(FeatureMetricsTest, DistancesAreZeroForIdenticalSetsAndGrowWithAShift) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g;
+  std::vector<std::vector<double>> a(300, std::vector<double>(8)), b = a, shifted;
+  for (auto& v : a)
+    for (double& x : v) x = g(rng);
+  for (auto& v : b)
+    for (double& x : v) x = g(rng);
+  for (const auto& v : a) {
+    shifted.push_back(v);
+    for (double& x : shifted.back()) x += 1.0;
+  }
+  EXPECT_NEAR(FrechetDistance(a, a), 0, 1e-6);
+  EXPECT_LT(FrechetDistance(a, b), 0.5);  // Same distribution, other samples.
+  EXPECT_NEAR(FrechetDistance(a, shifted), 8.0, 0.2);  // |mean shift|^2 = 8.
+  const auto same = KernelInceptionDistance(a, b, 10, 100, 1);
+  const auto moved = KernelInceptionDistance(a, shifted, 10, 100, 1);
+  EXPECT_LT(std::abs(same.first), 3 * same.second + 0.05);
+  EXPECT_GT(moved.first, 10 * std::abs(same.first) + 0.1);
+  EXPECT_NEAR(Diversity(a, 2000, 1), std::sqrt(2.0 * 8), 0.4);  // E|x-y| for N(0, I_8).
+  FeatureMap f{2, 3, {1, 2, 3, 4, 5, 6}}, h = f;
+  EXPECT_EQ(ContentDistance(f, h), 0);
+  EXPECT_EQ(StyleDistance(f, h), 0);
+  h.values[0] = 2;
+  EXPECT_NEAR(ContentDistance(f, h), 1.0 / 6, 1e-12);
+  EXPECT_GT(StyleDistance(f, h), 0);
 }
 
 TEST(EvaluationTest, BandaiPairsDifferInContentAndStyleAndAreDeterministic) {

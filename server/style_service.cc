@@ -14,6 +14,32 @@ double MsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
+// What Transfer and Interpolate both start from.
+struct ContentCall {
+  HostedModel model;
+  motion::PostProcessMode post = motion::PostProcessMode::kFull;
+  motion::Motion content;
+};
+
+// Resolves the model (recording its id in `out`), the post-processing mode
+// and the content clip.
+absl::StatusOr<ContentCall> StartContentCall(const ServiceContext& service,
+                                             const std::string& model_id, v1::PostProcess post,
+                                             const v1::Clip& content, CallOutcome* out) {
+  ContentCall call;
+  absl::StatusOr<HostedModel> m = service.registry->Get(model_id);
+  if (!m.ok()) return m.status();
+  call.model = *std::move(m);
+  out->model = call.model.id;
+  absl::StatusOr<motion::PostProcessMode> mode = ToPostProcessMode(post);
+  if (!mode.ok()) return mode.status();
+  call.post = *mode;
+  absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(content, "content clip");
+  if (!clip.ok()) return clip.status();
+  call.content = *std::move(clip);
+  return call;
+}
+
 }  // namespace
 
 absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
@@ -38,20 +64,17 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
   return RunUnary(service_, ctx, "Transfer", [this, request, response] {
     const auto t0 = std::chrono::steady_clock::now();
     CallOutcome out{absl::OkStatus(), request->model(), request->content().frames_size()};
-    absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
-    if (!m.ok()) return out.status = m.status(), out;
-    out.model = m->id;
-    absl::StatusOr<motion::PostProcessMode> post = ToPostProcessMode(request->postprocess());
-    if (!post.ok()) return out.status = post.status(), out;
-    absl::StatusOr<motion::Motion> content = wire::ClipFromProto(request->content(), "content clip");
-    if (!content.ok()) return out.status = content.status(), out;
+    absl::StatusOr<ContentCall> call = StartContentCall(
+        *service_, request->model(), request->postprocess(), request->content(), &out);
+    if (!call.ok()) return out.status = call.status(), out;
     absl::StatusOr<model::StyleCode> style =
-        ResolveStyle(*service_, *m, request->style(), "style clip");
+        ResolveStyle(*service_, call->model, request->style(), "style clip");
     if (!style.ok()) return out.status = style.status(), out;
-    absl::StatusOr<motion::Motion> result = m->model->Transfer(*content, *style, *post);
+    absl::StatusOr<motion::Motion> result =
+        call->model.model->Transfer(call->content, *style, call->post);
     if (!result.ok()) return out.status = result.status(), out;
     wire::ClipToProto(*result, response->mutable_output());
-    response->set_model(m->id);
+    response->set_model(call->model.id);
     response->set_compute_ms(MsSince(t0));
     return out;
   });
@@ -86,22 +109,18 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
   return RunUnary(service_, ctx, "Interpolate", [this, request, response] {
     const auto t0 = std::chrono::steady_clock::now();
     CallOutcome out{absl::OkStatus(), request->model(), request->content().frames_size()};
-    absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
-    if (!m.ok()) return out.status = m.status(), out;
-    out.model = m->id;
-    absl::StatusOr<motion::PostProcessMode> post = ToPostProcessMode(request->postprocess());
-    if (!post.ok()) return out.status = post.status(), out;
+    absl::StatusOr<ContentCall> call = StartContentCall(
+        *service_, request->model(), request->postprocess(), request->content(), &out);
+    if (!call.ok()) return out.status = call.status(), out;
     if (request->styles_size() < 2) {
       out.status = absl::InvalidArgumentError(
           absl::StrCat("Interpolate needs two or more styles, got ", request->styles_size()));
       return out;
     }
-    absl::StatusOr<motion::Motion> content = wire::ClipFromProto(request->content(), "content clip");
-    if (!content.ok()) return out.status = content.status(), out;
     std::vector<model::StyleCode> styles;
     for (int i = 0; i < request->styles_size(); ++i) {
       absl::StatusOr<model::StyleCode> s =
-          ResolveStyle(*service_, *m, request->styles(i), absl::StrCat("style ", i));
+          ResolveStyle(*service_, call->model, request->styles(i), absl::StrCat("style ", i));
       if (!s.ok()) return out.status = s.status(), out;
       styles.push_back(*std::move(s));
     }
@@ -112,10 +131,11 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
     } else {
       weights.fixed.assign(request->weights().values().begin(), request->weights().values().end());
     }
-    absl::StatusOr<motion::Motion> result = m->model->Interpolate(*content, styles, weights, *post);
+    absl::StatusOr<motion::Motion> result =
+        call->model.model->Interpolate(call->content, styles, weights, call->post);
     if (!result.ok()) return out.status = result.status(), out;
     wire::ClipToProto(*result, response->mutable_output());
-    response->set_model(m->id);
+    response->set_model(call->model.id);
     response->set_compute_ms(MsSince(t0));
     return out;
   });

@@ -8,12 +8,23 @@
 
 #include "gtest/gtest.h"
 #include "motion/dataset.h"
+#include "motion/motion.h"
 
 namespace stylus::testing {
 
 inline std::string SourceDir() { return STYLUS_SOURCE_DIR; }
 inline std::string FixturePath(const std::string& rel) {
   return SourceDir() + "/tests/fixtures/" + rel;
+}
+
+// Frames [begin, end) of `m` as a motion of their own.
+inline motion::Motion Frames(const motion::Motion& m, int begin, int end) {
+  motion::Motion out = m;
+  const int c = m.skeleton.num_channels();
+  out.num_frames = end - begin;
+  out.values.assign(m.values.begin() + static_cast<size_t>(begin) * c,
+                    m.values.begin() + static_cast<size_t>(end) * c);
+  return out;
 }
 
 inline bool UnderCi() {

@@ -15,16 +15,10 @@
 namespace stylus::model {
 namespace {
 
+using testing::Frames;
+
 const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v1";
 
-motion::Motion Frames(const motion::Motion& m, int begin, int end) {
-  motion::Motion out = m;
-  const int c = m.skeleton.num_channels();
-  out.num_frames = end - begin;
-  out.values.assign(m.values.begin() + static_cast<size_t>(begin) * c,
-                    m.values.begin() + static_cast<size_t>(end) * c);
-  return out;
-}
 
 void Append(const motion::Motion& chunk, motion::Motion* all) {
   all->values.insert(all->values.end(), chunk.values.begin(), chunk.values.end());

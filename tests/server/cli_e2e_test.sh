@@ -5,22 +5,7 @@
 set -u
 server=$1 cli=$2 src=$3 work=$4
 rm -rf "$work" && mkdir -p "$work"
-passed=0 failed=0
-
-check() {  # check NAME EXPECTED_EXIT REGEX -- COMMAND...
-  local name=$1 want=$2 regex=$3
-  shift 4
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if [ "$rc" -eq "$want" ] && grep -Eq -- "$regex" <<<"$out"; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAIL $name: exit $rc (want $want), output:"
-    echo "$out" | head -20
-  fi
-}
+source "$(dirname "$0")/../check.sh"
 
 check "server --help" 0 "usage: stylus-server" -- "$server" --help
 check "server bad option" 2 "unknown option --bogus" -- "$server" --bogus 1

@@ -17,19 +17,13 @@
 namespace stylus {
 namespace {
 
+using testing::Frames;
+
 using testing::LiveServer;
 using testing::Sample;
 
 const std::string kModel = testing::SourceDir() + "/models/contrastive/v1";
 
-motion::Motion Frames(const motion::Motion& m, int begin, int end) {
-  motion::Motion out = m;
-  const int c = m.skeleton.num_channels();
-  out.num_frames = end - begin;
-  out.values.assign(m.values.begin() + static_cast<size_t>(begin) * c,
-                    m.values.begin() + static_cast<size_t>(end) * c);
-  return out;
-}
 
 motion::Motion BandaiClip(const std::string& dir, const std::string& name) {
   return *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_" + name + ".bvh");

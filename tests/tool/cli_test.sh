@@ -4,24 +4,7 @@
 set -u
 tool=$1 src=$2 work=$3
 mkdir -p "$work"
-passed=0 failed=0
-
-# check NAME EXPECTED_EXIT REGEX -- COMMAND...: runs COMMAND, checks its exit
-# code and that stdout+stderr match REGEX (extended grep).
-check() {
-  local name=$1 want=$2 regex=$3
-  shift 4
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if [ "$rc" -eq "$want" ] && grep -Eq -- "$regex" <<<"$out"; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAIL $name: exit $rc (want $want), output:"
-    echo "$out" | head -20
-  fi
-}
+source "$(dirname "$0")/../check.sh"
 
 good=$src/tests/fixtures/bvh/good/mixed_orders_crlf.bvh
 bad=$src/tests/fixtures/bvh/bad

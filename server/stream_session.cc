@@ -28,26 +28,26 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   }
 
   void OnReadDone(bool ok) override {
+    {
+      absl::MutexLock lock(&mu_);
+      // A read that fails after the call was finished (cancellation) needs
+      // no handling: the session is about to be done.
+      if (finished_) return;
+      ++busy_;  // From here on nobody else finishes the call.
+    }
     std::function<void()> task;
     if (ok) {
       task = [this, request = std::move(request_)] { Handle(request); };
     } else {
       task = [this] { HandleEnd(); };
     }
-    {
-      absl::MutexLock lock(&mu_);
-      busy_ = true;
-    }
     if (!service_->executor->Submit([this, task] {
           task();
           AfterTask();
         })) {
-      {
-        absl::MutexLock lock(&mu_);
-        busy_ = false;
-        Fail(absl::UnavailableError("the server is shutting down"));
-      }
-      MaybeFinishOutsideLock();
+      absl::MutexLock lock(&mu_);
+      Fail(absl::UnavailableError("the server is shutting down"));
+      ReleaseLocked();
     }
   }
 
@@ -80,12 +80,16 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     MaybeFinishOutsideLock();
   }
 
+  // gRPC calls this once the call is over, but an executor task of this
+  // session may still be running: then the task deletes the session.
   void OnDone() override {
-    service_->open_streams.fetch_sub(1);
-    LogCall("TransferStream", outcome_,
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
-                .count());
-    delete this;
+    bool now = false;
+    {
+      absl::MutexLock lock(&mu_);
+      done_ = true;
+      now = busy_ == 0;
+    }
+    if (now) Destroy();
   }
 
  private:
@@ -187,21 +191,61 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   }
 
   // After each task: start the next read, a write, or the end of the call.
+  // The session stays busy until the new operations have been started, so
+  // that a concurrent OnCancel cannot Finish the call in between (starting an
+  // operation on a finished call is an API misuse).
   void AfterTask() {
     bool read = false;
     const v1::StreamResponse* write = nullptr;
     {
       absl::MutexLock lock(&mu_);
-      busy_ = false;
-      read = !failed_ && !ending_;
-      if (!writing_ && !writes_.empty() && !failed_) {
+      read = !failed_ && !ending_ && !finished_;
+      if (!writing_ && !writes_.empty() && !failed_ && !finished_) {
         writing_ = true;
         write = &writes_.front();
       }
     }
     if (write != nullptr) StartWrite(write);
     if (read) StartRead(&request_);
-    MaybeFinishOutsideLock();
+    mu_.Lock();
+    ReleaseLocked();
+  }
+
+  // Ends a task (busy_ -> false) with mu_ held, and releases mu_. Then, in
+  // this order of preference: destroys the session if gRPC is done with it,
+  // or finishes the call if it should end now, or leaves it. Nothing touches
+  // the session after this returns: once the lock is released, OnDone may
+  // delete it at any moment.
+  void ReleaseLocked() ABSL_UNLOCK_FUNCTION(mu_) {
+    --busy_;
+    const bool done = done_ && busy_ == 0;
+    const bool finish = !done && ShouldFinishLocked();
+    absl::Status status;
+    if (finish) {
+      finished_ = true;
+      status = outcome_.status;
+    }
+    mu_.Unlock();
+    if (done) {
+      Destroy();
+    } else if (finish) {
+      Finish(ToGrpcStatus(status));
+    }
+  }
+
+  bool ShouldFinishLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
+    if (finished_ || busy_ > 0 || writing_) return false;
+    return failed_ || (ending_ && writes_.empty());
+  }
+
+  // The end: the call is done and no task of the session runs any more, so
+  // nothing else reads or writes the session.
+  void Destroy() {
+    service_->open_streams.fetch_sub(1);
+    LogCall("TransferStream", outcome_,
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
+                .count());
+    delete this;
   }
 
   // Records the first error; queued writes are dropped.
@@ -212,12 +256,12 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     if (!writing_) writes_.clear();
   }
 
+  // From gRPC's reactions (which gRPC runs to completion before OnDone).
   void MaybeFinishOutsideLock() {
     absl::Status status;
     {
       absl::MutexLock lock(&mu_);
-      if (finished_ || busy_ || writing_) return;
-      if (!failed_ && !(ending_ && writes_.empty())) return;
+      if (!ShouldFinishLocked()) return;
       finished_ = true;
       status = outcome_.status;
     }
@@ -237,10 +281,13 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   absl::Mutex mu_;
   std::deque<v1::StreamResponse> writes_ ABSL_GUARDED_BY(mu_);
   bool writing_ ABSL_GUARDED_BY(mu_) = false;
-  bool busy_ ABSL_GUARDED_BY(mu_) = false;
+  // Executor tasks of this session queued or running (a reaction that gRPC
+  // runs inline, inside StartRead, can queue one while another ends).
+  int busy_ ABSL_GUARDED_BY(mu_) = 0;
   bool ending_ ABSL_GUARDED_BY(mu_) = false;
   bool failed_ ABSL_GUARDED_BY(mu_) = false;
   bool finished_ ABSL_GUARDED_BY(mu_) = false;
+  bool done_ ABSL_GUARDED_BY(mu_) = false;  // OnDone has run.
   CallOutcome outcome_;  // status guarded by mu_; model/frames by the task.
 };
 

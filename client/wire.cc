@@ -19,13 +19,8 @@ v1::Vec3 ToProto(const Vec3& v) {
 
 Vec3 FromProto(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-bool Finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-bool HasPosition(const motion::Joint& j) {
-  for (motion::Channel c : j.channels) {
-    if (motion::IsPosition(c)) return true;
-  }
-  return false;
+bool Finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 }  // namespace
@@ -84,7 +79,7 @@ void FrameToProto(const motion::Motion& motion, int f, int64_t index, v1::Frame*
     r->set_x(q.x);
     r->set_y(q.y);
     r->set_z(q.z);
-    if (j > 0 && HasPosition(motion.skeleton.joint(j))) {
+    if (j > 0 && motion::HasPositionChannel(motion.skeleton.joint(j))) {
       *out->add_translations() = ToProto(pose.translations[j]);
     }
   }
@@ -104,8 +99,7 @@ absl::Status AppendFrame(const v1::Frame& frame, const std::string& what,
   const std::string where = absl::StrCat(what, ": frame ", frame.index());
   if (frame.rotations_size() != nj) {
     return absl::InvalidArgumentError(absl::StrCat(where, " has ", frame.rotations_size(),
-                                                   " rotations; the skeleton has ", nj,
-                                                   " joints"));
+                                                   " rotations; the skeleton has ", nj, " joints"));
   }
   motion::LocalPose pose;
   pose.translations.resize(nj);
@@ -127,11 +121,10 @@ absl::Status AppendFrame(const v1::Frame& frame, const std::string& what,
     pose.translations[j] = joint.offset;
     if (j == 0) {
       pose.translations[j] = FromProto(frame.root_position());
-    } else if (HasPosition(joint)) {
+    } else if (motion::HasPositionChannel(joint)) {
       if (next_translation >= frame.translations_size()) {
-        return absl::InvalidArgumentError(
-            absl::StrCat(where, ": no translation for joint '", joint.name,
-                         "', which has position channels"));
+        return absl::InvalidArgumentError(absl::StrCat(
+            where, ": no translation for joint '", joint.name, "', which has position channels"));
       }
       pose.translations[j] = FromProto(frame.translations(next_translation++));
     }

@@ -24,9 +24,9 @@ absl::StatusOr<std::array<Leg, 2>> Legs(const Skeleton& sk, const HumanoidRoles&
   for (int s = 0; s < 2; ++s) {
     const int knee = sk.joint(ankles[s]).parent;
     if (knee < 0 || sk.joint(knee).parent != hips[s] || sk.joint(toes[s]).parent != ankles[s]) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "leg of '", sk.joint(ankles[s]).name,
-          "' is not a hip -> knee -> ankle -> toe chain; foot locking needs one"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("leg of '", sk.joint(ankles[s]).name,
+                       "' is not a hip -> knee -> ankle -> toe chain; foot locking needs one"));
     }
     legs[s] = {hips[s], knee, ankles[s], toes[s], 2 * s, 2 * s + 1};
   }
@@ -34,13 +34,6 @@ absl::StatusOr<std::array<Leg, 2>> Legs(const Skeleton& sk, const HumanoidRoles&
 }
 
 Vec3 Lerp(const Vec3& a, const Vec3& b, double t) { return a + (b - a) * t; }
-
-bool HasPosition(const Joint& j) {
-  for (Channel c : j.channels) {
-    if (IsPosition(c)) return true;
-  }
-  return false;
-}
 
 // Joints strictly below the pelvis: their translations are bones.
 std::vector<bool> BelowPelvis(const Skeleton& sk, const HumanoidRoles& roles) {
@@ -78,9 +71,12 @@ absl::StatusOr<PostProcessMode> ParsePostProcessMode(absl::string_view name) {
 
 const char* PostProcessModeName(PostProcessMode mode) {
   switch (mode) {
-    case PostProcessMode::kNone: return "none";
-    case PostProcessMode::kFeet: return "feet";
-    case PostProcessMode::kFull: return "full";
+    case PostProcessMode::kNone:
+      return "none";
+    case PostProcessMode::kFeet:
+      return "feet";
+    case PostProcessMode::kFull:
+      return "full";
   }
   return "?";
 }
@@ -179,8 +175,9 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
   if (mode == PostProcessMode::kNone) return output;
   const Skeleton& sk = output.skeleton;
   if (!sk.SameTopology(content.skeleton)) {
-    return absl::InvalidArgumentError(absl::StrCat("post-processing: the content clip is on another skeleton: ",
-                                                   sk.DescribeMismatch(content.skeleton)));
+    return absl::InvalidArgumentError(
+        absl::StrCat("post-processing: the content clip is on another skeleton: ",
+                     sk.DescribeMismatch(content.skeleton)));
   }
   absl::StatusOr<std::array<Leg, 2>> legs = Legs(sk, roles);
   if (!legs.ok()) return legs.status();
@@ -235,7 +232,7 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
     LocalPose local = PoseAt(source, f);
     if (mode == PostProcessMode::kFull) {
       for (int j = 0; j < sk.num_joints(); ++j) {
-        if (below[j] && HasPosition(sk.joint(j))) local.translations[j] = sk.joint(j).offset;
+        if (below[j] && HasPositionChannel(sk.joint(j))) local.translations[j] = sk.joint(j).offset;
       }
     }
     GlobalPose g = ForwardKinematics(sk, local);
@@ -248,8 +245,9 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
         const Vec3 want = Lerp(ankle, target[leg.ankle_k][f], wa);
         // Knees bend forward: keep the pose's own knee direction unless it
         // points backwards or along the leg, where the solve would flip.
-        const Vec3 forward = Normalized(Cross(g.positions[roles.left_hip] - g.positions[roles.right_hip],
-                                              Vec3{0, 1, 0}), {0, 0, 1});
+        const Vec3 forward = Normalized(
+            Cross(g.positions[roles.left_hip] - g.positions[roles.right_hip], Vec3{0, 1, 0}),
+            {0, 0, 1});
         const Vec3 hip = g.positions[leg.hip];
         const Vec3 line = Normalized(want - hip, {0, -1, 0});
         Vec3 bend = (g.positions[leg.knee] - hip) - line * Dot(g.positions[leg.knee] - hip, line);
@@ -285,7 +283,8 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
       const int hip_parent = sk.joint(leg.hip).parent;
       local.rotations[leg.hip] =
           Normalized(Conjugate(g.rotations[hip_parent]) * g.rotations[leg.hip]);
-      local.rotations[leg.knee] = Normalized(Conjugate(g.rotations[leg.hip]) * g.rotations[leg.knee]);
+      local.rotations[leg.knee] =
+          Normalized(Conjugate(g.rotations[leg.hip]) * g.rotations[leg.knee]);
       local.rotations[leg.ankle] =
           Normalized(Conjugate(g.rotations[leg.knee]) * g.rotations[leg.ankle]);
     }

@@ -8,6 +8,13 @@
 
 namespace stylus::motion {
 
+bool HasPositionChannel(const Joint& joint) {
+  for (Channel c : joint.channels) {
+    if (IsPosition(c)) return true;
+  }
+  return false;
+}
+
 absl::string_view ChannelName(Channel c) {
   switch (c) {
     case Channel::kXposition:

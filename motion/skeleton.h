@@ -27,6 +27,10 @@ inline bool IsPosition(Channel c) { return c <= Channel::kZposition; }
 // 0, 1, 2 for the X, Y, Z axis of a position or rotation channel.
 inline int ChannelAxis(Channel c) { return static_cast<int>(c) % 3; }
 
+struct Joint;
+// True when the joint has any position channel (its translation is animated).
+bool HasPositionChannel(const Joint& joint);
+
 struct Joint {
   std::string name;
   int parent = -1;  // -1 for the root.

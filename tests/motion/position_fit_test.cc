@@ -1,0 +1,95 @@
+#include "motion/position_fit.h"
+
+#include <cmath>
+
+#include "gtest/gtest.h"
+#include "motion/bvh.h"
+#include "motion/synth.h"
+#include "tests/test_support.h"
+
+namespace stylus::motion {
+namespace {
+
+double MaxPositionGap(const FeatureClip& a, const FeatureClip& b, int joints) {
+  double worst = 0;
+  for (int f = 0; f < a.frames; ++f)
+    for (int c = 0; c < 3 * joints; ++c)
+      worst = std::max(worst, std::fabs(double(a.row(f)[c]) - b.row(f)[c]));
+  return worst;
+}
+
+// Positions of a real motion, rotations replaced by the identity (no twist
+// information at all): the fit must rebuild the positions.
+void ExpectRecovers(const Motion& m, double tolerance) {
+  const HumanoidRoles roles = *FindHumanoidRoles(m.skeleton);
+  const FeatureClip truth = *ExtractFeatures(m, roles);
+  const int joints = m.skeleton.num_joints();
+  const FeatureLayout layout(joints);
+  FeatureClip guess = truth;
+  for (int f = 0; f < guess.frames; ++f)
+    for (int j = 0; j < joints; ++j) {
+      float* q = guess.row(f) + layout.rotation(j);
+      q[0] = 1, q[1] = q[2] = q[3] = 0;
+    }
+  FitRotationsToPositions(m.skeleton, roles, &guess);
+  EXPECT_LT(MaxPositionGap(guess, truth, joints), tolerance * roles.leg_length);
+  // Fitted rotations are unit quaternions, and decoding them gives a motion.
+  for (int f = 0; f < guess.frames; ++f) {
+    const float* q = guess.row(f) + layout.rotation(roles.pelvis);
+    EXPECT_NEAR(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-4);
+  }
+  EXPECT_TRUE(MotionFromFeatures(guess, m.skeleton, roles, m.frame_time).ok());
+}
+
+TEST(PositionFitTest, RebuildsSyntheticPositionsFromIdentityRotations) {
+  ExpectRecovers(*Synthesize(*ParseSynthStyle("normal,frames=60")), 2e-3);
+}
+
+TEST(PositionFitTest, RebuildsRealPositionsFromIdentityRotations) {
+  STYLUS_REQUIRE_BANDAI(data);
+  absl::StatusOr<Motion> m =
+      ReadBvhFile(data + "/dataset-1/"
+                         "dataset-1_walk_normal_001.bvh");
+  ASSERT_TRUE(m.ok()) << m.status();
+  ExpectRecovers(*m, 2e-3);
+}
+
+TEST(PositionFitTest, KeepsBoneLengthsWhenTargetsAreOutOfReach) {
+  const Motion m = *Synthesize(*ParseSynthStyle("old,frames=30"));
+  const HumanoidRoles roles = *FindHumanoidRoles(m.skeleton);
+  const FeatureClip truth = *ExtractFeatures(m, roles);
+  const int joints = m.skeleton.num_joints();
+  const FeatureLayout layout(joints);
+  // Targets stretched 20% away from the pelvis: bones cannot follow; the fit
+  // keeps the skeleton's lengths and reaches towards the targets.
+  FeatureClip stretched = truth;
+  for (int f = 0; f < stretched.frames; ++f) {
+    const float* pelvis = truth.row(f) + layout.position(roles.pelvis);
+    for (int j = roles.pelvis + 1; j < joints; ++j)
+      for (int a = 0; a < 3; ++a) {
+        float* p = stretched.row(f) + layout.position(j) + a;
+        *p = pelvis[a] + 1.2f * (*p - pelvis[a]);
+      }
+  }
+  const FeatureClip targets = stretched;
+  FitRotationsToPositions(m.skeleton, roles, &stretched);
+  auto at = [&](const FeatureClip& c, int f, int j) {
+    const float* p = c.row(f) + layout.position(j);
+    return Vec3{p[0], p[1], p[2]};
+  };
+  for (int f = 0; f < stretched.frames; ++f) {
+    for (int j = roles.pelvis + 1; j < joints; ++j) {
+      const double bone = Norm(at(stretched, f, j) - at(stretched, f, m.skeleton.joint(j).parent));
+      EXPECT_NEAR(bone, Norm(m.skeleton.joint(j).offset), 1e-4 * roles.leg_length)
+          << "frame " << f << " joint " << m.skeleton.joint(j).name;
+    }
+    for (int ankle : {roles.left_ankle, roles.right_ankle}) {
+      EXPECT_LT(Norm(at(stretched, f, ankle) - at(targets, f, ankle)),
+                Norm(at(truth, f, ankle) - at(targets, f, ankle)))
+          << "frame " << f;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace stylus::motion

@@ -7,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "model/contrastive_net.h"
 #include "model/window_blend.h"
+#include "model/weights_io.h"
 #include "model/window_tensor.h"
 #include "motion/features.h"
 #include "motion/windowing.h"
@@ -36,6 +37,10 @@ ContrastiveModel::ContrastiveModel(std::unique_ptr<Impl> impl) : impl_(std::move
 ContrastiveModel::~ContrastiveModel() = default;
 const PackageContents& ContrastiveModel::package() const { return impl_->package; }
 const std::string& ContrastiveModel::dir() const { return impl_->dir; }
+ModelSummary ContrastiveModel::summary() const {
+  const ContrastiveConfig& c = impl_->package.config;
+  return {c.family, c.window, c.hop, c.trained_iterations};
+}
 
 absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(const std::string& dir) {
   absl::StatusOr<PackageContents> package = ReadPackage(dir);
@@ -43,31 +48,9 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(const s
   auto impl = std::make_unique<Impl>();
   impl->dir = dir;
   impl->package = *std::move(package);
-  try {
-    impl->net = ContrastiveNet(impl->package.config);
-    std::vector<std::vector<int64_t>> expected;
-    for (const auto& p : impl->net->named_parameters()) expected.push_back(p.value().sizes().vec());
-    torch::load(impl->net, impl->package.weights_path);
-    // torch::load adopts whatever shapes the archive holds: check them.
-    size_t i = 0;
-    for (const auto& p : impl->net->named_parameters()) {
-      if (i >= expected.size() || p.value().sizes().vec() != expected[i]) {
-        return absl::InvalidArgumentError(
-            absl::StrCat(impl->package.weights_path, ": parameter '", p.key(),
-                         "' does not have the shape config.txt implies"));
-      }
-      ++i;
-    }
-    impl->net->eval();
-  } catch (const std::exception& e) {
-    std::string what = e.what();
-    what = what.substr(0, what.find('\n'));
-    return absl::InvalidArgumentError(
-        absl::StrCat(impl->package.weights_path,
-                     ": cannot load weights (corrupt, or made for another "
-                     "configuration): ",
-                     what));
-  }
+  impl->net = ContrastiveNet(impl->package.config);
+  if (absl::Status s = LoadWeights(impl->net, impl->package.weights_path); !s.ok()) return s;
+  impl->net->eval();
   return std::unique_ptr<ContrastiveModel>(new ContrastiveModel(std::move(impl)));
 }
 
@@ -131,40 +114,15 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
   }
 }
 
-absl::StatusOr<motion::Motion> ContrastiveModel::Transfer(const motion::Motion& content,
-                                                          const StyleCode& style,
-                                                          motion::PostProcessMode post) const {
-  return Interpolate(content, {style}, StyleWeights{{1.0}, {}}, post);
-}
-
 absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motion& content,
                                                              const std::vector<StyleCode>& styles,
                                                              const StyleWeights& weights,
                                                              motion::PostProcessMode post) const {
   const ContrastiveConfig& config = impl_->package.config;
-  if (styles.empty()) return absl::InvalidArgumentError("no style given");
-  for (const StyleCode& s : styles) {
-    if (static_cast<int>(s.values.size()) != config.channels) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "style code has ", s.values.size(), " values; this model's have ", config.channels));
-    }
-  }
+  if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, config.channels);
+      !s.ok())
+    return s;
   const bool per_frame = !weights.per_frame.empty();
-  if (per_frame && static_cast<int>(weights.per_frame.size()) != content.num_frames) {
-    return absl::InvalidArgumentError(absl::StrCat("weight schedule has ", weights.per_frame.size(),
-                                                   " rows; the content clip has ",
-                                                   content.num_frames, " frames"));
-  }
-  for (const auto& row :
-       per_frame ? weights.per_frame : std::vector<std::vector<double>>{weights.fixed}) {
-    if (row.size() != styles.size()) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("got ", row.size(), " weights for ", styles.size(), " styles"));
-    }
-    for (double w : row) {
-      if (!std::isfinite(w)) return absl::InvalidArgumentError("style weights must be finite");
-    }
-  }
   absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(content, "content clip");
   if (!f.ok()) return f.status();
   PadToLength(&*f, config.window);
@@ -173,12 +131,7 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
   for (size_t w = 0; w < starts.size(); ++w) {
     const int centre = std::min(content.num_frames - 1, starts[w] + config.window / 2);
     const std::vector<double>& mix = per_frame ? weights.per_frame[centre] : weights.fixed;
-    codes[w].values.assign(config.channels, 0.f);
-    for (int c = 0; c < config.channels; ++c) {
-      double v = 0;
-      for (size_t k = 0; k < styles.size(); ++k) v += mix[k] * styles[k].values[c];
-      codes[w].values[c] = static_cast<float>(v);
-    }
+    codes[w] = MixStyles(styles, mix);
   }
   absl::StatusOr<std::vector<float>> y = GenerateWindows(*f, starts, codes);
   if (!y.ok()) return y.status();

@@ -18,51 +18,33 @@
 #include "motion/features.h"
 #include "motion/motion.h"
 #include "motion/postprocess.h"
+#include "model/style_model.h"
 
 namespace stylus::model {
 
-// A style vector (config.channels values) from EncodeStyle; style codes of one
-// model can be blended linearly.
-struct StyleCode {
-  std::vector<float> values;
-};
-
-// How styles mix over a clip: `fixed` (one weight per style) for the whole clip,
-// or `per_frame` (one row of weights per content frame) when not empty.
-struct StyleWeights {
-  std::vector<double> fixed;
-  std::vector<std::vector<double>> per_frame;
-};
-
-class ContrastiveModel {
+class ContrastiveModel : public StyleModel {
  public:
   // Reads and validates the package in `dir` (see package.h) and its weights.
   // NOT_FOUND for a missing file; INVALID_ARGUMENT (naming the file) for a
   // corrupt or mismatched one.
   static absl::StatusOr<std::unique_ptr<ContrastiveModel>> Load(const std::string& dir);
-  ~ContrastiveModel();
+  ~ContrastiveModel() override;
 
   const PackageContents& package() const;
-  const std::string& dir() const;
+  const std::string& dir() const override;
+  const DataFiles& data() const override { return package(); }
+  ModelSummary summary() const override;
 
   // The mean style code over the clip's windows (clips shorter than a window
   // are padded by repeating their last frame).
-  absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const;
-
-  // The content clip re-generated with `style`: same skeleton, channel layout,
-  // frame count and frame rate; overlapping windows are cross-faded, and the
-  // root starts where the content's does. `post` cleans the result
-  // (motion/postprocess.h; feet locked where the content's feet are planted).
-  absl::StatusOr<motion::Motion> Transfer(
-      const motion::Motion& content, const StyleCode& style,
-      motion::PostProcessMode post = motion::PostProcessMode::kFull) const;
+  absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const override;
 
   // Transfer with a blend of `styles`: each window uses sum_k w_k s_k, the
   // weights taken at the window's centre frame.
   absl::StatusOr<motion::Motion> Interpolate(
       const motion::Motion& content, const std::vector<StyleCode>& styles,
       const StyleWeights& weights,
-      motion::PostProcessMode post = motion::PostProcessMode::kFull) const;
+      motion::PostProcessMode post = motion::PostProcessMode::kFull) const override;
 
   // Lower-level steps of Transfer, for streaming (model/stream_transfer.h).
   // The clip's normalized features, checked as Transfer checks a content clip

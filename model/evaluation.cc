@@ -63,7 +63,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
   report.rows.push_back({"copy-style (output = style)"});
   const size_t n_rows = report.rows.size();
   std::vector<std::vector<std::vector<double>>> embeddings(n_rows);
-  const motion::HumanoidRoles& roles = models[0].model->package().roles;
+  const motion::HumanoidRoles& roles = models[0].model->data().roles;
   int done = 0;
   for (const EvalPair& p : pairs) {
     absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(p.content_path);
@@ -120,12 +120,18 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       row.foot_height_error += motion::FootHeightError(out, planted, roles);
       row.bone_length_error += motion::BoneLengthError(out, roles);
       row.jitter += motion::Jitter(out);
+      row.trajectory_error += motion::TrajectoryError(out, *content, roles);
       row.euler_discontinuities += motion::EulerDiscontinuities(out);
       if (features) {
         absl::StatusOr<FeatureMap> f = features->Features(out);
         if (!f.ok()) return f.status();
         row.content_distance += ContentDistance(*f, *content_features);
-        row.style_distance += StyleDistance(*f, *style_features);
+        const double d_style = StyleDistance(*f, *style_features);
+        const double d_content = StyleDistance(*f, *content_features);
+        row.style_distance += d_style;
+        const double ratio = d_style + d_content > 0 ? d_style / (d_style + d_content) : 0.5;
+        row.d_s += ratio;
+        row.d_c += 1 - ratio;
         embeddings[r].push_back(Embedding(*f));
       }
       ++row.pairs;
@@ -152,6 +158,9 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     row.jitter /= row.pairs;
     row.content_distance /= row.pairs;
     row.style_distance /= row.pairs;
+    row.d_s /= row.pairs;
+    row.d_c /= row.pairs;
+    row.trajectory_error /= row.pairs;
     if (features && real.size() >= 2 && embeddings[r].size() >= 2) {
       row.fmd = FrechetDistance(embeddings[r], real);
       std::tie(row.kid, row.kid_std) = KernelInceptionDistance(embeddings[r], real, 10, 100, 11);
@@ -164,28 +173,33 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
 std::string EvalReport::Markdown() const {
   std::string s =
       "| output | pairs | style accuracy | content accuracy | FMD | KID | diversity | content "
-      "distance | style distance |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+      "distance | style distance | D_S | D_C |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const EvalRow& r : rows) {
-    absl::StrAppendFormat(&s, "| %s | %d | %.3f | %.3f | %.2f | %.3f +- %.3f | %.2f | %.3f | %.4f |\n",
-                          r.name, r.pairs, r.style_accuracy, r.content_accuracy, r.fmd, r.kid,
-                          r.kid_std, r.diversity, r.content_distance, r.style_distance);
+    absl::StrAppendFormat(
+        &s, "| %s | %d | %.3f | %.3f | %.2f | %.3f +- %.3f | %.2f | %.3f | %.4f | %.3f | %.3f |\n",
+        r.name, r.pairs, r.style_accuracy, r.content_accuracy, r.fmd, r.kid, r.kid_std,
+        r.diversity, r.content_distance, r.style_distance, r.d_s, r.d_c);
   }
   if (reference_clips > 0) {
     absl::StrAppendFormat(&s,
                           "\nFMD and KID against %d real clips (the feature judge's hidden layer: "
                           "per-channel mean and standard deviation over time); real clips' own "
-                          "diversity: %.2f.\n",
+                          "diversity: %.2f. D_S and D_C: paper 004's style similarity ratios of the Gram "
+                          "distances to the style and the content clip (low D_S: the output's "
+                          "style is the style clip's).\n",
                           reference_clips, real_diversity);
   }
   s +=
       "\nKinematics (means over pairs; feet measured where the content clip's feet are "
       "planted, copy-style against the style clip itself):\n\n"
       "| output | foot skating (units/s) | foot height error (units) | bone length error | "
-      "jitter (units/s^3) | Euler discontinuities |\n| --- | --- | --- | --- | --- | --- |\n";
+      "jitter (units/s^3) | Euler discontinuities | trajectory error (units) |\n"
+      "| --- | --- | --- | --- | --- | --- | --- |\n";
   for (const EvalRow& r : rows) {
-    absl::StrAppendFormat(&s, "| %s | %.2f | %.2f | %.4f%% | %.0f | %d |\n", r.name,
+    absl::StrAppendFormat(&s, "| %s | %.2f | %.2f | %.4f%% | %.0f | %d | %.2f |\n", r.name,
                           r.foot_skating, r.foot_height_error, 100 * r.bone_length_error,
-                          r.jitter, r.euler_discontinuities);
+                          r.jitter, r.euler_discontinuities, r.trajectory_error);
   }
   if (identity_row >= 2) {
     const EvalRow &full = rows[1], &real = rows[identity_row];

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "model/contrastive_model.h"
+#include "model/style_model.h"
 #include "model/feature_judge.h"
 #include "model/judges.h"
 
@@ -41,6 +41,12 @@ struct EvalRow {
   // distances to the pair's content (features) and style (Gram matrices).
   double fmd = 0, kid = 0, kid_std = 0, diversity = 0;
   double content_distance = 0, style_distance = 0;
+  // Paper 004's style similarity ratios (eq. 16-17), per pair then averaged:
+  // with D_style and D_content the Gram (style) distances of the output to
+  // the style clip and to the content clip, D_S = D_style / (D_style +
+  // D_content) (low: the output's style is the style clip's) and D_C = 1 - D_S.
+  double d_s = 0, d_c = 0;
+  double trajectory_error = 0;  // Mean pelvis path distance to the content's (units).
   int pairs = 0;
 };
 
@@ -48,7 +54,7 @@ struct EvalRow {
 // post-processing.
 struct EvalModel {
   std::string name;
-  const ContrastiveModel* model = nullptr;
+  const StyleModel* model = nullptr;
   bool postprocess = false;
 };
 

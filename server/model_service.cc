@@ -5,15 +5,16 @@ namespace stylus::server {
 namespace {
 
 void Describe(const HostedModel& m, const std::string& default_id, v1::ModelInfo* out) {
-  const model::PackageContents& p = m.model->package();
+  const model::DataFiles& p = m.model->data();
+  const model::ModelSummary summary = m.model->summary();
   out->set_id(m.id);
-  out->set_family(p.config.family);
+  out->set_family(summary.family);
   out->set_version(m.id.substr(m.id.find('/') + 1));
   wire::SkeletonToProto(p.skeleton, out->mutable_skeleton());
   out->set_fps(1.0 / p.frame_time);
-  out->set_window(p.config.window);
-  out->set_hop(p.config.hop);
-  out->set_trained_iterations(p.config.trained_iterations);
+  out->set_window(summary.window);
+  out->set_hop(summary.hop);
+  out->set_trained_iterations(summary.trained_iterations);
   out->set_is_default(m.id == default_id);
 }
 

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "model/config_text.h"
 
 namespace stylus::server {
 namespace {
@@ -16,12 +17,8 @@ namespace fs = std::filesystem;
 
 // Whether <dir>/config.txt declares a family this server can host.
 bool IsServable(const fs::path& dir) {
-  std::ifstream f(dir / "config.txt");
-  std::string line;
-  while (std::getline(f, line)) {
-    if (absl::StartsWith(line, "family")) return absl::StrContains(line, "contrastive");
-  }
-  return false;
+  absl::StatusOr<std::string> family = model::ReadConfigFamily(dir.string());
+  return family.ok() && (*family == "contrastive" || *family == "cyclic");
 }
 
 bool ValidId(const std::string& id) {
@@ -115,10 +112,9 @@ absl::StatusOr<HostedModel> ModelRegistry::Load(const std::string& id) {
     if (models_.count(id)) return absl::AlreadyExistsError(absl::StrCat(id, " is already loaded"));
   }
   // Loading reads files and weights: done outside the lock.
-  absl::StatusOr<std::unique_ptr<model::ContrastiveModel>> m =
-      model::ContrastiveModel::Load(root_ + "/" + id);
+  absl::StatusOr<std::unique_ptr<model::StyleModel>> m = model::LoadStyleModel(root_ + "/" + id);
   if (!m.ok()) return m.status();
-  std::shared_ptr<const model::ContrastiveModel> shared = std::move(*m);
+  std::shared_ptr<const model::StyleModel> shared = std::move(*m);
   absl::MutexLock lock(&mu_);
   if (models_.count(id)) return absl::AlreadyExistsError(absl::StrCat(id, " is already loaded"));
   models_[id] = shared;

@@ -15,13 +15,13 @@
 #include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
-#include "model/contrastive_model.h"
+#include "model/style_model.h"
 
 namespace stylus::server {
 
 struct HostedModel {
   std::string id;  // "<name>/<version>"
-  std::shared_ptr<const model::ContrastiveModel> model;
+  std::shared_ptr<const model::StyleModel> model;
 };
 
 class ModelRegistry {
@@ -54,7 +54,7 @@ class ModelRegistry {
 
   const std::string root_;
   mutable absl::Mutex mu_;
-  std::map<std::string, std::shared_ptr<const model::ContrastiveModel>> models_
+  std::map<std::string, std::shared_ptr<const model::StyleModel>> models_
       ABSL_GUARDED_BY(mu_);
   std::string default_id_ ABSL_GUARDED_BY(mu_);
 };

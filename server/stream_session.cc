@@ -142,8 +142,14 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, *m, config.style(), "config style");
     if (!style.ok()) return style.status();
+    auto contrastive = std::dynamic_pointer_cast<const model::ContrastiveModel>(m->model);
+    if (!contrastive) {
+      return absl::UnimplementedError(absl::StrCat(
+          "model ", m->id, " (family ", m->model->summary().family,
+          ") does not stream; use Transfer, or a contrastive model for TransferStream"));
+    }
     absl::StatusOr<std::unique_ptr<model::StreamTransfer>> st =
-        model::StreamTransfer::Create(m->model, *style, *sk, 1.0 / config.fps(), *post);
+        model::StreamTransfer::Create(contrastive, *style, *sk, 1.0 / config.fps(), *post);
     if (!st.ok()) return st.status();
     streamer_ = *std::move(st);
     chunk_ = motion::RestMotion(*sk, 0, 1.0 / config.fps());

@@ -18,6 +18,7 @@ int DatasetStats(const Argv& argv);
 int Synth(const Argv& argv);
 int Render(const Argv& argv);
 int Train(const Argv& argv);
+int TrainCyclicModel(const Argv& argv);  // train --family cyclic.
 int Transfer(const Argv& argv);
 int TrainJudges(const Argv& argv);
 int Eval(const Argv& argv);

@@ -3,6 +3,8 @@
 
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/numbers.h"
+#include "model/cyclic_model.h"
 #include "model/evaluation.h"
 #include "model/feature_judge.h"
 #include "model/judges.h"
@@ -15,6 +17,23 @@
 #include "tool/cli_support.h"
 
 namespace stylus::tool {
+namespace {
+
+// A model directory, optionally followed by ":kc=N" (cyclic models only): N
+// inference-time kinematic optimization steps instead of the package's.
+absl::StatusOr<std::unique_ptr<model::StyleModel>> LoadForEval(const std::string& spec) {
+  const size_t colon = spec.rfind(":kc=");
+  if (colon == std::string::npos) return model::LoadStyleModel(spec);
+  model::CyclicOptions options;
+  if (!absl::SimpleAtoi(spec.substr(colon + 4), &options.kc_iters) || options.kc_iters < 0) {
+    return absl::InvalidArgumentError("'" + spec + "': :kc= wants a whole number >= 0");
+  }
+  auto m = model::CyclicModel::Load(spec.substr(0, colon), options);
+  if (!m.ok()) return m.status();
+  return std::unique_ptr<model::StyleModel>(*std::move(m));
+}
+
+}  // namespace
 
 int TrainJudges(const Argv& argv) {
   static const char kHelp[] =
@@ -78,7 +97,8 @@ int Eval(const Argv& argv) {
       "when the judges have one); foot skating, foot height error, bone length\n"
       "error, jitter and Euler discontinuities. Rows: the model without and with\n"
       "post-processing, each --ablation model (without), and the identity and\n"
-      "copy-style baselines.\n";
+      "copy-style baselines. Any family; a cyclic model's DIR may end in :kc=N to\n"
+      "run N inference-time kinematic optimization steps (:kc=0: none).\n";
   int code = 0;
   auto args = ParseOrExit("eval", argv,
                           {{"model", "judges", "data", "out", "pairs-per-content", "threads", "ablation"}, {}},
@@ -94,18 +114,18 @@ int Eval(const Argv& argv) {
   if (!per.ok()) return Fail("eval", per.status());
   if (!threads.ok()) return Fail("eval", threads.status());
   model::SetComputeThreads(*threads);
-  auto m = model::ContrastiveModel::Load(args->Get("model"));
+  auto m = LoadForEval(args->Get("model"));
   if (!m.ok()) return Fail("eval", m.status());
   auto judges = model::Judges::Load(args->Get("judges"));
   if (!judges.ok()) return Fail("eval", judges.status());
   std::vector<model::EvalModel> models = {{"model", m->get(), true}};
-  std::vector<std::unique_ptr<model::ContrastiveModel>> ablations;
+  std::vector<std::unique_ptr<model::StyleModel>> ablations;
   for (const std::string& spec : args->All("ablation")) {
     const size_t eq = spec.find('=');
     if (eq == std::string::npos || eq == 0) {
       return Fail("eval", absl::InvalidArgumentError("--ablation wants LABEL=DIR, got '" + spec + "'"));
     }
-    auto a = model::ContrastiveModel::Load(spec.substr(eq + 1));
+    auto a = LoadForEval(spec.substr(eq + 1));
     if (!a.ok()) return Fail("eval", a.status());
     ablations.push_back(*std::move(a));
     models.push_back({spec.substr(0, eq), ablations.back().get(), false});
@@ -160,7 +180,7 @@ int StyleMap(const Argv& argv) {
                  kHelp);
     return 2;
   }
-  auto m = model::ContrastiveModel::Load(args->Get("model"));
+  auto m = model::LoadStyleModel(args->Get("model"));
   if (!m.ok()) return Fail("style-map", m.status());
   auto index = motion::IndexDataset(args->All("data"));
   if (!index.ok()) return Fail("style-map", index.status());

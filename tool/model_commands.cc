@@ -6,7 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
-#include "model/contrastive_model.h"
+#include "model/style_model.h"
 #include "model/contrastive_trainer.h"
 #include "model/runtime.h"
 #include "motion/bvh.h"
@@ -15,6 +15,12 @@
 namespace stylus::tool {
 
 int Train(const Argv& argv) {
+  for (size_t i = 0; i < argv.size(); ++i) {
+    if ((argv[i] == "--family" && i + 1 < argv.size() && argv[i + 1] == "cyclic") ||
+        argv[i] == "--family=cyclic") {
+      return TrainCyclicModel(argv);
+    }
+  }
   static const char kHelp[] =
       "usage: stylus-tool train --family contrastive --data DIR... --out "
       "models/contrastive/VERSION\n"
@@ -34,7 +40,8 @@ int Train(const Argv& argv) {
       "channel's temporal spread (it still removes the mean). --centred-style\n"
       "feeds the style encoder each window minus its mean pose. --content-weight W\n"
       "adds W x the L1 distance between the transfer and its content input over\n"
-      "the root trajectory, foot contacts and legs (default 0: off).\n";
+      "the root trajectory, foot contacts and legs (default 0: off).\n"
+      "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
   int code = 0;
   auto args =
       ParseOrExit("train", argv,
@@ -45,7 +52,7 @@ int Train(const Argv& argv) {
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
     return Fail("train",
-                absl::InvalidArgumentError("--family: only 'contrastive' is implemented so far"));
+                absl::InvalidArgumentError("--family: families are 'contrastive' and 'cyclic'"));
   }
   model::TrainOptions opt;
   for (const std::string& d : args->All("data")) {
@@ -101,7 +108,7 @@ namespace {
 
 std::string Stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
-absl::Status TransferOne(const model::ContrastiveModel& m, const std::string& content_path,
+absl::Status TransferOne(const model::StyleModel& m, const std::string& content_path,
                          const std::string& style_path, const std::string& out_path,
                          motion::PostProcessMode post) {
   absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(content_path);
@@ -153,8 +160,7 @@ int Transfer(const Argv& argv) {
   absl::StatusOr<motion::PostProcessMode> post =
       motion::ParsePostProcessMode(args->Get("postprocess", "full"));
   if (!post.ok()) return Fail("transfer", post.status());
-  absl::StatusOr<std::unique_ptr<model::ContrastiveModel>> m =
-      model::ContrastiveModel::Load(args->Get("model"));
+  absl::StatusOr<std::unique_ptr<model::StyleModel>> m = model::LoadStyleModel(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {
     if (absl::Status s =

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "gtest/gtest.h"
+#include "model/contrastive_model.h"
 #include "model/contrastive_trainer.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"

@@ -42,7 +42,20 @@ check "train loss curve" 0 "^6,[0-9.]+," -- cat "$work/model/loss.csv"
 check "train resume" 0 "resumed from .* at iteration 6" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/model" --iters 9 --batch 2 --log-every 3 --checkpoint-every 3 \
   --threads 1 --resume
-check "train bad family" 1 "only 'contrastive'" -- "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/m2"
+check "train bad family" 1 "families are 'contrastive' and 'cyclic'" -- "$tool" train --family gan \
+  --data "$work/old.bvh" --out "$work/m2"
+check "train cyclic --help" 0 "usage: stylus-tool train --family cyclic" -- "$tool" train --family cyclic --help
+check "train cyclic" 0 "iter 8/8 .*cycle .*foot .*it/s" -- "$tool" train --family cyclic --data "$work/old.bvh" \
+  --data "$work/proud.bvh" --out "$work/cyc" --iters 8 --ae-iters 4 --window 16 --hop 8 --batch 2 \
+  --log-every 4 --checkpoint-every 4 --threads 1
+check "train cyclic resume" 0 "resumed from .* at iteration 8" -- "$tool" train --family cyclic \
+  --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/cyc" --iters 10 --ae-iters 4 --window 16 \
+  --hop 8 --batch 2 --log-every 2 --checkpoint-every 4 --threads 1 --resume
+check "train cyclic odd window" 1 "window must be even" -- "$tool" train --family cyclic \
+  --data "$work/old.bvh" --out "$work/cyc2" --window 15
+check "transfer cyclic" 0 "wrote .*styled_cyc.bvh" -- "$tool" transfer --model "$work/cyc" \
+  --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/styled_cyc.bvh"
+check "transfer cyclic output" 0 "frames: 45" -- "$tool" bvh-info "$work/styled_cyc.bvh"
 check "transfer" 0 "wrote .*styled.bvh" -- "$tool" transfer --model "$work/model" --content "$work/old.bvh" \
   --style "$work/proud.bvh" -o "$work/styled.bvh"
 check "transfer output" 0 "frames: 45" -- "$tool" bvh-info "$work/styled.bvh"

@@ -1,0 +1,89 @@
+#include "model/config_text.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+#include "absl/strings/strip.h"
+
+namespace stylus::model {
+
+absl::Status ConfigEntry::Error(absl::string_view what) const {
+  return absl::InvalidArgumentError(absl::StrCat(source, ":", line, ": ", what));
+}
+
+absl::Status ConfigEntry::Int(int* out, int lo, int hi) const {
+  if (!absl::SimpleAtoi(value, out) || *out < lo || *out > hi) {
+    return Error(absl::StrCat(key, " must be a whole number in [", lo, ", ", hi, "]"));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ConfigEntry::Double(double* out, double lo, double hi) const {
+  if (!absl::SimpleAtod(value, out) || !(*out >= lo && *out <= hi)) {
+    return Error(absl::StrCat(key, " must be a number in [", lo, ", ", hi, "]"));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ConfigEntry::Bool(bool* out) const {
+  if (value != "0" && value != "1") return Error(key + " must be 0 or 1");
+  *out = value == "1";
+  return absl::OkStatus();
+}
+
+absl::Status ConfigEntry::Uint64(uint64_t* out) const {
+  if (!absl::SimpleAtoi(value, out)) return Error(key + " must be a whole number");
+  return absl::OkStatus();
+}
+
+absl::Status ParseConfigText(const std::string& text, const std::string& source,
+                             const std::function<absl::Status(const ConfigEntry&)>& handle) {
+  ConfigEntry e;
+  e.source = source;
+  for (absl::string_view line : absl::StrSplit(text, '\n')) {
+    ++e.line;
+    line = absl::StripAsciiWhitespace(line);
+    if (line.empty() || line[0] == '#') continue;
+    const size_t eq = line.find('=');
+    if (eq == absl::string_view::npos) return e.Error("expected 'key = value'");
+    e.key = std::string(absl::StripAsciiWhitespace(line.substr(0, eq)));
+    e.value = std::string(absl::StripAsciiWhitespace(line.substr(eq + 1)));
+    if (absl::Status s = handle(e); !s.ok()) return s;
+  }
+  return absl::OkStatus();
+}
+
+void AppendConfigLine(std::string* out, absl::string_view key, absl::string_view value) {
+  absl::StrAppend(out, key, " = ", value, "\n");
+}
+
+absl::StatusOr<std::string> ReadConfigText(const std::string& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    return absl::NotFoundError(absl::StrCat(dir, ": no such model directory"));
+  const std::string path = dir + "/config.txt";
+  std::ifstream f(path);
+  if (!f) return absl::NotFoundError(absl::StrCat(path, ": missing"));
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+absl::StatusOr<std::string> ReadConfigFamily(const std::string& dir) {
+  absl::StatusOr<std::string> text = ReadConfigText(dir);
+  if (!text.ok()) return text.status();
+  std::string family;
+  absl::Status s = ParseConfigText(*text, dir + "/config.txt", [&](const ConfigEntry& e) {
+    if (e.key == "family") family = e.value;
+    return absl::OkStatus();
+  });
+  if (!s.ok()) return s;
+  if (family.empty()) return absl::InvalidArgumentError(dir + "/config.txt: no 'family' line");
+  return family;
+}
+
+}  // namespace stylus::model

@@ -1,0 +1,47 @@
+// The `key = value` text of a package's config.txt, shared by the families'
+// configurations: parsing with errors that name the file, line and key.
+#ifndef STYLUS_MODEL_CONFIG_TEXT_H_
+#define STYLUS_MODEL_CONFIG_TEXT_H_
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+
+namespace stylus::model {
+
+// One line of a config file; the converters return INVALID_ARGUMENT naming
+// "<source>:<line>" and the key when the value is malformed or out of range.
+struct ConfigEntry {
+  std::string source;
+  int line = 0;
+  std::string key, value;
+
+  absl::Status Error(absl::string_view what) const;
+  absl::Status Int(int* out, int lo, int hi) const;
+  absl::Status Double(double* out, double lo, double hi) const;
+  absl::Status Bool(bool* out) const;  // "0" or "1".
+  absl::Status Uint64(uint64_t* out) const;
+};
+
+// Calls `handle` for every non-empty, non-comment line; stops at the first
+// error (a line without '=' is one).
+absl::Status ParseConfigText(const std::string& text, const std::string& source,
+                             const std::function<absl::Status(const ConfigEntry&)>& handle);
+
+// Appends "key = value\n".
+void AppendConfigLine(std::string* out, absl::string_view key, absl::string_view value);
+
+// The text of <dir>/config.txt: NOT_FOUND when the directory or file is
+// missing.
+absl::StatusOr<std::string> ReadConfigText(const std::string& dir);
+// The `family` its config.txt names (INVALID_ARGUMENT naming the file when
+// there is none).
+absl::StatusOr<std::string> ReadConfigFamily(const std::string& dir);
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CONFIG_TEXT_H_

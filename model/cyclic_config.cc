@@ -1,0 +1,95 @@
+#include "model/cyclic_config.h"
+
+#include "absl/strings/str_cat.h"
+#include "model/config_text.h"
+
+namespace stylus::model {
+
+std::string CyclicConfig::Serialize() const {
+  std::string s;
+  auto put = [&](const char* k, const std::string& v) { AppendConfigLine(&s, k, v); };
+  auto num = [&](const char* k, double v) { put(k, absl::StrCat(v)); };
+  put("family", family);
+  num("window", window);
+  num("hop", hop);
+  num("dim", dim);
+  num("hidden", hidden);
+  num("kernel", kernel);
+  num("dropout", dropout);
+  num("rec_weight", rec_weight);
+  num("style_weight", style_weight);
+  num("content_weight", content_weight);
+  num("gan_weight", gan_weight);
+  num("cycle_weight", cycle_weight);
+  num("smooth_weight", smooth_weight);
+  num("bone_weight", bone_weight);
+  num("traj_weight", traj_weight);
+  num("foot_weight", foot_weight);
+  put("use_cycle", use_cycle ? "1" : "0");
+  put("use_kc", use_kc ? "1" : "0");
+  num("kc_iters", kc_iters);
+  num("kc_lr", kc_lr);
+  num("ae_iterations", ae_iterations);
+  num("batch", batch);
+  num("lr", lr);
+  num("iterations", iterations);
+  put("seed", absl::StrCat(seed));
+  num("trained_iterations", trained_iterations);
+  put("data", data);
+  put("commit", commit);
+  return s;
+}
+
+absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
+                                                 const std::string& source) {
+  CyclicConfig c;
+  absl::Status parsed = ParseConfigText(text, source, [&c](const ConfigEntry& e) -> absl::Status {
+    const std::string& key = e.key;
+    if (key == "family") {
+      if (e.value != "cyclic") return e.Error("family must be 'cyclic', found '" + e.value + "'");
+      return absl::OkStatus();
+    }
+    if (key == "window" || key == "hop") {
+      absl::Status s = e.Int(key == "window" ? &c.window : &c.hop, 2, 4096);
+      if (s.ok() && c.window % 2) s = e.Error("window must be even");
+      return s;
+    }
+    if (key == "dim") return e.Int(&c.dim, 1, 100000);
+    if (key == "hidden") return e.Int(&c.hidden, 1, 4096);
+    if (key == "kernel") {
+      absl::Status s = e.Int(&c.kernel, 1, 63);
+      if (s.ok() && c.kernel % 2 == 0) s = e.Error("kernel must be odd");
+      return s;
+    }
+    if (key == "dropout") return e.Double(&c.dropout, 0, 0.95);
+    struct Weight {
+      const char* name;
+      double* value;
+    };
+    for (const Weight& w : {Weight{"rec_weight", &c.rec_weight}, {"style_weight", &c.style_weight},
+                            {"content_weight", &c.content_weight}, {"gan_weight", &c.gan_weight},
+                            {"cycle_weight", &c.cycle_weight}, {"smooth_weight", &c.smooth_weight},
+                            {"bone_weight", &c.bone_weight}, {"traj_weight", &c.traj_weight},
+                            {"foot_weight", &c.foot_weight}}) {
+      if (key == w.name) return e.Double(w.value, 0, 1e6);
+    }
+    if (key == "use_cycle") return e.Bool(&c.use_cycle);
+    if (key == "use_kc") return e.Bool(&c.use_kc);
+    if (key == "kc_iters") return e.Int(&c.kc_iters, 0, 100000);
+    if (key == "kc_lr") return e.Double(&c.kc_lr, 0, 10);
+    if (key == "ae_iterations") return e.Int(&c.ae_iterations, 0, 1 << 30);
+    if (key == "batch") return e.Int(&c.batch, 1, 1 << 20);
+    if (key == "lr") return e.Double(&c.lr, 0, 10);
+    if (key == "iterations") return e.Int(&c.iterations, 0, 1 << 30);
+    if (key == "trained_iterations") return e.Int(&c.trained_iterations, 0, 1 << 30);
+    if (key == "seed") return e.Uint64(&c.seed);
+    if (key == "data") return c.data = e.value, absl::OkStatus();
+    if (key == "commit") return c.commit = e.value, absl::OkStatus();
+    return e.Error("unknown key '" + key + "'");
+  });
+  if (!parsed.ok()) return parsed;
+  if (c.dim <= 0) return absl::InvalidArgumentError(source + ": missing 'dim'");
+  return c;
+}
+
+}  // namespace stylus::model

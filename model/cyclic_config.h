@@ -1,0 +1,59 @@
+// Hyper-parameters of the `cyclic` family (paper 004, docs/cyclic.md), stored
+// in a model package as `config.txt` (key = value lines).
+#ifndef STYLUS_MODEL_CYCLIC_CONFIG_H_
+#define STYLUS_MODEL_CYCLIC_CONFIG_H_
+
+#include <cstdint>
+#include <string>
+
+#include "absl/status/statusor.h"
+
+namespace stylus::model {
+
+struct CyclicConfig {
+  // Data and architecture.
+  int window = 60;      // Training window (2 s at 30 fps).
+  int hop = 30;         // Window stride (50% overlap).
+  int dim = 0;          // Full feature width (motion/features.h), set from the data.
+  int hidden = 256;     // Hidden units of the autoencoder.
+  int kernel = 15;      // Temporal kernel of encoder and decoder (~0.5 s).
+  double dropout = 0.25;
+  // Loss weights. The generator: reconstruction of C and G(C, C) = C,
+  // Gram style loss and content loss in hidden space, adversarial, cycle
+  // ||F(G(C,S), C) - C||^2, and the kinematic constraints on generated joint
+  // positions: smoothness, bone length, trajectory and (an addition to the
+  // paper) planted feet.
+  double rec_weight = 1, style_weight = 1, content_weight = 1, gan_weight = 0.05;
+  double cycle_weight = 1;
+  double smooth_weight = 1, bone_weight = 1, traj_weight = 1, foot_weight = 1;
+  bool use_cycle = true;  // Off: no cycle loss.
+  bool use_kc = true;     // Off: no kinematic constraint in training or inference.
+  // Inference-time kinematic optimization of the hidden features: at most
+  // kc_iters Adam steps of kc_lr, stopping when the loss stops falling.
+  int kc_iters = 100;
+  double kc_lr = 0.02;
+  // Optimization: the autoencoder alone for ae_iterations, then everything.
+  int ae_iterations = 2000;
+  int batch = 16;
+  double lr = 5e-4;
+  int iterations = 8000;
+  uint64_t seed = 1;
+  // Provenance (filled by training).
+  std::string family = "cyclic";
+  std::string data;
+  std::string commit;
+  int trained_iterations = 0;
+
+  // Channels the network sees (a subset of the features): joint positions,
+  // root trajectory, foot contacts.
+  int net_channels(int joints) const { return 3 * joints + 8; }
+
+  std::string Serialize() const;
+  // INVALID_ARGUMENT naming `source` and the line of a malformed or
+  // out-of-range entry; unknown keys are errors too.
+  static absl::StatusOr<CyclicConfig> Parse(const std::string& text, const std::string& source);
+};
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CYCLIC_CONFIG_H_

@@ -1,0 +1,178 @@
+#include "model/cyclic_model.h"
+
+#include <torch/torch.h>
+
+#include "absl/strings/str_cat.h"
+#include "model/config_text.h"
+#include <fstream>
+
+#include "model/contrastive_model.h"
+#include "model/cyclic_net.h"
+#include "model/weights_io.h"
+#include "motion/features.h"
+#include "motion/position_fit.h"
+
+namespace stylus::model {
+
+struct CyclicModel::Impl {
+  std::string dir;
+  CyclicConfig config;
+  DataFiles data;
+  CyclicNet net{nullptr};
+  std::unique_ptr<KinematicLoss> kinematic;
+  torch::Tensor channels;
+  int kc_iters = 0;
+
+  absl::Status Internal(const std::exception& e) const {
+    return absl::InternalError(absl::StrCat("model ", dir, ": ", e.what()));
+  }
+
+  // The clip's real features and its normalized network channels as
+  // (1, C, T), T padded to even by repeating the last frame.
+  absl::StatusOr<std::pair<motion::FeatureClip, torch::Tensor>> Input(
+      const motion::Motion& clip, const std::string& what) const {
+    if (absl::Status s = CheckClipFitsModel(clip, data, what); !s.ok()) return s;
+    absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, data.roles);
+    if (!f.ok()) return f.status();
+    motion::FeatureClip norm = *f;
+    data.norm.Normalize(&norm);
+    torch::Tensor x = torch::from_blob(norm.values.data(), {norm.frames, norm.dim},
+                                       torch::kFloat32)
+                          .index_select(1, channels)
+                          .t()
+                          .unsqueeze(0);
+    if (norm.frames % 2) x = torch::cat({x, x.slice(2, norm.frames - 1, norm.frames)}, 2);
+    return std::make_pair(*std::move(f), x.contiguous());
+  }
+};
+
+CyclicModel::CyclicModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+CyclicModel::~CyclicModel() = default;
+const CyclicConfig& CyclicModel::config() const { return impl_->config; }
+const std::string& CyclicModel::dir() const { return impl_->dir; }
+const DataFiles& CyclicModel::data() const { return impl_->data; }
+ModelSummary CyclicModel::summary() const {
+  const CyclicConfig& c = impl_->config;
+  return {c.family, c.window, c.hop, c.trained_iterations};
+}
+
+absl::StatusOr<std::unique_ptr<CyclicModel>> CyclicModel::Load(const std::string& dir,
+                                                               CyclicOptions options) {
+  absl::StatusOr<std::string> text = ReadConfigText(dir);
+  if (!text.ok()) return text.status();
+  absl::StatusOr<CyclicConfig> config = CyclicConfig::Parse(*text, dir + "/config.txt");
+  if (!config.ok()) return config.status();
+  absl::StatusOr<DataFiles> data = ReadDataFiles(dir);
+  if (!data.ok()) return data.status();
+  if (config->dim != data->norm.dim()) {
+    return absl::InvalidArgumentError(absl::StrCat(dir, ": config.txt says ", config->dim,
+                                                   " feature channels, norm.txt has ",
+                                                   data->norm.dim()));
+  }
+  auto impl = std::make_unique<Impl>();
+  impl->dir = dir;
+  impl->config = *config;
+  impl->data = *std::move(data);
+  impl->kc_iters = options.kc_iters >= 0 ? options.kc_iters : config->kc_iters;
+  const int joints = impl->data.skeleton.num_joints();
+  impl->channels = torch::tensor(CyclicChannels(joints));
+  impl->kinematic = std::make_unique<KinematicLoss>(impl->data.skeleton, impl->data.roles,
+                                                    impl->data.norm, impl->data.frame_time);
+  impl->net = CyclicNet(impl->config, impl->config.net_channels(joints));
+  const std::string weights = dir + "/weights.pt";
+  if (!std::ifstream(weights)) return absl::NotFoundError(weights + ": missing");
+  if (absl::Status s = LoadWeights(impl->net, weights); !s.ok()) return s;
+  impl->net->eval();
+  for (torch::Tensor& p : impl->net->parameters()) p.requires_grad_(false);
+  return std::unique_ptr<CyclicModel>(new CyclicModel(std::move(impl)));
+}
+
+absl::StatusOr<StyleCode> CyclicModel::EncodeStyle(const motion::Motion& clip) const {
+  auto input = impl_->Input(clip, "style clip");
+  if (!input.ok()) return input.status();
+  try {
+    torch::NoGradGuard no_grad;
+    const torch::Tensor s = CyclicNetImpl::stats(impl_->net->encode(input->second)).flatten();
+    return StyleCode{std::vector<float>(s.data_ptr<float>(), s.data_ptr<float>() + s.numel())};
+  } catch (const std::exception& e) {
+    return impl_->Internal(e);
+  }
+}
+
+absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& content,
+                                                        const std::vector<StyleCode>& styles,
+                                                        const StyleWeights& weights,
+                                                        motion::PostProcessMode post) const {
+  const CyclicConfig& config = impl_->config;
+  const int code_size = 2 * config.hidden;
+  if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, code_size); !s.ok())
+    return s;
+  auto input = impl_->Input(content, "content clip");
+  if (!input.ok()) return input.status();
+  const motion::FeatureClip& real = input->first;
+  const int frames = real.frames;
+  motion::FeatureClip out = real;  // Rotations: the content's, as the fit's twist.
+  try {
+    torch::NoGradGuard no_grad;
+    torch::Tensor h = impl_->net->encode(input->second);
+    const int64_t steps = h.size(2);
+    std::vector<StyleCode> codes;
+    if (weights.per_frame.empty()) {
+      codes.push_back(MixStyles(styles, weights.fixed));
+    } else {
+      for (int64_t k = 0; k < steps; ++k) {
+        codes.push_back(
+            MixStyles(styles, weights.per_frame[std::min<int64_t>(2 * k, frames - 1)]));
+      }
+    }
+    torch::Tensor style = torch::empty({1, code_size, static_cast<int64_t>(codes.size())});
+    for (size_t k = 0; k < codes.size(); ++k) {
+      style.select(2, static_cast<int64_t>(k))
+          .copy_(torch::from_blob(codes[k].values.data(), {1, code_size}, torch::kFloat32));
+    }
+    h = impl_->net->transform(h, style);
+    if (config.use_kc && impl_->kc_iters > 0) {
+      CyclicConfig run = config;
+      run.kc_iters = impl_->kc_iters;
+      OptimizeHidden(impl_->net, *impl_->kinematic, run, input->second, &h);
+    }
+    // Back to real units in the full feature layout.
+    const torch::Tensor y = impl_->net->decode(h)[0].slice(1, 0, frames).t().contiguous();
+    const std::vector<int64_t> channels = CyclicChannels(content.skeleton.num_joints());
+    const float* yp = y.data_ptr<float>();
+    const int width = static_cast<int>(channels.size());
+    for (int f = 0; f < frames; ++f) {
+      for (int i = 0; i < width; ++i) {
+        const int64_t c = channels[i];
+        out.row(f)[c] = yp[f * width + i] * impl_->data.norm.std[c] + impl_->data.norm.mean[c];
+      }
+    }
+  } catch (const std::exception& e) {
+    return impl_->Internal(e);
+  }
+  motion::FitRotationsToPositions(content.skeleton, impl_->data.roles, &out);
+  absl::StatusOr<motion::Motion> raw =
+      motion::MotionFromFeatures(out, content.skeleton, impl_->data.roles, content.frame_time,
+                                 motion::RootAt(content, impl_->data.roles, 0));
+  if (!raw.ok()) return raw.status();
+  return motion::PostProcess(*raw, content, impl_->data.roles, post);
+}
+
+absl::StatusOr<std::unique_ptr<StyleModel>> LoadStyleModel(const std::string& dir) {
+  absl::StatusOr<std::string> family = ReadConfigFamily(dir);
+  if (!family.ok()) return family.status();
+  if (*family == "cyclic") {
+    absl::StatusOr<std::unique_ptr<CyclicModel>> m = CyclicModel::Load(dir);
+    if (!m.ok()) return m.status();
+    return std::unique_ptr<StyleModel>(std::move(*m));
+  }
+  if (*family == "contrastive") {
+    absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(dir);
+    if (!m.ok()) return m.status();
+    return std::unique_ptr<StyleModel>(std::move(*m));
+  }
+  return absl::InvalidArgumentError(absl::StrCat(dir, "/config.txt: unknown family '", *family,
+                                                 "' (known: contrastive, cyclic)"));
+}
+
+}  // namespace stylus::model

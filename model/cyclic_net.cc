@@ -1,0 +1,200 @@
+#include "model/cyclic_net.h"
+
+#include <numeric>
+
+#include "motion/features.h"
+
+namespace stylus::model {
+
+namespace nn = torch::nn;
+
+std::vector<int64_t> CyclicChannels(int joints) {
+  const motion::FeatureLayout layout(joints);
+  std::vector<int64_t> channels(3 * joints);
+  std::iota(channels.begin(), channels.end(), 0);
+  for (int c = 0; c < 8; ++c) channels.push_back(layout.trajectory() + c);
+  return channels;
+}
+
+CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels) : hidden(c.hidden) {
+  const int pad = c.kernel / 2;
+  enc_drop = register_module("enc_drop", nn::Dropout(c.dropout));
+  enc_conv = register_module(
+      "enc_conv", nn::Conv1d(nn::Conv1dOptions(channels, c.hidden, c.kernel).padding(pad)));
+  dec_drop = register_module("dec_drop", nn::Dropout(c.dropout));
+  dec_conv = register_module(
+      "dec_conv", nn::Conv1d(nn::Conv1dOptions(c.hidden, channels, c.kernel).padding(pad)));
+  style_a = register_module("style_a", nn::Conv1d(nn::Conv1dOptions(2 * c.hidden, c.hidden, 1)));
+  style_b = register_module("style_b", nn::Conv1d(nn::Conv1dOptions(c.hidden, 2 * c.hidden, 1)));
+  mix_a = register_module("mix_a",
+                          nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(1)));
+  mix_b = register_module("mix_b",
+                          nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(1)));
+  // The transform starts as the identity: G(C, S) = autoencoder(C).
+  torch::NoGradGuard no_grad;
+  mix_b->weight.mul_(0.1);
+  mix_b->bias.zero_();
+}
+
+torch::Tensor CyclicNetImpl::encode(const torch::Tensor& x) {
+  return torch::max_pool1d(torch::relu(enc_conv(enc_drop(x))), 2);
+}
+
+torch::Tensor CyclicNetImpl::decode(const torch::Tensor& h) {
+  return dec_conv(dec_drop(torch::repeat_interleave(h, 2, /*dim=*/2)));
+}
+
+torch::Tensor CyclicNetImpl::stats(const torch::Tensor& h) {
+  const torch::Tensor mean = h.mean(2, /*keepdim=*/true);
+  const torch::Tensor var = (h - mean).pow(2).mean(2, /*keepdim=*/true);
+  return torch::cat({mean, (var + 1e-5).sqrt()}, 1);
+}
+
+torch::Tensor CyclicNetImpl::transform(const torch::Tensor& content, const torch::Tensor& style) {
+  const torch::Tensor p = style_b(torch::leaky_relu(style_a(style), 0.2));
+  const torch::Tensor scale = p.slice(1, 0, hidden), bias = p.slice(1, hidden, 2 * hidden);
+  const torch::Tensor mean = content.mean(2, true);
+  const torch::Tensor sd = ((content - mean).pow(2).mean(2, true) + 1e-5).sqrt();
+  const torch::Tensor n = (content - mean) / sd;
+  return content + mix_b(torch::leaky_relu(mix_a((1 + scale) * n + bias), 0.2));
+}
+
+torch::Tensor CyclicNetImpl::generate(const torch::Tensor& content, const torch::Tensor& style_clip) {
+  return decode(transform(encode(content), stats(encode(style_clip))));
+}
+
+CyclicCriticImpl::CyclicCriticImpl(const CyclicConfig& c, int channels) {
+  drop = register_module("drop", nn::Dropout(c.dropout));
+  conv = register_module(
+      "conv", nn::Conv1d(nn::Conv1dOptions(channels, c.hidden, c.kernel).padding(c.kernel / 2)));
+  out = register_module("out", nn::Conv1d(nn::Conv1dOptions(c.hidden, 1, 1)));
+}
+
+torch::Tensor CyclicCriticImpl::forward(const torch::Tensor& x) {
+  const torch::Tensor h = torch::max_pool1d(torch::leaky_relu(conv(drop(x)), 0.2), 2);
+  return out(h).mean({1, 2});
+}
+
+torch::Tensor Gram(const torch::Tensor& h) {
+  return torch::bmm(h, h.transpose(1, 2)) / static_cast<double>(h.size(2));
+}
+
+KinematicLoss::KinematicLoss(const motion::Skeleton& skeleton, const motion::HumanoidRoles& roles,
+                             const motion::NormStats& norm, double frame_time)
+    : joints_(skeleton.num_joints()), leg_(roles.leg_length), fps_(1.0 / frame_time) {
+  const std::vector<int64_t> channels = CyclicChannels(joints_);
+  std::vector<float> mean, sd;
+  for (int64_t c : channels) mean.push_back(norm.mean[c]), sd.push_back(norm.std[c]);
+  const int64_t n = static_cast<int64_t>(channels.size());
+  mean_ = torch::tensor(mean).view({1, n, 1});
+  std_ = torch::tensor(sd).view({1, n, 1});
+  std::vector<bool> below(joints_, false);
+  below[roles.pelvis] = true;
+  std::vector<int64_t> child, parent;
+  std::vector<float> length;
+  for (int j = roles.pelvis + 1; j < joints_; ++j) {
+    const int p = skeleton.joint(j).parent;
+    below[j] = p >= 0 && below[p];
+    const double l = motion::Norm(skeleton.joint(j).offset);
+    if (!below[j] || l < 1e-6 * leg_) continue;
+    child.push_back(j), parent.push_back(p), length.push_back(static_cast<float>(l / leg_));
+  }
+  bone_child_ = torch::tensor(child);
+  bone_parent_ = torch::tensor(parent);
+  bone_length_ = torch::tensor(length).view({1, -1, 1});
+  feet_ = torch::tensor(std::vector<int64_t>{roles.left_ankle, roles.left_toe, roles.right_ankle,
+                                             roles.right_toe});
+}
+
+torch::Tensor KinematicLoss::Positions(const torch::Tensor& x) const {
+  const torch::Tensor real = x * std_ + mean_;
+  return real.slice(1, 0, 3 * joints_).reshape({x.size(0), joints_, 3, x.size(2)}) / leg_;
+}
+
+torch::Tensor KinematicLoss::BoneError(const torch::Tensor& out) const {
+  const torch::Tensor p = Positions(out);
+  const torch::Tensor d = (p.index_select(1, bone_child_) - p.index_select(1, bone_parent_))
+                              .pow(2)
+                              .sum(2)
+                              .add(1e-12)
+                              .sqrt();  // (B, bones, T)
+  return ((d - bone_length_) / bone_length_).abs().mean();
+}
+
+KinematicLoss::Terms KinematicLoss::Compute(const torch::Tensor& out,
+                                            const torch::Tensor& content) const {
+  Terms t;
+  const torch::Tensor po = Positions(out), pc = Positions(content);
+  // Bone length (eq. 11), relative.
+  const torch::Tensor d = (po.index_select(1, bone_child_) - po.index_select(1, bone_parent_))
+                              .pow(2)
+                              .sum(2)
+                              .add(1e-12)
+                              .sqrt();
+  t.bone = ((d - bone_length_) / bone_length_).pow(2).mean();
+  // Smoothness (eq. 10): squared joint accelerations (leg lengths/s^2, in
+  // units of 10) beyond the content's own; one-sided, so the output may be
+  // smoother than the content but not jerkier.
+  auto accel2 = [&](const torch::Tensor& p) {
+    const int64_t n = p.size(3);
+    const torch::Tensor a =
+        (p.slice(3, 2, n) - 2 * p.slice(3, 1, n - 1) + p.slice(3, 0, n - 2)) * (fps_ * fps_ / 10);
+    return a.pow(2).sum(2);
+  };
+  t.smooth = torch::relu(accel2(po) - accel2(pc)).mean();
+  // Trajectory (eq. 12): root planar velocity, yaw rate and vertical velocity
+  // against the content's, in normalized units.
+  const int64_t tr = 3 * joints_;
+  t.traj = (out.slice(1, tr, tr + 4) - content.slice(1, tr, tr + 4)).pow(2).mean();
+  // Planted feet: where the content's foot is in contact (in this frame and
+  // the next), the output foot's horizontal velocity in the character's frame
+  // equals the content's (leg lengths/s), so with the content's trajectory
+  // it stays on the ground where the content's does.
+  const torch::Tensor contact =
+      ((content * std_ + mean_).slice(1, tr + 4, tr + 8) > 0.5).to(torch::kFloat32);  // (B,4,T)
+  const int64_t n = out.size(2);
+  const torch::Tensor both = contact.slice(2, 0, n - 1) * contact.slice(2, 1, n);
+  auto foot_velocity = [&](const torch::Tensor& p) {
+    const torch::Tensor f = p.index_select(1, feet_);  // (B, 4, 3, T)
+    const torch::Tensor v = (f.slice(3, 1, n) - f.slice(3, 0, n - 1)) * fps_;
+    return torch::stack({v.select(2, 0), v.select(2, 2)}, 2);  // (B, 4, 2, T-1)
+  };
+  const torch::Tensor dv = (foot_velocity(po) - foot_velocity(pc)).pow(2).sum(2);
+  t.foot = (dv * both).sum() / both.sum().clamp_min(1.0);
+  return t;
+}
+
+torch::Tensor KinematicLoss::Weighted(const Terms& t, const CyclicConfig& c) const {
+  return c.smooth_weight * t.smooth + c.bone_weight * t.bone + c.traj_weight * t.traj +
+         c.foot_weight * t.foot;
+}
+
+KinematicFit OptimizeHidden(CyclicNet& net, const KinematicLoss& loss, const CyclicConfig& config,
+                            const torch::Tensor& content, torch::Tensor* h) {
+  torch::AutoGradMode grad(true);
+  torch::Tensor x = h->detach().clone().requires_grad_(true);
+  torch::optim::Adam adam({x}, torch::optim::AdamOptions(config.kc_lr));
+  auto evaluate = [&] { return loss.Weighted(loss.Compute(net->decode(x), content), config); };
+  KinematicFit fit;
+  double best = evaluate().item<double>(), window_start = best;
+  fit.loss_before = best;
+  for (fit.steps = 0; fit.steps < config.kc_iters; ++fit.steps) {
+    adam.zero_grad();
+    const torch::Tensor l = evaluate();
+    l.backward();
+    adam.step();
+    best = std::min(best, l.item<double>());
+    if ((fit.steps + 1) % 10 == 0) {
+      if (best > window_start * (1 - 1e-3)) break;
+      window_start = best;
+    }
+  }
+  {
+    torch::NoGradGuard no_grad;
+    fit.loss_after = evaluate().item<double>();
+  }
+  *h = x.detach();
+  return fit;
+}
+
+}  // namespace stylus::model

@@ -1,0 +1,241 @@
+#include "model/cyclic_trainer.h"
+
+#include <torch/torch.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "model/cyclic_net.h"
+#include "model/package.h"
+#include "model/runtime.h"
+#include "model/training_set.h"
+#include "motion/files.h"
+
+namespace stylus::model {
+
+const std::vector<std::string>& CyclicLossNames() {
+  static const std::vector<std::string> names = {"rec",   "style", "content", "gan",
+                                                 "cycle", "smooth", "bone",   "traj",
+                                                 "foot",  "disc",  "total"};
+  return names;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+absl::Status SaveModules(const std::vector<std::pair<std::string, std::function<void(
+                                                                      const std::string&)>>>& items,
+                         const std::string& dir) {
+  try {
+    for (const auto& [name, save] : items) save(dir + "/" + name);
+  } catch (const std::exception& e) {
+    return absl::InternalError(absl::StrCat("saving ", dir, ": ", e.what()));
+  }
+  return absl::OkStatus();
+}
+
+struct CyclicTrainer {
+  const CyclicTrainOptions& opt;
+  CyclicConfig config;
+  TrainingSet data;
+  CyclicNet net{nullptr};
+  CyclicCritic critic{nullptr};
+  std::unique_ptr<KinematicLoss> kinematic;
+  std::unique_ptr<torch::optim::Adam> opt_e, opt_g, opt_d;
+  torch::Tensor channels;
+
+  std::vector<torch::Tensor> EncoderParameters() { return net->enc_conv->parameters(); }
+  std::vector<torch::Tensor> GeneratorParameters() {
+    std::vector<torch::Tensor> p;
+    for (auto* m : std::initializer_list<torch::nn::Module*>{
+             net->dec_conv.get(), net->style_a.get(), net->style_b.get(), net->mix_a.get(),
+             net->mix_b.get()}) {
+      for (const torch::Tensor& t : m->parameters()) p.push_back(t);
+    }
+    return p;
+  }
+
+  torch::Tensor Batch(std::mt19937_64* rng) {
+    std::vector<float> buf;
+    data.SampleBatch(config.batch, config.window, rng, &buf);
+    return torch::from_blob(buf.data(), {config.batch, config.dim, config.window}, torch::kFloat32)
+        .index_select(1, channels)
+        .clone();
+  }
+
+  std::vector<double> Step(int iteration, std::mt19937_64* rng) {
+    std::vector<double> r(CyclicLossNames().size(), 0.0);
+    const bool autoencoder_only = iteration < config.ae_iterations;
+    for (const torch::Tensor& p : EncoderParameters()) p.requires_grad_(autoencoder_only);
+    const torch::Tensor c = Batch(rng);
+    const torch::Tensor h_c = net->encode(c);
+    const torch::Tensor rec = torch::mse_loss(net->decode(h_c), c) +
+                              torch::mse_loss(net->decode(net->transform(h_c, net->stats(h_c))), c);
+    torch::Tensor total = config.rec_weight * rec;
+    r[0] = rec.item<double>();
+    torch::Tensor out;  // What the kinematic constraints judge.
+    if (autoencoder_only) {
+      out = net->decode(h_c);
+    } else {
+      const torch::Tensor s = Batch(rng);
+      const torch::Tensor h_s = net->encode(s).detach();
+      const torch::Tensor gm = net->decode(net->transform(h_c.detach(), net->stats(h_s)));
+      const torch::Tensor h_gm = net->encode(gm);
+      const torch::Tensor style = torch::mse_loss(Gram(h_gm), Gram(h_s));
+      const torch::Tensor content = torch::mse_loss(h_gm, h_c.detach());
+      total = total + config.style_weight * style + config.content_weight * content;
+      r[1] = style.item<double>(), r[2] = content.item<double>();
+      if (config.gan_weight > 0) {
+        opt_d->zero_grad();
+        const torch::Tensor real = critic->forward(s), fake = critic->forward(gm.detach());
+        const torch::Tensor d_loss =
+            torch::binary_cross_entropy_with_logits(real, torch::ones_like(real)) +
+            torch::binary_cross_entropy_with_logits(fake, torch::zeros_like(fake));
+        d_loss.backward();
+        opt_d->step();
+        r[9] = d_loss.item<double>();
+        const torch::Tensor judged = critic->forward(gm);
+        const torch::Tensor gan =
+            torch::binary_cross_entropy_with_logits(judged, torch::ones_like(judged));
+        total = total + config.gan_weight * gan;
+        r[3] = gan.item<double>();
+      }
+      if (config.use_cycle) {
+        const torch::Tensor back = net->decode(net->transform(h_gm, net->stats(h_c.detach())));
+        const torch::Tensor cycle = torch::mse_loss(back, c);
+        total = total + config.cycle_weight * cycle;
+        r[4] = cycle.item<double>();
+      }
+      out = gm;
+    }
+    const KinematicLoss::Terms kc = kinematic->Compute(out, c);
+    r[5] = kc.smooth.item<double>(), r[6] = kc.bone.item<double>();
+    r[7] = kc.traj.item<double>(), r[8] = kc.foot.item<double>();
+    if (config.use_kc) total = total + kinematic->Weighted(kc, config);
+    opt_g->zero_grad();
+    opt_e->zero_grad();
+    total.backward();
+    opt_g->step();
+    if (autoencoder_only) opt_e->step();
+    r[10] = total.item<double>();
+    return r;
+  }
+
+  absl::Status WritePackage(int iterations, const std::string& csv) {
+    CyclicConfig c = config;
+    c.trained_iterations = iterations;
+    if (absl::Status s = WriteDataFiles(opt.out, data.norm, data.skeleton, data.frame_time);
+        !s.ok())
+      return s;
+    if (absl::Status s = motion::WriteFileAtomically(opt.out + "/config.txt", c.Serialize());
+        !s.ok())
+      return s;
+    if (absl::Status s =
+            SaveModules({{"weights.pt.tmp", [&](const std::string& p) { torch::save(net, p); }}},
+                        opt.out);
+        !s.ok())
+      return s;
+    std::error_code ec;
+    std::filesystem::rename(opt.out + "/weights.pt.tmp", opt.out + "/weights.pt", ec);
+    if (ec) return absl::InternalError(absl::StrCat(opt.out, "/weights.pt: ", ec.message()));
+    return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
+  }
+
+  absl::Status Run() {
+    SetComputeThreads(opt.threads);
+    const auto t_load = Clock::now();
+    TrainingRun::Spec spec;
+    spec.log = opt.log;
+    auto log = [&](const std::string& s) { TrainingRun(spec).Log(s); };
+    absl::StatusOr<TrainingSet> loaded = LoadTrainingSet(opt.data, {config.window, config.hop});
+    if (!loaded.ok()) return loaded.status();
+    data = *std::move(loaded);
+    config.dim = data.dim();
+    config.data = absl::StrJoin(opt.data, ";");
+    config.commit = opt.commit;
+    log(absl::StrFormat("loaded %d clips, %d windows of %d frames, %d channels in %.1f s",
+                        data.clips.size(), data.windows.size(), config.window, config.dim,
+                        std::chrono::duration<double>(Clock::now() - t_load).count()));
+    const int joints = data.skeleton.num_joints();
+    channels = torch::tensor(CyclicChannels(joints));
+    kinematic = std::make_unique<KinematicLoss>(data.skeleton, data.roles, data.norm,
+                                                data.frame_time);
+    torch::manual_seed(config.seed);
+    const int width = config.net_channels(joints);
+    net = CyclicNet(config, width);
+    critic = CyclicCritic(config, width);
+    const auto adam = torch::optim::AdamOptions(config.lr).betas({0.5, 0.999});
+    opt_e = std::make_unique<torch::optim::Adam>(EncoderParameters(), adam);
+    opt_g = std::make_unique<torch::optim::Adam>(GeneratorParameters(), adam);
+    opt_d = std::make_unique<torch::optim::Adam>(critic->parameters(), adam);
+
+    spec.out = opt.out;
+    spec.loss_names = CyclicLossNames();
+    spec.config_text = config.Serialize();
+    spec.iterations = config.iterations;
+    spec.log_every = opt.log_every;
+    spec.checkpoint_every = opt.checkpoint_every;
+    spec.on_record = opt.on_record;
+    spec.save_tensors = [this](const std::string& dir) {
+      return SaveModules({{"net.pt", [&](const std::string& p) { torch::save(net, p); }},
+                          {"critic.pt", [&](const std::string& p) { torch::save(critic, p); }},
+                          {"opt_e.pt", [&](const std::string& p) { torch::save(*opt_e, p); }},
+                          {"opt_g.pt", [&](const std::string& p) { torch::save(*opt_g, p); }},
+                          {"opt_d.pt", [&](const std::string& p) { torch::save(*opt_d, p); }}},
+                         dir);
+    };
+    spec.load_tensors = [this](const std::string& dir) -> absl::Status {
+      try {
+        torch::load(net, dir + "/net.pt");
+        torch::load(critic, dir + "/critic.pt");
+        torch::load(*opt_e, dir + "/opt_e.pt");
+        torch::load(*opt_g, dir + "/opt_g.pt");
+        torch::load(*opt_d, dir + "/opt_d.pt");
+      } catch (const std::exception& e) {
+        return absl::DataLossError(e.what());
+      }
+      return absl::OkStatus();
+    };
+    spec.write_package = [this](int iterations, const std::string& csv) {
+      return WritePackage(iterations, csv);
+    };
+    TrainingRun run(std::move(spec));
+    run.rng().seed(config.seed);
+    if (opt.resume) {
+      absl::Status s = run.Resume([](const std::string& text) -> std::string {
+        absl::StatusOr<CyclicConfig> c = CyclicConfig::Parse(text, "checkpoint");
+        if (!c.ok()) return "unreadable: " + std::string(c.status().message());
+        c->iterations = c->trained_iterations = 0;  // A resumed run may go longer.
+        return c->Serialize();
+      });
+      if (!s.ok()) return s;
+    }
+    net->train();
+    critic->train();
+    return run.Run([&](int iteration) { return Step(iteration, &run.rng()); });
+  }
+};
+
+}  // namespace
+
+absl::Status TrainCyclic(const CyclicTrainOptions& options) {
+  if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
+  if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
+  if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
+    return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
+  }
+  if (options.config.window % 2 != 0) return absl::InvalidArgumentError("window must be even");
+  CyclicTrainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
+                  nullptr, {}};
+  try {
+    return t.Run();
+  } catch (const std::exception& e) {
+    return absl::InternalError(absl::StrCat("training failed: ", e.what()));
+  }
+}
+
+}  // namespace stylus::model

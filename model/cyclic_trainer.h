@@ -1,0 +1,44 @@
+// Training of the `cyclic` family (paper 004, docs/cyclic.md): the
+// autoencoder alone first, then the generator with the style, content,
+// adversarial, cycle and kinematic losses, the encoder frozen so the hidden
+// space the style is measured in stays fixed. No labels. Periodic
+// checkpoints, resumable, deterministic for a seed.
+#ifndef STYLUS_MODEL_CYCLIC_TRAINER_H_
+#define STYLUS_MODEL_CYCLIC_TRAINER_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "model/cyclic_config.h"
+#include "model/training_run.h"
+
+namespace stylus::model {
+
+struct CyclicTrainOptions {
+  std::vector<std::string> data;  // Directories (training split) or .bvh files.
+  std::string out;                // Package directory, e.g. models/cyclic/v1.
+  CyclicConfig config;            // dim is filled from the data.
+  bool resume = false;
+  int checkpoint_every = 500;
+  int log_every = 50;
+  int threads = 0;
+  std::string commit;
+  std::function<void(const std::string&)> log;
+  // Each logged row, values in the order of CyclicLossNames().
+  std::function<void(const LossRow&)> on_record;
+};
+
+// rec, style, content, gan, cycle, smooth, bone, traj, foot, disc, total.
+const std::vector<std::string>& CyclicLossNames();
+
+// Trains to options.config.iterations, writing the package (config.txt,
+// norm.txt, skeleton.bvh, weights.pt, loss.csv) at every checkpoint and at
+// the end. FAILED_PRECONDITION when resuming a checkpoint of another
+// configuration; INVALID_ARGUMENT for bad data or options.
+absl::Status TrainCyclic(const CyclicTrainOptions& options);
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CYCLIC_TRAINER_H_

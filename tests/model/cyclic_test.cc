@@ -1,0 +1,285 @@
+// The `cyclic` family on a tiny configuration and synthesized clips (no
+// dataset needed): each loss, the cycle loss falling in training, the
+// inference-time kinematic optimization, packaging and inference.
+#include "model/cyclic_model.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include "gtest/gtest.h"
+#include "model/cyclic_net.h"
+#include "model/cyclic_trainer.h"
+#include "model/package.h"
+#include "motion/bvh.h"
+#include "motion/features.h"
+#include "motion/metrics.h"
+#include "motion/synth.h"
+
+namespace stylus::model {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Dir(const std::string& name) {
+  const std::string d = ::testing::TempDir() + "/cyclic_" + name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::vector<std::string> FourClips() {
+  static std::vector<std::string> paths;
+  if (!paths.empty()) return paths;
+  const std::string dir = Dir("clips");
+  for (const char* style :
+       {"normal,frames=64", "old,frames=64", "run,frames=64", "proud,frames=64,turn=30"}) {
+    const std::string path =
+        dir + "/" + std::string(style).substr(0, std::string(style).find(',')) + ".bvh";
+    EXPECT_TRUE(
+        motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(style)), path).ok());
+    paths.push_back(path);
+  }
+  return paths;
+}
+
+motion::Motion Clip(int i) { return *motion::ReadBvhFile(FourClips()[i]); }
+
+CyclicConfig Tiny() {
+  CyclicConfig c;
+  c.window = 16;
+  c.hop = 8;
+  c.hidden = 24;
+  c.kernel = 5;
+  c.dropout = 0;
+  c.batch = 8;
+  c.lr = 2e-3;
+  c.ae_iterations = 60;
+  c.iterations = 200;
+  c.seed = 3;
+  return c;
+}
+
+CyclicTrainOptions TinyOptions(const std::string& out) {
+  CyclicTrainOptions o;
+  o.data = FourClips();
+  o.out = out;
+  o.config = Tiny();
+  o.log_every = 10;
+  o.checkpoint_every = 50;
+  o.threads = 1;
+  o.log = [](const std::string&) {};
+  return o;
+}
+
+// Normalized network channels (1, C, T) of a clip, with what the loss needs.
+struct ClipChannels {
+  motion::Motion clip;
+  motion::HumanoidRoles roles;
+  motion::NormStats norm;
+  torch::Tensor x;
+};
+
+ClipChannels MakeClipChannels(int i) {
+  ClipChannels s;
+  s.clip = Clip(i);
+  s.roles = *motion::FindHumanoidRoles(s.clip.skeleton);
+  motion::FeatureClip f = *motion::ExtractFeatures(s.clip, s.roles);
+  s.norm = *motion::NormStats::Compute({&f});
+  s.norm.Normalize(&f);
+  s.x = torch::from_blob(f.values.data(), {f.frames, f.dim}, torch::kFloat32)
+            .index_select(1, torch::tensor(CyclicChannels(s.clip.skeleton.num_joints())))
+            .t()
+            .unsqueeze(0)
+            .clone();
+  return s;
+}
+
+TEST(CyclicNetTest, ShapesAndStyleCode) {
+  const CyclicConfig c = Tiny();
+  const ClipChannels s = MakeClipChannels(0);
+  CyclicNet net(c, static_cast<int>(s.x.size(1)));
+  const torch::Tensor h = net->encode(s.x);
+  EXPECT_EQ(h.sizes(), (std::vector<int64_t>{1, int64_t{c.hidden}, s.x.size(2) / 2}));
+  EXPECT_EQ(net->decode(h).sizes(), s.x.sizes());
+  EXPECT_EQ(CyclicNetImpl::stats(h).sizes(), (std::vector<int64_t>{1, int64_t{2 * c.hidden}, 1}));
+  EXPECT_EQ(net->generate(s.x, MakeClipChannels(1).x).sizes(), s.x.sizes());
+  const torch::Tensor g = Gram(h);
+  EXPECT_EQ(g.sizes(), (std::vector<int64_t>{1, int64_t{c.hidden}, int64_t{c.hidden}}));
+  EXPECT_TRUE(torch::allclose(g, g.transpose(1, 2)));
+  CyclicCritic critic(c, static_cast<int>(s.x.size(1)));
+  EXPECT_EQ(critic->forward(s.x).sizes(), (std::vector<int64_t>{1}));
+}
+
+TEST(CyclicNetTest, KinematicTermsAreZeroOnTheContentAndGrowWithErrors) {
+  const ClipChannels s = MakeClipChannels(0);
+  KinematicLoss loss(s.clip.skeleton, s.roles, s.norm, s.clip.frame_time);
+  const KinematicLoss::Terms same = loss.Compute(s.x, s.x);
+  EXPECT_NEAR(same.smooth.item<double>(), 0, 1e-9);
+  EXPECT_NEAR(same.traj.item<double>(), 0, 1e-9);
+  EXPECT_NEAR(same.foot.item<double>(), 0, 1e-9);
+  EXPECT_LT(same.bone.item<double>(), 1e-6);  // Real positions keep their bones.
+  EXPECT_LT(loss.BoneError(s.x).item<double>(), 1e-3);
+  torch::manual_seed(1);
+  const torch::Tensor noisy = s.x + 0.3 * torch::randn_like(s.x);
+  const KinematicLoss::Terms t = loss.Compute(noisy, s.x);
+  EXPECT_GT(t.smooth.item<double>(), 1e-3);
+  EXPECT_GT(t.bone.item<double>(), 1e-4);
+  EXPECT_GT(t.traj.item<double>(), 1e-2);
+  EXPECT_GT(t.foot.item<double>(), 1e-3);
+  EXPECT_GT(loss.BoneError(noisy).item<double>(), 1e-2);
+  // Switches: a zero weight drops its term.
+  CyclicConfig only_bone;
+  only_bone.smooth_weight = only_bone.traj_weight = only_bone.foot_weight = 0;
+  EXPECT_NEAR(loss.Weighted(t, only_bone).item<double>(), t.bone.item<double>(), 1e-9);
+}
+
+TEST(CyclicNetTest, KinematicOptimizationReducesBoneErrorOfAPerturbedClip) {
+  // Only the bone-length term, as a test of what the optimization does; the
+  // full weighted loss is checked to fall too.
+  CyclicConfig c = Tiny();
+  c.kc_iters = 200;
+  c.kc_lr = 0.05;
+  c.smooth_weight = c.traj_weight = c.foot_weight = 0;
+  const ClipChannels s = MakeClipChannels(1);
+  torch::manual_seed(2);
+  CyclicNet net(c, static_cast<int>(s.x.size(1)));
+  net->eval();
+  for (torch::Tensor& p : net->parameters()) p.requires_grad_(false);
+  KinematicLoss loss(s.clip.skeleton, s.roles, s.norm, s.clip.frame_time);
+  torch::Tensor h;
+  {
+    torch::NoGradGuard no_grad;
+    h = net->encode(s.x) + 0.5 * torch::randn({1, c.hidden, s.x.size(2) / 2});
+  }
+  const double before = loss.BoneError(net->decode(h)).item<double>();
+  const KinematicFit fit = OptimizeHidden(net, loss, c, s.x, &h);
+  const double after = loss.BoneError(net->decode(h)).item<double>();
+  std::printf("bone error %.4f -> %.4f, loss %.4f -> %.4f in %d steps\n", before, after,
+              fit.loss_before, fit.loss_after, fit.steps);
+  EXPECT_LT(fit.loss_after, 0.5 * fit.loss_before);
+  EXPECT_LT(after, 0.7 * before);
+  EXPECT_GT(fit.steps, 0);
+  const CyclicConfig all = Tiny();
+  const KinematicFit fit_all = OptimizeHidden(net, loss, all, s.x, &h);
+  EXPECT_LT(fit_all.loss_after, 0.5 * fit_all.loss_before);
+}
+
+TEST(CyclicModelTest, CycleLossFallsAndThePackageServesTransfers) {
+  CyclicTrainOptions o = TinyOptions(Dir("train"));
+  std::vector<LossRow> rows;
+  o.on_record = [&](const LossRow& r) { rows.push_back(r); };
+  ASSERT_TRUE(TrainCyclic(o).ok());
+  const auto& names = CyclicLossNames();
+  const size_t cycle = std::find(names.begin(), names.end(), "cycle") - names.begin();
+  const size_t rec = std::find(names.begin(), names.end(), "rec") - names.begin();
+  // Rows after the autoencoder stage (iteration > 60) carry the cycle loss.
+  std::vector<double> cyc;
+  for (const LossRow& r : rows) {
+    if (r.iteration > o.config.ae_iterations + 10) cyc.push_back(r.values[cycle]);
+  }
+  ASSERT_GE(cyc.size(), 10u);
+  std::printf("cycle %.4f -> %.4f; rec %.4f -> %.4f\n", cyc.front(), cyc.back(),
+              rows.front().values[rec], rows.back().values[rec]);
+  EXPECT_LT(cyc.back(), 0.7 * cyc.front());
+  EXPECT_LT(rows.back().values[rec], 0.5 * rows.front().values[rec]);
+  for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh", "weights.pt", "loss.csv"})
+    EXPECT_TRUE(fs::exists(o.out + "/" + f)) << f;
+
+  absl::StatusOr<std::unique_ptr<StyleModel>> m = LoadStyleModel(o.out);
+  ASSERT_TRUE(m.ok()) << m.status();
+  EXPECT_EQ((*m)->summary().family, "cyclic");
+  const motion::Motion content = Clip(0), a = Clip(1), b = Clip(2);
+  const StyleCode sa = *(*m)->EncodeStyle(a), sb = *(*m)->EncodeStyle(b);
+  EXPECT_EQ(sa.values.size(), 2u * o.config.hidden);
+  absl::StatusOr<motion::Motion> out = (*m)->Transfer(content, sa);
+  ASSERT_TRUE(out.ok()) << out.status();
+  EXPECT_EQ(out->num_frames, content.num_frames);
+  EXPECT_TRUE(out->skeleton.SameTopology(content.skeleton));
+  EXPECT_LT(motion::BoneLengthError(*out, *motion::FindHumanoidRoles(content.skeleton)), 1e-4);
+  // Any length, odd included.
+  motion::Motion odd = content;
+  odd.num_frames = 37;
+  odd.values.resize(static_cast<size_t>(37) * content.skeleton.num_channels());
+  absl::StatusOr<motion::Motion> out_odd = (*m)->Transfer(odd, sa);
+  ASSERT_TRUE(out_odd.ok()) << out_odd.status();
+  EXPECT_EQ(out_odd->num_frames, 37);
+  // Interpolation at w = 0 and w = 1 equals transfer with B and A; loading
+  // again gives the same outputs.
+  auto same = [](const motion::Motion& x, const motion::Motion& y) {
+    double worst = 0;
+    for (size_t i = 0; i < x.values.size(); ++i)
+      worst = std::max(worst, std::fabs(x.values[i] - y.values[i]));
+    return worst;
+  };
+  const motion::Motion ta = *(*m)->Transfer(content, sa, motion::PostProcessMode::kNone);
+  const motion::Motion tb = *(*m)->Transfer(content, sb, motion::PostProcessMode::kNone);
+  EXPECT_LT(same(*(*m)->Interpolate(content, {sa, sb}, {{1, 0}, {}}, motion::PostProcessMode::kNone),
+                 ta),
+            1e-3);
+  EXPECT_LT(same(*(*m)->Interpolate(content, {sa, sb}, {{0, 1}, {}}, motion::PostProcessMode::kNone),
+                 tb),
+            1e-3);
+  std::vector<std::vector<double>> schedule(content.num_frames, {1, 0});
+  EXPECT_LT(same(*(*m)->Interpolate(content, {sa, sb}, {{}, schedule},
+                                    motion::PostProcessMode::kNone),
+                 ta),
+            1e-2);
+  auto again = CyclicModel::Load(o.out);
+  ASSERT_TRUE(again.ok());
+  EXPECT_LT(same(*(*again)->Transfer(content, sa, motion::PostProcessMode::kNone), ta), 1e-4);
+  // Without the inference-time optimization the output differs.
+  auto no_kc = CyclicModel::Load(o.out, CyclicOptions{0});
+  ASSERT_TRUE(no_kc.ok());
+  EXPECT_GT(same(*(*no_kc)->Transfer(content, sa, motion::PostProcessMode::kNone), ta), 1e-3);
+
+  // Bad input: a clip on another skeleton, a wrong-size style code.
+  motion::Motion other = content;
+  std::vector<motion::Joint> joints = other.skeleton.joints();
+  joints[3].name = "Renamed";
+  other.skeleton = *motion::Skeleton::Create(joints);
+  EXPECT_EQ((*m)->Transfer(other, sa).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ((*m)->Transfer(content, StyleCode{{1, 2, 3}}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+
+  // Resume continues from the checkpoint to a longer run.
+  CyclicTrainOptions more = o;
+  more.config.iterations = 220;
+  more.resume = true;
+  std::vector<std::string> lines;
+  more.log = [&](const std::string& l) { lines.push_back(l); };
+  more.on_record = nullptr;
+  ASSERT_TRUE(TrainCyclic(more).ok());
+  ASSERT_FALSE(lines.empty());
+  EXPECT_NE(lines[1].find("resumed from"), std::string::npos) << lines[1];
+  // A checkpoint of another configuration is refused.
+  CyclicTrainOptions changed = more;
+  changed.config.hidden = 32;
+  EXPECT_EQ(TrainCyclic(changed).code(), absl::StatusCode::kFailedPrecondition);
+
+  // Corrupt weights: a clear error naming the file.
+  const std::string broken = Dir("broken");
+  for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh"})
+    fs::copy_file(o.out + "/" + f, broken + "/" + f);
+  std::ofstream(broken + "/weights.pt") << "not a torch archive";
+  absl::StatusOr<std::unique_ptr<StyleModel>> bad = LoadStyleModel(broken);
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(bad.status().message().find("weights.pt"), absl::string_view::npos);
+}
+
+TEST(CyclicConfigTest, RoundTripAndErrors) {
+  CyclicConfig c = Tiny();
+  c.dim = 155;
+  c.use_cycle = false;
+  absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->Serialize(), c.Serialize());
+  EXPECT_EQ(CyclicConfig::Parse("dim = 5\nkernel = 4\n", "cfg.txt").status().message(),
+            "cfg.txt:2: kernel must be odd");
+  EXPECT_EQ(CyclicConfig::Parse("dim = 5\nfamily = contrastive\n", "cfg.txt").status().code(),
+            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(CyclicConfig::Parse("dim = 5\nbogus = 1\n", "cfg.txt").status().message(),
+            "cfg.txt:2: unknown key 'bogus'");
+}
+
+}  // namespace
+}  // namespace stylus::model

@@ -3,8 +3,6 @@
 
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_cat.h"
-#include "absl/strings/numbers.h"
-#include "model/cyclic_model.h"
 #include "model/evaluation.h"
 #include "model/feature_judge.h"
 #include "model/judges.h"
@@ -15,25 +13,9 @@
 #include "motion/dataset.h"
 #include "motion/files.h"
 #include "tool/cli_support.h"
+#include "tool/model_spec.h"
 
 namespace stylus::tool {
-namespace {
-
-// A model directory, optionally followed by ":kc=N" (cyclic models only): N
-// inference-time kinematic optimization steps instead of the package's.
-absl::StatusOr<std::unique_ptr<model::StyleModel>> LoadForEval(const std::string& spec) {
-  const size_t colon = spec.rfind(":kc=");
-  if (colon == std::string::npos) return model::LoadStyleModel(spec);
-  model::CyclicOptions options;
-  if (!absl::SimpleAtoi(spec.substr(colon + 4), &options.kc_iters) || options.kc_iters < 0) {
-    return absl::InvalidArgumentError("'" + spec + "': :kc= wants a whole number >= 0");
-  }
-  auto m = model::CyclicModel::Load(spec.substr(0, colon), options);
-  if (!m.ok()) return m.status();
-  return std::unique_ptr<model::StyleModel>(*std::move(m));
-}
-
-}  // namespace
 
 int TrainJudges(const Argv& argv) {
   static const char kHelp[] =
@@ -114,7 +96,7 @@ int Eval(const Argv& argv) {
   if (!per.ok()) return Fail("eval", per.status());
   if (!threads.ok()) return Fail("eval", threads.status());
   model::SetComputeThreads(*threads);
-  auto m = LoadForEval(args->Get("model"));
+  auto m = LoadModelSpec(args->Get("model"));
   if (!m.ok()) return Fail("eval", m.status());
   auto judges = model::Judges::Load(args->Get("judges"));
   if (!judges.ok()) return Fail("eval", judges.status());
@@ -125,7 +107,7 @@ int Eval(const Argv& argv) {
     if (eq == std::string::npos || eq == 0) {
       return Fail("eval", absl::InvalidArgumentError("--ablation wants LABEL=DIR, got '" + spec + "'"));
     }
-    auto a = LoadForEval(spec.substr(eq + 1));
+    auto a = LoadModelSpec(spec.substr(eq + 1));
     if (!a.ok()) return Fail("eval", a.status());
     ablations.push_back(*std::move(a));
     models.push_back({spec.substr(0, eq), ablations.back().get(), false});

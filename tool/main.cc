@@ -23,12 +23,14 @@ const Command kCommands[] = {
     {"dataset-stats", stylus::tool::DatasetStats, "clips, frames and counts per content and style"},
     {"synth", stylus::tool::Synth, "synthesize a styled walk or run on the Bandai skeleton"},
     {"render", stylus::tool::Render, "draw a clip as a filmstrip of stick figures (SVG)"},
-    {"train", stylus::tool::Train, "train a style-transfer model (family contrastive)"},
+    {"train", stylus::tool::Train, "train a style-transfer model (family contrastive or cyclic)"},
     {"transfer", stylus::tool::Transfer, "transfer a style clip onto a content clip with a model"},
     {"train-judges", stylus::tool::TrainJudges,
      "train the style and content classifiers used by eval"},
     {"eval", stylus::tool::Eval, "evaluate a model on held-out pairs against baselines"},
     {"style-map", stylus::tool::StyleMap, "plot style codes of labelled clips (PCA, SVG)"},
+    {"trajectories", stylus::tool::Trajectories,
+     "plot root paths of content clips and their transfers (SVG)"},
 };
 
 void Usage(FILE* out) {

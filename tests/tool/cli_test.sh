@@ -32,7 +32,7 @@ check "render svg" 0 "<svg" -- cat "$work/walk.svg"
 check "dataset-stats missing dir" 1 "not a directory" -- "$tool" dataset-stats "$work/none"
 # Training and transfer on synthesized clips (a few iterations: the plumbing,
 # not the quality, which model_tests and the evaluation cover).
-for cmd in train transfer train-judges eval style-map; do
+for cmd in train transfer train-judges eval style-map trajectories; do
   check "$cmd --help" 0 "usage: stylus-tool $cmd" -- "$tool" "$cmd" --help
 done
 "$tool" synth --style proud,frames=40 -o "$work/proud.bvh" >/dev/null
@@ -56,6 +56,12 @@ check "train cyclic odd window" 1 "window must be even" -- "$tool" train --famil
 check "transfer cyclic" 0 "wrote .*styled_cyc.bvh" -- "$tool" transfer --model "$work/cyc" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/styled_cyc.bvh"
 check "transfer cyclic output" 0 "frames: 45" -- "$tool" bvh-info "$work/styled_cyc.bvh"
+check "trajectories" 0 "wrote .*paths.svg \\(2 panels\\)" -- "$tool" trajectories --model "$work/cyc" \
+  --compare "no KC=$work/cyc:kc=0" --pair "$work/old.bvh,$work/proud.bvh" \
+  --pair "$work/proud.bvh,$work/old.bvh" -o "$work/paths.svg" --threads 1
+check "trajectories svg" 0 "<polyline.*no KC" -- tr -d '\n' < "$work/paths.svg"
+check "trajectories bad kc" 1 ":kc= wants a whole number" -- "$tool" trajectories --model "$work/cyc:kc=x" \
+  --pair "$work/old.bvh,$work/proud.bvh" -o "$work/paths2.svg"
 check "transfer" 0 "wrote .*styled.bvh" -- "$tool" transfer --model "$work/model" --content "$work/old.bvh" \
   --style "$work/proud.bvh" -o "$work/styled.bvh"
 check "transfer output" 0 "frames: 45" -- "$tool" bvh-info "$work/styled.bvh"

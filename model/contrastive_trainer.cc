@@ -5,16 +5,14 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
-#include "absl/strings/str_split.h"
 #include "model/contrastive_net.h"
 #include "model/package.h"
 #include "model/runtime.h"
+#include "model/training_run.h"
 #include "model/training_set.h"
 #include "motion/files.h"
 
@@ -24,41 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::string CsvHeader() { return "iteration,rec,gan,nce,tri,disc,total\n"; }
-std::string CsvRow(const LossRecord& r) {
-  return absl::StrFormat("%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", r.iteration, r.rec, r.gan, r.nce,
-                         r.tri, r.disc, r.total);
-}
-
-// Everything a resumed run needs, besides the tensors.
-struct TrainState {
-  int iteration = 0;
-  std::string rng;  // std::mt19937_64 state.
-  std::vector<LossRecord> curve;
-};
-
-absl::StatusOr<TrainState> ReadState(const std::string& dir) {
-  std::ifstream f(dir + "/state.txt");
-  if (!f) return absl::NotFoundError(dir + "/state.txt: missing");
-  TrainState s;
-  std::string line;
-  std::getline(f, line);
-  s.iteration = std::stoi(line);
-  std::getline(f, s.rng);
-  std::ifstream csv(dir + "/loss.csv");
-  std::getline(csv, line);  // Header.
-  while (std::getline(csv, line)) {
-    std::vector<std::string> v = absl::StrSplit(line, ',');
-    if (v.size() != 7) continue;
-    LossRecord r;
-    r.iteration = std::stoi(v[0]);
-    r.rec = std::stod(v[1]), r.gan = std::stod(v[2]), r.nce = std::stod(v[3]);
-    r.tri = std::stod(v[4]), r.disc = std::stod(v[5]), r.total = std::stod(v[6]);
-    s.curve.push_back(r);
-  }
-  return s;
-}
-
 struct Trainer {
   const TrainOptions& opt;
   ContrastiveConfig config;
@@ -67,16 +30,9 @@ struct Trainer {
   Discriminator disc{nullptr};
   std::unique_ptr<torch::optim::Adam> opt_g, opt_d;
   torch::Tensor content_mask;  // (1, dim, 1): channels of the content-keeping term.
-  std::mt19937_64 rng;
-  TrainState state;
+  std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
-  void Log(const std::string& s) const {
-    if (opt.log) {
-      opt.log(s);
-    } else {
-      std::fprintf(stderr, "%s\n", s.c_str());
-    }
-  }
+  void Log(const std::string& s) const { LogLine(opt.log, s); }
 
   torch::Tensor ToTensor(std::vector<float>* buf) const {
     return torch::from_blob(buf->data(), {config.batch, config.dim, config.window},
@@ -89,10 +45,10 @@ struct Trainer {
   std::pair<torch::Tensor, torch::Tensor> Batch() {
     std::vector<float> buf;
     std::vector<int> clips;
-    data.SampleBatch(config.batch, config.window, &rng, &buf, &clips);
+    data.SampleBatch(config.batch, config.window, rng, &buf, &clips);
     torch::Tensor x = ToTensor(&buf);
     if (!config.cross_view) return {x, x};
-    data.SampleFromClips(clips, config.window, &rng, &buf);
+    data.SampleFromClips(clips, config.window, rng, &buf);
     return {x, ToTensor(&buf)};
   }
 
@@ -144,44 +100,9 @@ struct Trainer {
     return r;
   }
 
-  absl::Status SaveCheckpoint() {
-    const std::string dir = opt.out + "/checkpoint", tmp = opt.out + "/checkpoint.tmp";
-    std::error_code ec;
-    fs::remove_all(tmp, ec);
-    fs::create_directories(tmp, ec);
-    if (ec) return absl::InternalError(absl::StrCat(tmp, ": ", ec.message()));
-    try {
-      torch::save(net, tmp + "/net.pt");
-      torch::save(disc, tmp + "/disc.pt");
-      torch::save(*opt_g, tmp + "/opt_g.pt");
-      torch::save(*opt_d, tmp + "/opt_d.pt");
-    } catch (const std::exception& e) {
-      return absl::InternalError(absl::StrCat("saving checkpoint: ", e.what()));
-    }
-    std::ostringstream rng_text;
-    rng_text << rng;
-    std::string csv = CsvHeader();
-    for (const LossRecord& r : state.curve) csv += CsvRow(r);
-    if (absl::Status s = motion::WriteFileAtomically(
-            tmp + "/state.txt", absl::StrCat(state.iteration, "\n", rng_text.str(), "\n"));
-        !s.ok())
-      return s;
-    if (absl::Status s = motion::WriteFileAtomically(tmp + "/config.txt", config.Serialize());
-        !s.ok())
-      return s;
-    if (absl::Status s = motion::WriteFileAtomically(tmp + "/loss.csv", csv); !s.ok()) return s;
-    // Swap in the new checkpoint: the old one stays until the new is complete.
-    fs::remove_all(dir + ".old", ec);
-    if (fs::exists(dir)) fs::rename(dir, dir + ".old", ec);
-    fs::rename(tmp, dir, ec);
-    if (ec) return absl::InternalError(absl::StrCat(dir, ": ", ec.message()));
-    fs::remove_all(dir + ".old", ec);
-    return WritePackage(csv);
-  }
-
-  absl::Status WritePackage(const std::string& csv) {
+  absl::Status WritePackage(int iterations, const std::string& csv) {
     ContrastiveConfig c = config;
-    c.trained_iterations = state.iteration;
+    c.trained_iterations = iterations;
     if (absl::Status s = WritePackageFiles(opt.out, c, data.norm, data.skeleton, data.frame_time);
         !s.ok())
       return s;
@@ -212,43 +133,6 @@ struct Trainer {
     return mask;
   }
 
-  absl::Status Resume() {
-    const std::string dir = opt.out + "/checkpoint";
-    if (!fs::exists(dir + "/state.txt")) {
-      Log("no checkpoint in " + dir + "; starting from scratch");
-      return absl::OkStatus();
-    }
-    std::ifstream f(dir + "/config.txt");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    absl::StatusOr<ContrastiveConfig> saved =
-        ContrastiveConfig::Parse(ss.str(), dir + "/config.txt");
-    if (!saved.ok()) return saved.status();
-    ContrastiveConfig a = *saved, b = config;
-    a.iterations = b.iterations = 0;  // A resumed run may go longer.
-    a.trained_iterations = b.trained_iterations = 0;
-    if (a.Serialize() != b.Serialize()) {
-      return absl::FailedPreconditionError(absl::StrCat(
-          dir,
-          " was made with another configuration or data; train into a new --out or drop --resume"));
-    }
-    absl::StatusOr<TrainState> s = ReadState(dir);
-    if (!s.ok()) return s.status();
-    state = *std::move(s);
-    std::istringstream rng_text(state.rng);
-    rng_text >> rng;
-    try {
-      torch::load(net, dir + "/net.pt");
-      torch::load(disc, dir + "/disc.pt");
-      torch::load(*opt_g, dir + "/opt_g.pt");
-      torch::load(*opt_d, dir + "/opt_d.pt");
-    } catch (const std::exception& e) {
-      return absl::DataLossError(absl::StrCat(dir, ": unreadable checkpoint: ", e.what()));
-    }
-    Log(absl::StrCat("resumed from ", dir, " at iteration ", state.iteration));
-    return absl::OkStatus();
-  }
-
   absl::Status Run() {
     SetComputeThreads(opt.threads);
     const auto t_load = Clock::now();
@@ -263,50 +147,67 @@ struct Trainer {
                         std::chrono::duration<double>(Clock::now() - t_load).count()));
     content_mask = ContentMask();
     torch::manual_seed(config.seed);
-    rng.seed(config.seed);
     net = ContrastiveNet(config);
     disc = Discriminator(config);
     opt_g = std::make_unique<torch::optim::Adam>(
         net->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
     opt_d = std::make_unique<torch::optim::Adam>(
         disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+    TrainingRun::Spec spec;
+    spec.out = opt.out;
+    spec.loss_names = {"rec", "gan", "nce", "tri", "disc", "total"};
+    spec.config_text = config.Serialize();
+    spec.iterations = config.iterations;
+    spec.log_every = opt.log_every;
+    spec.checkpoint_every = opt.checkpoint_every;
+    spec.log = opt.log;
+    if (opt.on_record) {
+      spec.on_record = [this](const LossRow& row) {
+        const std::vector<double>& v = row.values;
+        opt.on_record(LossRecord{row.iteration, v[0], v[1], v[2], v[3], v[4], v[5]});
+      };
+    }
+    spec.save_tensors = [this](const std::string& dir) -> absl::Status {
+      try {
+        torch::save(net, dir + "/net.pt");
+        torch::save(disc, dir + "/disc.pt");
+        torch::save(*opt_g, dir + "/opt_g.pt");
+        torch::save(*opt_d, dir + "/opt_d.pt");
+      } catch (const std::exception& e) {
+        return absl::InternalError(absl::StrCat("saving checkpoint: ", e.what()));
+      }
+      return absl::OkStatus();
+    };
+    spec.load_tensors = [this](const std::string& dir) -> absl::Status {
+      try {
+        torch::load(net, dir + "/net.pt");
+        torch::load(disc, dir + "/disc.pt");
+        torch::load(*opt_g, dir + "/opt_g.pt");
+        torch::load(*opt_d, dir + "/opt_d.pt");
+      } catch (const std::exception& e) {
+        return absl::DataLossError(e.what());
+      }
+      return absl::OkStatus();
+    };
+    spec.write_package = [this](int iterations, const std::string& csv) {
+      return WritePackage(iterations, csv);
+    };
+    TrainingRun run(std::move(spec));
+    run.rng().seed(config.seed);
+    rng = &run.rng();
     if (opt.resume) {
-      if (absl::Status s = Resume(); !s.ok()) return s;
+      absl::Status s = run.Resume([](const std::string& text) -> std::string {
+        absl::StatusOr<ContrastiveConfig> c = ContrastiveConfig::Parse(text, "checkpoint");
+        if (!c.ok()) return "unreadable: " + std::string(c.status().message());
+        c->iterations = c->trained_iterations = 0;  // A resumed run may go longer.
+        return c->Serialize();
+      });
+      if (!s.ok()) return s;
     }
-    LossRecord sum;
-    int in_sum = 0;
-    auto t0 = Clock::now();
-    const int start = state.iteration;
-    while (state.iteration < config.iterations) {
+    return run.Run([this](int) {
       const LossRecord r = Step();
-      ++state.iteration;
-      sum.rec += r.rec, sum.gan += r.gan, sum.nce += r.nce, sum.tri += r.tri, sum.disc += r.disc,
-          sum.total += r.total;
-      ++in_sum;
-      if (!std::isfinite(r.total)) {
-        return absl::InternalError(
-            absl::StrCat("loss became non-finite at iteration ", state.iteration));
-      }
-      if (state.iteration % opt.log_every == 0 || state.iteration == config.iterations) {
-        LossRecord avg{state.iteration,  sum.rec / in_sum,  sum.gan / in_sum,  sum.nce / in_sum,
-                       sum.tri / in_sum, sum.disc / in_sum, sum.total / in_sum};
-        state.curve.push_back(avg);
-        if (opt.on_record) opt.on_record(avg);
-        const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
-        const double its = (state.iteration - start) / std::max(secs, 1e-9);
-        Log(absl::StrFormat(
-            "iter %d/%d  rec %.4f  gan %.4f  nce %.4f  tri %.4f  disc %.4f  |  %.1f it/s  ETA %.0f "
-            "s",
-            state.iteration, config.iterations, avg.rec, avg.gan, avg.nce, avg.tri, avg.disc, its,
-            (config.iterations - state.iteration) / std::max(its, 1e-9)));
-        sum = LossRecord();
-        in_sum = 0;
-      }
-      if (state.iteration % opt.checkpoint_every == 0 && state.iteration < config.iterations) {
-        if (absl::Status s = SaveCheckpoint(); !s.ok()) return s;
-      }
-    }
-    return SaveCheckpoint();
+      return std::vector<double>{r.rec, r.gan, r.nce, r.tri, r.disc, r.total};
+    });
   }
 };
 
@@ -318,7 +219,7 @@ absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
-  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, {}, {}, {}};
+  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, {}, nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -148,9 +148,7 @@ struct CyclicTrainer {
   absl::Status Run() {
     SetComputeThreads(opt.threads);
     const auto t_load = Clock::now();
-    TrainingRun::Spec spec;
-    spec.log = opt.log;
-    auto log = [&](const std::string& s) { TrainingRun(spec).Log(s); };
+    auto log = [&](const std::string& s) { LogLine(opt.log, s); };
     absl::StatusOr<TrainingSet> loaded = LoadTrainingSet(opt.data, {config.window, config.hop});
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
@@ -173,6 +171,8 @@ struct CyclicTrainer {
     opt_g = std::make_unique<torch::optim::Adam>(GeneratorParameters(), adam);
     opt_d = std::make_unique<torch::optim::Adam>(critic->parameters(), adam);
 
+    TrainingRun::Spec spec;
+    spec.log = opt.log;
     spec.out = opt.out;
     spec.loss_names = CyclicLossNames();
     spec.config_text = config.Serialize();

@@ -19,9 +19,9 @@ namespace stylus::model {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-void TrainingRun::Log(const std::string& line) const {
-  if (spec_.log) {
-    spec_.log(line);
+void LogLine(const std::function<void(const std::string&)>& log, const std::string& line) {
+  if (log) {
+    log(line);
   } else {
     std::fprintf(stderr, "%s\n", line.c_str());
   }

@@ -21,6 +21,9 @@ struct LossRow {
   std::vector<double> values;  // One per TrainingRun::Spec::loss_names.
 };
 
+// Writes a progress line to `log`, or to stderr when `log` is empty.
+void LogLine(const std::function<void(const std::string&)>& log, const std::string& line);
+
 class TrainingRun {
  public:
   struct Spec {
@@ -54,7 +57,7 @@ class TrainingRun {
 
   std::mt19937_64& rng() { return rng_; }
   int iteration() const { return iteration_; }
-  void Log(const std::string& line) const;
+  void Log(const std::string& line) const { LogLine(spec_.log, line); }
 
  private:
   absl::Status SaveCheckpoint();

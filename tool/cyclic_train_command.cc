@@ -12,7 +12,8 @@ int TrainCyclicModel(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool train --family cyclic --data DIR... --out models/cyclic/VERSION\n"
       "         [--iters 8000] [--ae-iters 2000] [--batch 16] [--lr 5e-4] [--seed S]\n"
-      "         [--window 60] [--hop 30] [--no-cycle] [--no-kc] [--kc-iters 100]\n"
+      "         [--window 60] [--hop 30] [--hidden 256] [--kernel 15] [--dropout 0.25]\n"
+      "         [--no-cycle] [--no-kc] [--kc-iters 100]\n"
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
@@ -30,7 +31,7 @@ int TrainCyclicModel(const Argv& argv) {
                                             "cycle-weight",  "smooth-weight",  "bone-weight",
                                             "traj-weight",   "foot-weight"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
-                "hop", "kc-iters", "threads", "checkpoint-every", "log-every", "commit"},
+                "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit"},
                {"no-cycle", "no-kc", "resume"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
@@ -56,7 +57,8 @@ int TrainCyclicModel(const Argv& argv) {
   opt.threads = 0;
   for (const IntFlag& f : {IntFlag{"iters", &c.iterations, 0}, {"ae-iters", &c.ae_iterations, 0},
                            {"batch", &c.batch, 1}, {"seed", &seed, 0}, {"window", &c.window, 2},
-                           {"hop", &c.hop, 1}, {"kc-iters", &c.kc_iters, 0},
+                           {"hop", &c.hop, 1}, {"hidden", &c.hidden, 1},
+                           {"kernel", &c.kernel, 1}, {"kc-iters", &c.kc_iters, 0},
                            {"threads", &opt.threads, 0},
                            {"checkpoint-every", &opt.checkpoint_every, 1},
                            {"log-every", &opt.log_every, 1}}) {
@@ -83,6 +85,12 @@ int TrainCyclicModel(const Argv& argv) {
   if (!lr.ok() || *lr <= 0) return Fail("train", absl::InvalidArgumentError("--lr must be > 0"));
   c.lr = *lr;
   if (c.window % 2) return Fail("train", absl::InvalidArgumentError("--window must be even"));
+  if (c.kernel % 2 == 0) return Fail("train", absl::InvalidArgumentError("--kernel must be odd"));
+  absl::StatusOr<double> dropout = args->GetDouble("dropout", c.dropout);
+  if (!dropout.ok() || *dropout < 0 || *dropout > 0.95) {
+    return Fail("train", absl::InvalidArgumentError("--dropout must be a number in [0, 0.95]"));
+  }
+  c.dropout = *dropout;
   c.use_cycle = !args->switches.count("no-cycle");
   c.use_kc = !args->switches.count("no-kc");
   opt.resume = args->switches.count("resume") > 0;

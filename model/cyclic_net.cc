@@ -53,8 +53,10 @@ torch::Tensor CyclicNetImpl::stats(const torch::Tensor& h) {
 torch::Tensor CyclicNetImpl::transform(const torch::Tensor& content, const torch::Tensor& style) {
   const torch::Tensor p = style_b(torch::leaky_relu(style_a(style), 0.2));
   const torch::Tensor scale = p.slice(1, 0, hidden), bias = p.slice(1, hidden, 2 * hidden);
+  // A generous epsilon: ReLU features that barely move over a clip would
+  // otherwise be blown up (and with them the gradients).
   const torch::Tensor mean = content.mean(2, true);
-  const torch::Tensor sd = ((content - mean).pow(2).mean(2, true) + 1e-5).sqrt();
+  const torch::Tensor sd = ((content - mean).pow(2).mean(2, true) + 1e-2).sqrt();
   const torch::Tensor n = (content - mean) / sd;
   return content + mix_b(torch::leaky_relu(mix_a((1 + scale) * n + bias), 0.2));
 }

@@ -27,6 +27,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Gradient norm cap of the generator's and encoder's steps: one bad batch
+// must not throw the autoencoder out of its basin.
+constexpr double kMaxGradNorm = 5.0;
+
 absl::Status SaveModules(const std::vector<std::pair<std::string, std::function<void(
                                                                       const std::string&)>>>& items,
                          const std::string& dir) {
@@ -119,8 +123,12 @@ struct CyclicTrainer {
     opt_g->zero_grad();
     opt_e->zero_grad();
     total.backward();
+    torch::nn::utils::clip_grad_norm_(GeneratorParameters(), kMaxGradNorm);
     opt_g->step();
-    if (autoencoder_only) opt_e->step();
+    if (autoencoder_only) {
+      torch::nn::utils::clip_grad_norm_(EncoderParameters(), kMaxGradNorm);
+      opt_e->step();
+    }
     r[10] = total.item<double>();
     return r;
   }

@@ -2,14 +2,16 @@
 // one compute thread and with two, each also as a ratio to the baseline measured
 // in the same run: feature extraction plus motion reconstruction of the same
 // clip without the network (the part of a transfer that is not inference).
-// Usage: transfer_bench [MODEL_DIR] [--frames N] [--reps N]
+// Any family. Usage: transfer_bench [MODEL_DIR] [--frames N] [--reps N] [--kc N]
+// (--kc: a cyclic model's inference-time kinematic optimization steps).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
 
-#include "model/contrastive_model.h"
+#include "model/cyclic_model.h"
+#include "model/style_model.h"
 #include "model/runtime.h"
 #include "motion/features.h"
 #include "motion/synth.h"
@@ -23,21 +25,33 @@ double Since(Clock::time_point t) {
 
 int main(int argc, char** argv) {
   std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v1";
-  int frames = 1000, reps = 5;
+  int frames = 1000, reps = 5, kc = -1;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--help")) {
-      std::printf("usage: transfer_bench [MODEL_DIR] [--frames N] [--reps N]\n");
+      std::printf("usage: transfer_bench [MODEL_DIR] [--frames N] [--reps N] [--kc N]\n");
       return 0;
     }
     if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) {
       frames = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--kc") && i + 1 < argc) {
+      kc = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) {
       reps = std::max(1, std::atoi(argv[++i]));
     } else {
       dir = argv[i];
     }
   }
-  auto model = stylus::model::ContrastiveModel::Load(dir);
+  absl::StatusOr<std::unique_ptr<stylus::model::StyleModel>> model;
+  if (kc >= 0) {
+    auto cyclic = stylus::model::CyclicModel::Load(dir, stylus::model::CyclicOptions{kc});
+    if (cyclic.ok()) {
+      model = std::unique_ptr<stylus::model::StyleModel>(*std::move(cyclic));
+    } else {
+      model = cyclic.status();
+    }
+  } else {
+    model = stylus::model::LoadStyleModel(dir);
+  }
   if (!model.ok()) {
     std::fprintf(stderr, "transfer_bench: %s\n", std::string(model.status().message()).c_str());
     return 1;
@@ -46,8 +60,10 @@ int main(int argc, char** argv) {
       *stylus::motion::ParseSynthStyle("normal,frames=" + std::to_string(frames)));
   const auto style_clip =
       *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("old,frames=120"));
-  const auto& roles = (*model)->package().roles;
-  std::printf("model %s, content %d frames, best of %d\n", dir.c_str(), frames, reps);
+  const auto& roles = (*model)->data().roles;
+  std::printf("model %s (%s%s), content %d frames, best of %d\n", dir.c_str(),
+              (*model)->summary().family.c_str(),
+              kc >= 0 ? (", kc " + std::to_string(kc)).c_str() : "", frames, reps);
   std::printf("%-34s %10s %14s %10s\n", "stage", "threads", "s/1000 frames", "x baseline");
   for (int threads : {1, 2}) {
     stylus::model::SetComputeThreads(threads);

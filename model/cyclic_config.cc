@@ -25,6 +25,7 @@ std::string CyclicConfig::Serialize() const {
   num("bone_weight", bone_weight);
   num("traj_weight", traj_weight);
   num("foot_weight", foot_weight);
+  put("residual", residual ? "1" : "0");
   put("use_cycle", use_cycle ? "1" : "0");
   put("use_kc", use_kc ? "1" : "0");
   num("kc_iters", kc_iters);
@@ -74,6 +75,7 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
       if (key == w.name) return e.Double(w.value, 0, 1e6);
     }
     if (key == "use_cycle") return e.Bool(&c.use_cycle);
+    if (key == "residual") return e.Bool(&c.residual);
     if (key == "use_kc") return e.Bool(&c.use_kc);
     if (key == "kc_iters") return e.Int(&c.kc_iters, 0, 100000);
     if (key == "kc_lr") return e.Double(&c.kc_lr, 0, 10);

@@ -17,7 +17,12 @@ struct CyclicConfig {
   int dim = 0;          // Full feature width (motion/features.h), set from the data.
   int hidden = 256;     // Hidden units of the autoencoder.
   int kernel = 15;      // Temporal kernel of encoder and decoder (~0.5 s).
-  double dropout = 0.25;
+  double dropout = 0;  // Paper: 0.25 (docs/cyclic.md: why 0 here).
+  // With `residual`, G(C, S) = C + decode(h) - decode(encode(C)) where h is
+  // the restyled hidden features: the decoder supplies the change the style
+  // makes, and the autoencoder's own reconstruction error does not reach the
+  // output (docs/cyclic.md). Without, G(C, S) = decode(h) (the paper).
+  bool residual = true;
   // Loss weights. The generator: reconstruction of C and G(C, C) = C,
   // Gram style loss and content loss in hidden space, adversarial, cycle
   // ||F(G(C,S), C) - C||^2, and the kinematic constraints on generated joint

@@ -114,7 +114,9 @@ absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& co
   motion::FeatureClip out = real;  // Rotations: the content's, as the fit's twist.
   try {
     torch::NoGradGuard no_grad;
-    torch::Tensor h = impl_->net->encode(input->second);
+    const torch::Tensor& x = input->second;
+    const torch::Tensor hx = impl_->net->encode(x);
+    torch::Tensor h = hx;
     const int64_t steps = h.size(2);
     std::vector<StyleCode> codes;
     if (weights.per_frame.empty()) {
@@ -134,10 +136,12 @@ absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& co
     if (config.use_kc && impl_->kc_iters > 0) {
       CyclicConfig run = config;
       run.kc_iters = impl_->kc_iters;
-      OptimizeHidden(impl_->net, *impl_->kinematic, run, input->second, &h);
+      const torch::Tensor offset =
+          config.residual ? (x - impl_->net->decode(hx)) : torch::zeros_like(x);
+      OptimizeHidden(impl_->net, *impl_->kinematic, run, x, offset, &h);
     }
     // Back to real units in the full feature layout.
-    const torch::Tensor y = impl_->net->decode(h)[0].slice(1, 0, frames).t().contiguous();
+    const torch::Tensor y = impl_->net->output(x, hx, h)[0].slice(1, 0, frames).t().contiguous();
     const std::vector<int64_t> channels = CyclicChannels(content.skeleton.num_joints());
     const float* yp = y.data_ptr<float>();
     const int width = static_cast<int>(channels.size());

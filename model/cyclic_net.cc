@@ -16,7 +16,8 @@ std::vector<int64_t> CyclicChannels(int joints) {
   return channels;
 }
 
-CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels) : hidden(c.hidden) {
+CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels)
+    : hidden(c.hidden), residual(c.residual) {
   const int pad = c.kernel / 2;
   enc_drop = register_module("enc_drop", nn::Dropout(c.dropout));
   enc_conv = register_module(
@@ -61,8 +62,14 @@ torch::Tensor CyclicNetImpl::transform(const torch::Tensor& content, const torch
   return content + mix_b(torch::leaky_relu(mix_a((1 + scale) * n + bias), 0.2));
 }
 
+torch::Tensor CyclicNetImpl::output(const torch::Tensor& x, const torch::Tensor& hx,
+                                    const torch::Tensor& h) {
+  return residual ? x + decode(h) - decode(hx) : decode(h);
+}
+
 torch::Tensor CyclicNetImpl::generate(const torch::Tensor& content, const torch::Tensor& style_clip) {
-  return decode(transform(encode(content), stats(encode(style_clip))));
+  const torch::Tensor hc = encode(content);
+  return output(content, hc, transform(hc, stats(encode(style_clip))));
 }
 
 CyclicCriticImpl::CyclicCriticImpl(const CyclicConfig& c, int channels) {
@@ -172,11 +179,14 @@ torch::Tensor KinematicLoss::Weighted(const Terms& t, const CyclicConfig& c) con
 }
 
 KinematicFit OptimizeHidden(CyclicNet& net, const KinematicLoss& loss, const CyclicConfig& config,
-                            const torch::Tensor& content, torch::Tensor* h) {
+                            const torch::Tensor& content, const torch::Tensor& offset,
+                            torch::Tensor* h) {
   torch::AutoGradMode grad(true);
   torch::Tensor x = h->detach().clone().requires_grad_(true);
   torch::optim::Adam adam({x}, torch::optim::AdamOptions(config.kc_lr));
-  auto evaluate = [&] { return loss.Weighted(loss.Compute(net->decode(x), content), config); };
+  auto evaluate = [&] {
+    return loss.Weighted(loss.Compute(net->decode(x) + offset, content), config);
+  };
   KinematicFit fit;
   double best = evaluate().item<double>(), window_start = best;
   fit.loss_before = best;

@@ -31,7 +31,11 @@ struct CyclicNetImpl : torch::nn::Module {
   // Content hidden features restyled by `style` ((B, 2H, 1), or (B, 2H, t)
   // for a code per hidden step).
   torch::Tensor transform(const torch::Tensor& content, const torch::Tensor& style);
-  // G(C, S) = decode(transform(encode(C), stats(encode(S)))).
+  // The output for restyled hidden features `h` of clip `x` whose own hidden
+  // features are `hx`: decode(h), or with `residual` x + decode(h) -
+  // decode(hx) (CyclicConfig::residual).
+  torch::Tensor output(const torch::Tensor& x, const torch::Tensor& hx, const torch::Tensor& h);
+  // G(C, S) = output(C, encode(C), transform(encode(C), stats(encode(S)))).
   torch::Tensor generate(const torch::Tensor& content, const torch::Tensor& style_clip);
 
   torch::nn::Dropout enc_drop{nullptr}, dec_drop{nullptr};
@@ -39,6 +43,7 @@ struct CyclicNetImpl : torch::nn::Module {
   torch::nn::Conv1d style_a{nullptr}, style_b{nullptr};  // 1x1: 2H -> H -> 2H.
   torch::nn::Conv1d mix_a{nullptr}, mix_b{nullptr};      // k3: H -> H -> H.
   int hidden;
+  bool residual;
 };
 TORCH_MODULE(CyclicNet);
 
@@ -87,14 +92,16 @@ class KinematicLoss {
 // The inference-time kinematic optimization (paper 004 eq. 13): Adam steps
 // on the hidden features `h` (changed in place) minimizing the weighted
 // kinematic loss of decode(h) against `content`, until it stops falling
-// (less than 0.1% better over 10 steps) or after config.kc_iters steps.
-// The network's parameters must not require gradients.
+// (less than 0.1% better over 10 steps) or after config.kc_iters steps. The
+// output judged is decode(h) + `offset` (see CyclicNetImpl::output: zero, or
+// x - decode(hx)). The network's parameters must not require gradients.
 struct KinematicFit {
   double loss_before = 0, loss_after = 0;
   int steps = 0;
 };
 KinematicFit OptimizeHidden(CyclicNet& net, const KinematicLoss& loss, const CyclicConfig& config,
-                            const torch::Tensor& content, torch::Tensor* h);
+                            const torch::Tensor& content, const torch::Tensor& offset,
+                            torch::Tensor* h);
 
 // Indices of the network's channels in the full feature layout.
 std::vector<int64_t> CyclicChannels(int joints);

@@ -87,7 +87,8 @@ struct CyclicTrainer {
     } else {
       const torch::Tensor s = Batch(rng);
       const torch::Tensor h_s = net->encode(s).detach();
-      const torch::Tensor gm = net->decode(net->transform(h_c.detach(), net->stats(h_s)));
+      const torch::Tensor gm =
+          net->output(c, h_c.detach(), net->transform(h_c.detach(), net->stats(h_s)));
       const torch::Tensor h_gm = net->encode(gm);
       const torch::Tensor style = torch::mse_loss(Gram(h_gm), Gram(h_s));
       const torch::Tensor content = torch::mse_loss(h_gm, h_c.detach());
@@ -109,7 +110,8 @@ struct CyclicTrainer {
         r[3] = gan.item<double>();
       }
       if (config.use_cycle) {
-        const torch::Tensor back = net->decode(net->transform(h_gm, net->stats(h_c.detach())));
+        const torch::Tensor back =
+            net->output(gm, h_gm, net->transform(h_gm, net->stats(h_c.detach())));
         const torch::Tensor cycle = torch::mse_loss(back, c);
         total = total + config.cycle_weight * cycle;
         r[4] = cycle.item<double>();

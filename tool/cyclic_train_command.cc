@@ -13,7 +13,7 @@ int TrainCyclicModel(const Argv& argv) {
       "usage: stylus-tool train --family cyclic --data DIR... --out models/cyclic/VERSION\n"
       "         [--iters 8000] [--ae-iters 2000] [--batch 16] [--lr 5e-4] [--seed S]\n"
       "         [--window 60] [--hop 30] [--hidden 256] [--kernel 15] [--dropout 0.25]\n"
-      "         [--no-cycle] [--no-kc] [--kc-iters 100]\n"
+      "         [--no-cycle] [--no-kc] [--no-residual] [--kc-iters 100]\n"
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
@@ -23,7 +23,9 @@ int TrainCyclicModel(const Argv& argv) {
       "autoencoder alone for --ae-iters, then the generator with the Gram style\n"
       "loss, content loss, adversarial loss, cycle loss (off with --no-cycle) and\n"
       "the kinematic constraints (off with --no-kc, which also turns off the\n"
-      "inference-time optimization; --kc-iters caps that optimization). Prints the\n"
+      "inference-time optimization; --kc-iters caps that optimization).\n"
+      "--no-residual decodes the output from the hidden features alone (the paper)\n"
+      "instead of adding the decoded change to the content. Prints the\n"
       "losses, it/s and ETA; writes a checkpoint and a usable package into --out\n"
       "every --checkpoint-every iterations; --resume continues after a kill.\n";
   int code = 0;
@@ -32,7 +34,7 @@ int TrainCyclicModel(const Argv& argv) {
                                             "traj-weight",   "foot-weight"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit"},
-               {"no-cycle", "no-kc", "resume"}};
+               {"no-cycle", "no-kc", "no-residual", "resume"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
@@ -93,6 +95,7 @@ int TrainCyclicModel(const Argv& argv) {
   c.dropout = *dropout;
   c.use_cycle = !args->switches.count("no-cycle");
   c.use_kc = !args->switches.count("no-kc");
+  c.residual = !args->switches.count("no-residual");
   opt.resume = args->switches.count("resume") > 0;
   opt.commit = args->Get("commit");
   if (absl::Status s = model::TrainCyclic(opt); !s.ok()) return Fail("train", s);

@@ -44,6 +44,7 @@ std::string CyclicConfig::Serialize() const {
 absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
                                                  const std::string& source) {
   CyclicConfig c;
+  c.residual = false;  // Packages from before the key existed decode the output alone.
   absl::Status parsed = ParseConfigText(text, source, [&c](const ConfigEntry& e) -> absl::Status {
     const std::string& key = e.key;
     if (key == "family") {

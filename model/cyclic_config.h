@@ -34,7 +34,8 @@ struct CyclicConfig {
   bool use_cycle = true;  // Off: no cycle loss.
   bool use_kc = true;     // Off: no kinematic constraint in training or inference.
   // Inference-time kinematic optimization of the hidden features: at most
-  // kc_iters Adam steps of kc_lr, stopping when the loss stops falling.
+  // kc_iters backtracking gradient steps (the first of RMS size kc_lr per
+  // hidden unit), stopping when the loss stops falling.
   int kc_iters = 100;
   double kc_lr = 0.02;
   // Optimization: the autoencoder alone for ae_iterations, then everything.

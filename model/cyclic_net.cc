@@ -181,30 +181,41 @@ torch::Tensor KinematicLoss::Weighted(const Terms& t, const CyclicConfig& c) con
 KinematicFit OptimizeHidden(CyclicNet& net, const KinematicLoss& loss, const CyclicConfig& config,
                             const torch::Tensor& content, const torch::Tensor& offset,
                             torch::Tensor* h) {
+  // Gradient descent with a backtracking step: each step moves h along the
+  // gradient, scaled so its root-mean-square is `step` per unit, and is kept
+  // only if the loss falls (then the step grows by 20%; otherwise it halves).
+  // Unlike Adam, whose per-unit normalization moves units with negligible
+  // gradients as far as the others, this follows the gradient's direction,
+  // and the loss never rises.
   torch::AutoGradMode grad(true);
-  torch::Tensor x = h->detach().clone().requires_grad_(true);
-  torch::optim::Adam adam({x}, torch::optim::AdamOptions(config.kc_lr));
-  auto evaluate = [&] {
+  auto evaluate = [&](const torch::Tensor& x) {
     return loss.Weighted(loss.Compute(net->decode(x) + offset, content), config);
   };
+  torch::Tensor x = h->detach().clone().requires_grad_(true);
+  torch::Tensor value = evaluate(x);
   KinematicFit fit;
-  double best = evaluate().item<double>(), window_start = best;
-  fit.loss_before = best;
-  for (fit.steps = 0; fit.steps < config.kc_iters; ++fit.steps) {
-    adam.zero_grad();
-    const torch::Tensor l = evaluate();
-    l.backward();
-    adam.step();
-    best = std::min(best, l.item<double>());
+  fit.loss_before = value.item<double>();
+  double current = fit.loss_before, window_start = current, step = config.kc_lr;
+  for (fit.steps = 0; fit.steps < config.kc_iters && step > 1e-6; ++fit.steps) {
+    const torch::Tensor g = torch::autograd::grad({value}, {x})[0];
+    const double rms = g.pow(2).mean().sqrt().item<double>();
+    if (!(rms > 1e-12)) break;
+    torch::Tensor candidate = (x.detach() - (step / rms) * g).requires_grad_(true);
+    torch::Tensor candidate_value = evaluate(candidate);
+    const double c = candidate_value.item<double>();
+    if (c < current) {
+      x = candidate, value = candidate_value, current = c;
+      step *= 1.2;
+    } else {
+      step *= 0.5;
+      value = evaluate(x);  // A fresh graph for the next gradient.
+    }
     if ((fit.steps + 1) % 10 == 0) {
-      if (best > window_start * (1 - 1e-3)) break;
-      window_start = best;
+      if (current > window_start * (1 - 1e-3)) break;
+      window_start = current;
     }
   }
-  {
-    torch::NoGradGuard no_grad;
-    fit.loss_after = evaluate().item<double>();
-  }
+  fit.loss_after = current;
   *h = x.detach();
   return fit;
 }

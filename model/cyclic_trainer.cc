@@ -12,6 +12,7 @@
 #include "model/package.h"
 #include "model/runtime.h"
 #include "model/training_set.h"
+#include "model/weights_io.h"
 #include "motion/files.h"
 
 namespace stylus::model {
@@ -213,6 +214,10 @@ struct CyclicTrainer {
     spec.write_package = [this](int iterations, const std::string& csv) {
       return WritePackage(iterations, csv);
     };
+    if (!opt.init_from.empty()) {
+      if (absl::Status s = LoadWeights(net, opt.init_from + "/weights.pt"); !s.ok()) return s;
+      log("initialized from " + opt.init_from);
+    }
     TrainingRun run(std::move(spec));
     run.rng().seed(config.seed);
     if (opt.resume) {

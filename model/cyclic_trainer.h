@@ -21,6 +21,10 @@ struct CyclicTrainOptions {
   std::string out;                // Package directory, e.g. models/cyclic/v1.
   CyclicConfig config;            // dim is filled from the data.
   bool resume = false;
+  // Start from this package's weights (same architecture), e.g. to train the
+  // generator stage again on an autoencoder already trained (set
+  // config.ae_iterations to 0). Ignored when resuming from a checkpoint.
+  std::string init_from;
   int checkpoint_every = 500;
   int log_every = 50;
   int threads = 0;

@@ -17,7 +17,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
-      "         [--resume]\n\n"
+      "         [--init-from PACKAGE] [--resume]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
       "autoencoder alone for --ae-iters, then the generator with the Gram style\n"
@@ -27,13 +27,15 @@ int TrainCyclicModel(const Argv& argv) {
       "--no-residual decodes the output from the hidden features alone (the paper)\n"
       "instead of adding the decoded change to the content. Prints the\n"
       "losses, it/s and ETA; writes a checkpoint and a usable package into --out\n"
-      "every --checkpoint-every iterations; --resume continues after a kill.\n";
+      "every --checkpoint-every iterations; --resume continues after a kill.\n"
+      "--init-from starts from another package's weights (same architecture),\n"
+      "e.g. with --ae-iters 0 to train only the generator stage on its autoencoder.\n";
   int code = 0;
   const std::vector<std::string> weights = {"style-weight",  "content-weight", "gan-weight",
                                             "cycle-weight",  "smooth-weight",  "bone-weight",
                                             "traj-weight",   "foot-weight"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
-                "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit"},
+                "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from"},
                {"no-cycle", "no-kc", "no-residual", "resume"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
@@ -98,6 +100,7 @@ int TrainCyclicModel(const Argv& argv) {
   c.residual = !args->switches.count("no-residual");
   opt.resume = args->switches.count("resume") > 0;
   opt.commit = args->Get("commit");
+  opt.init_from = args->Get("init-from");
   if (absl::Status s = model::TrainCyclic(opt); !s.ok()) return Fail("train", s);
   absl::PrintF("model written to %s\n", opt.out);
   return 0;

@@ -24,7 +24,13 @@ s=(--server "$addr")
 walk=$src/samples/walk_normal.bvh old=$src/samples/walk_old.bvh run=$src/samples/run.bvh
 
 check "models" 0 "contrastive/v1 \(default\)" -- "$cli" "${s[@]}" models
+check "models lists both families" 0 "cyclic/v1" -- "$cli" "${s[@]}" models
 check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrastive
+check "model-info cyclic" 0 "window 60" -- "$cli" "${s[@]}" model-info --model cyclic
+check "transfer --model cyclic" 0 "wrote .*cyc.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --model cyclic \
+  --content "$walk" --style "$old" -o "$work/cyc.bvh"
+check "stream --model cyclic" 1 "UNIMPLEMENTED: .*cyclic" -- "$cli" "${s[@]}" stream --model cyclic \
+  --content "$walk" --style "$old" -o "$work/cyc_stream.bvh"
 check "model-info unknown" 1 "NOT_FOUND" -- "$cli" "${s[@]}" model-info --model nope/v1
 check "unload" 0 "unloaded contrastive/v1" -- "$cli" "${s[@]}" unload --model contrastive/v1
 check "transfer without models" 1 "NOT_FOUND: no default model" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/x.bvh"

@@ -35,8 +35,8 @@ Path RootPath(const motion::Motion& m, const motion::HumanoidRoles& roles, std::
 
 // One panel: every path scaled into a square with a common scale, content
 // first, start points marked.
-std::string Panel(const std::string& title, const std::vector<Path>& paths, double x0,
-                  double size) {
+std::string Panel(const std::string& content_name, const std::string& style_name,
+                  const std::vector<Path>& paths, double x0, double size) {
   double lo_x = 1e300, hi_x = -1e300, lo_z = 1e300, hi_z = -1e300;
   for (const Path& p : paths)
     for (const auto& [x, z] : p.points) {
@@ -50,13 +50,22 @@ std::string Panel(const std::string& title, const std::vector<Path>& paths, doub
   auto py = [&](double z) { return 40 + margin + inner / 2 - (z - cz) * scale; };
   std::string s = absl::StrFormat(
       "<rect x='%.1f' y='40' width='%.1f' height='%.1f' fill='none' stroke='#ccc'/>\n"
-      "<text x='%.1f' y='32' font-size='13' text-anchor='middle'>%s</text>\n",
-      x0, size, size, x0 + size / 2, title);
-  for (const Path& p : paths) {
+      "<text x='%.1f' y='22' font-size='11' text-anchor='middle'>content: %s</text>\n"
+      "<text x='%.1f' y='35' font-size='11' text-anchor='middle'>style: %s</text>\n",
+      x0, size, size, x0 + size / 2, content_name, x0 + size / 2, style_name);
+  // Compared models first, the model above them, the content dashed on top.
+  std::vector<const Path*> order;
+  for (size_t i = paths.size(); i-- > 1;) order.push_back(&paths[i]);
+  order.push_back(&paths[0]);
+  for (const Path* path : order) {
+    const Path& p = *path;
+    const bool content = path == &paths[0];
     std::string pts;
     for (const auto& [x, z] : p.points) absl::StrAppend(&pts, absl::StrFormat("%.1f,%.1f ", px(x), py(z)));
-    absl::StrAppendFormat(&s, "<polyline fill='none' stroke='%s' stroke-width='2' points='%s'/>\n",
-                          p.colour, pts);
+    absl::StrAppendFormat(&s,
+                          "<polyline fill='none' stroke='%s' stroke-width='%s' %spoints='%s'/>\n",
+                          p.colour, content ? "1.5" : "2.5",
+                          content ? "stroke-dasharray='6 4' " : "stroke-opacity='0.85' ", pts);
     if (!p.points.empty()) {
       absl::StrAppendFormat(&s, "<circle cx='%.1f' cy='%.1f' r='4' fill='%s'/>\n",
                             px(p.points[0].first), py(p.points[0].second), p.colour);
@@ -77,7 +86,7 @@ int Trajectories(const Argv& argv) {
       "         [--compare LABEL=DIR[:kc=N]]... [--postprocess none|feet|full] -o OUT.svg\n\n"
       "Transfers each pair with the model (and each --compare model) and draws\n"
       "the root's path on the floor, seen from above, one panel per pair: the\n"
-      "content clip in grey, the outputs in colour, start points as dots (paper\n"
+      "content clip dashed, the outputs in colour, start points as dots (paper\n"
       "004's trajectory figures). --postprocess defaults to none, to show the\n"
       "model's own trajectory.\n";
   int code = 0;
@@ -125,7 +134,7 @@ int Trajectories(const Argv& argv) {
     absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(files[1]);
     if (!style.ok()) return Fail("trajectories", style.status());
     const motion::HumanoidRoles& roles = models[0].second->data().roles;
-    std::vector<Path> paths = {RootPath(*content, roles, "content", "#888")};
+    std::vector<Path> paths = {RootPath(*content, roles, "content", "#000")};
     for (size_t i = 0; i < models.size(); ++i) {
       const model::StyleModel& m = *models[i].second;
       absl::StatusOr<model::StyleCode> code = m.EncodeStyle(*style);
@@ -134,30 +143,29 @@ int Trajectories(const Argv& argv) {
       if (!out.ok()) return Fail("trajectories", out.status());
       paths.push_back(RootPath(*out, roles, models[i].first, kColours[i % 5]));
     }
-    const std::string title =
-        absl::StrCat(std::filesystem::path(files[0]).stem().string(), " + style of ",
-                     std::filesystem::path(files[1]).stem().string());
-    body += Panel(title, paths, 10 + panel * (size + 20), size);
+    body += Panel(std::filesystem::path(files[0]).stem().string(),
+                  std::filesystem::path(files[1]).stem().string(), paths,
+                  10 + panel * (size + 20), size);
     ++panel;
   }
   const double width = 20 + panel * (size + 20);
   std::string legend;
   double lx = 10;
-  std::vector<std::pair<std::string, std::string>> keys = {{"content", "#888"}};
+  std::vector<std::pair<std::string, std::string>> keys = {{"content (dashed)", "#000"}};
   for (size_t i = 0; i < models.size(); ++i) keys.push_back({models[i].first, kColours[i % 5]});
   for (const auto& [label, colour] : keys) {
     absl::StrAppendFormat(&legend,
                           "<rect x='%.1f' y='%.1f' width='14' height='4' fill='%s'/>"
                           "<text x='%.1f' y='%.1f' font-size='12'>%s</text>\n",
-                          lx, size + 62, colour, lx + 18, size + 68, label);
+                          lx, size + 54, colour, lx + 18, size + 60, label);
     lx += 30 + 7.0 * label.size();
   }
   const std::string svg = absl::StrFormat(
       "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' "
       "font-family='sans-serif'>\n<rect width='100%%' height='100%%' fill='white'/>\n"
-      "<text x='10' y='16' font-size='14'>Root trajectories seen from above (postprocess "
-      "%s)</text>\n%s%s</svg>\n",
-      std::max(width, lx + 10), size + 80, motion::PostProcessModeName(*post), body, legend);
+      "<text x='10' y='%.0f' font-size='12' fill='#444'>Root trajectories seen from above "
+      "(postprocess %s)</text>\n%s%s</svg>\n",
+      std::max(width, lx + 10), size + 100, size + 92, motion::PostProcessModeName(*post), body, legend);
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), svg); !s.ok())
     return Fail("trajectories", s);
   absl::PrintF("wrote %s (%d panels)\n", args->Get("out"), panel);

@@ -40,6 +40,17 @@ absl::Status ConfigEntry::Uint64(uint64_t* out) const {
   return absl::OkStatus();
 }
 
+std::optional<absl::Status> ParseTrainingKey(const ConfigEntry& e, const TrainingKeys& keys) {
+  if (e.key == "batch") return e.Int(keys.batch, 1, 1 << 20);
+  if (e.key == "lr") return e.Double(keys.lr, 0, 10);
+  if (e.key == "iterations") return e.Int(keys.iterations, 0, 1 << 30);
+  if (e.key == "trained_iterations") return e.Int(keys.trained_iterations, 0, 1 << 30);
+  if (e.key == "seed") return e.Uint64(keys.seed);
+  if (e.key == "data") return *keys.data = e.value, absl::OkStatus();
+  if (e.key == "commit") return *keys.commit = e.value, absl::OkStatus();
+  return std::nullopt;
+}
+
 absl::Status ParseConfigText(const std::string& text, const std::string& source,
                              const std::function<absl::Status(const ConfigEntry&)>& handle) {
   ConfigEntry e;

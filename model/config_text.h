@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "absl/status/status.h"
@@ -26,6 +27,20 @@ struct ConfigEntry {
   absl::Status Bool(bool* out) const;  // "0" or "1".
   absl::Status Uint64(uint64_t* out) const;
 };
+
+// The keys every family's config has: optimization and provenance.
+struct TrainingKeys {
+  int* batch;
+  double* lr;
+  int* iterations;
+  int* trained_iterations;
+  uint64_t* seed;
+  std::string* data;
+  std::string* commit;
+};
+// When `e` is one of those keys, parses it into `keys` and returns the
+// status; nullopt for any other key.
+std::optional<absl::Status> ParseTrainingKey(const ConfigEntry& e, const TrainingKeys& keys);
 
 // Calls `handle` for every non-empty, non-comment line; stops at the first
 // error (a line without '=' is one).

@@ -73,13 +73,10 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "local_style") return e.Bool(&c.local_style);
     if (key == "centred_style") return e.Bool(&c.centred_style);
     if (key == "keep_amplitude") return e.Bool(&c.keep_amplitude);
-    if (key == "batch") return e.Int(&c.batch, 1, 1 << 20);
-    if (key == "lr") return e.Double(&c.lr, 0, 10);
-    if (key == "iterations") return e.Int(&c.iterations, 0, 1 << 30);
-    if (key == "trained_iterations") return e.Int(&c.trained_iterations, 0, 1 << 30);
-    if (key == "seed") return e.Uint64(&c.seed);
-    if (key == "data") return c.data = e.value, absl::OkStatus();
-    if (key == "commit") return c.commit = e.value, absl::OkStatus();
+    if (std::optional<absl::Status> s = ParseTrainingKey(
+            e, {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data,
+                &c.commit}))
+      return *s;
     return e.Error("unknown key '" + key + "'");
   });
   if (!parsed.ok()) return parsed;

@@ -12,6 +12,7 @@
 #include "model/contrastive_net.h"
 #include "model/package.h"
 #include "model/runtime.h"
+#include "model/torch_files.h"
 #include "model/training_run.h"
 #include "model/training_set.h"
 #include "motion/files.h"
@@ -20,7 +21,6 @@ namespace stylus::model {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 struct Trainer {
   const TrainOptions& opt;
@@ -135,16 +135,13 @@ struct Trainer {
 
   absl::Status Run() {
     SetComputeThreads(opt.threads);
-    const auto t_load = Clock::now();
-    absl::StatusOr<TrainingSet> loaded = LoadTrainingSet(opt.data, {config.window, config.hop});
+    absl::StatusOr<TrainingSet> loaded =
+        LoadTrainingData(opt.data, {config.window, config.hop}, opt.log);
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
     config.dim = data.dim();
     config.data = absl::StrJoin(opt.data, ";");
     config.commit = opt.commit;
-    Log(absl::StrFormat("loaded %d clips, %d windows of %d frames, %d channels in %.1f s",
-                        data.clips.size(), data.windows.size(), config.window, config.dim,
-                        std::chrono::duration<double>(Clock::now() - t_load).count()));
     content_mask = ContentMask();
     torch::manual_seed(config.seed);
     net = ContrastiveNet(config);
@@ -167,28 +164,11 @@ struct Trainer {
         opt.on_record(LossRecord{row.iteration, v[0], v[1], v[2], v[3], v[4], v[5]});
       };
     }
-    spec.save_tensors = [this](const std::string& dir) -> absl::Status {
-      try {
-        torch::save(net, dir + "/net.pt");
-        torch::save(disc, dir + "/disc.pt");
-        torch::save(*opt_g, dir + "/opt_g.pt");
-        torch::save(*opt_d, dir + "/opt_d.pt");
-      } catch (const std::exception& e) {
-        return absl::InternalError(absl::StrCat("saving checkpoint: ", e.what()));
-      }
-      return absl::OkStatus();
-    };
-    spec.load_tensors = [this](const std::string& dir) -> absl::Status {
-      try {
-        torch::load(net, dir + "/net.pt");
-        torch::load(disc, dir + "/disc.pt");
-        torch::load(*opt_g, dir + "/opt_g.pt");
-        torch::load(*opt_d, dir + "/opt_d.pt");
-      } catch (const std::exception& e) {
-        return absl::DataLossError(e.what());
-      }
-      return absl::OkStatus();
-    };
+    const std::vector<TorchFile> files = {Tensors("net.pt", &net), Tensors("disc.pt", &disc),
+                                          Tensors("opt_g.pt", opt_g.get()),
+                                          Tensors("opt_d.pt", opt_d.get())};
+    spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
+    spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
     spec.write_package = [this](int iterations, const std::string& csv) {
       return WritePackage(iterations, csv);
     };

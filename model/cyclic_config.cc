@@ -81,13 +81,10 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "kc_iters") return e.Int(&c.kc_iters, 0, 100000);
     if (key == "kc_lr") return e.Double(&c.kc_lr, 0, 10);
     if (key == "ae_iterations") return e.Int(&c.ae_iterations, 0, 1 << 30);
-    if (key == "batch") return e.Int(&c.batch, 1, 1 << 20);
-    if (key == "lr") return e.Double(&c.lr, 0, 10);
-    if (key == "iterations") return e.Int(&c.iterations, 0, 1 << 30);
-    if (key == "trained_iterations") return e.Int(&c.trained_iterations, 0, 1 << 30);
-    if (key == "seed") return e.Uint64(&c.seed);
-    if (key == "data") return c.data = e.value, absl::OkStatus();
-    if (key == "commit") return c.commit = e.value, absl::OkStatus();
+    if (std::optional<absl::Status> s = ParseTrainingKey(
+            e, {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data,
+                &c.commit}))
+      return *s;
     return e.Error("unknown key '" + key + "'");
   });
   if (!parsed.ok()) return parsed;

@@ -11,6 +11,7 @@
 #include "model/cyclic_net.h"
 #include "model/package.h"
 #include "model/runtime.h"
+#include "model/torch_files.h"
 #include "model/training_set.h"
 #include "model/weights_io.h"
 #include "motion/files.h"
@@ -26,22 +27,10 @@ const std::vector<std::string>& CyclicLossNames() {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 // Gradient norm cap of the generator's and encoder's steps: one bad batch
 // must not throw the autoencoder out of its basin.
 constexpr double kMaxGradNorm = 5.0;
-
-absl::Status SaveModules(const std::vector<std::pair<std::string, std::function<void(
-                                                                      const std::string&)>>>& items,
-                         const std::string& dir) {
-  try {
-    for (const auto& [name, save] : items) save(dir + "/" + name);
-  } catch (const std::exception& e) {
-    return absl::InternalError(absl::StrCat("saving ", dir, ": ", e.what()));
-  }
-  return absl::OkStatus();
-}
 
 struct CyclicTrainer {
   const CyclicTrainOptions& opt;
@@ -145,10 +134,7 @@ struct CyclicTrainer {
     if (absl::Status s = motion::WriteFileAtomically(opt.out + "/config.txt", c.Serialize());
         !s.ok())
       return s;
-    if (absl::Status s =
-            SaveModules({{"weights.pt.tmp", [&](const std::string& p) { torch::save(net, p); }}},
-                        opt.out);
-        !s.ok())
+    if (absl::Status s = SaveTorchFiles({Tensors("weights.pt.tmp", &net)}, opt.out); !s.ok())
       return s;
     std::error_code ec;
     std::filesystem::rename(opt.out + "/weights.pt.tmp", opt.out + "/weights.pt", ec);
@@ -158,17 +144,14 @@ struct CyclicTrainer {
 
   absl::Status Run() {
     SetComputeThreads(opt.threads);
-    const auto t_load = Clock::now();
     auto log = [&](const std::string& s) { LogLine(opt.log, s); };
-    absl::StatusOr<TrainingSet> loaded = LoadTrainingSet(opt.data, {config.window, config.hop});
+    absl::StatusOr<TrainingSet> loaded =
+        LoadTrainingData(opt.data, {config.window, config.hop}, opt.log);
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
     config.dim = data.dim();
     config.data = absl::StrJoin(opt.data, ";");
     config.commit = opt.commit;
-    log(absl::StrFormat("loaded %d clips, %d windows of %d frames, %d channels in %.1f s",
-                        data.clips.size(), data.windows.size(), config.window, config.dim,
-                        std::chrono::duration<double>(Clock::now() - t_load).count()));
     const int joints = data.skeleton.num_joints();
     channels = torch::tensor(CyclicChannels(joints));
     kinematic = std::make_unique<KinematicLoss>(data.skeleton, data.roles, data.norm,
@@ -191,26 +174,11 @@ struct CyclicTrainer {
     spec.log_every = opt.log_every;
     spec.checkpoint_every = opt.checkpoint_every;
     spec.on_record = opt.on_record;
-    spec.save_tensors = [this](const std::string& dir) {
-      return SaveModules({{"net.pt", [&](const std::string& p) { torch::save(net, p); }},
-                          {"critic.pt", [&](const std::string& p) { torch::save(critic, p); }},
-                          {"opt_e.pt", [&](const std::string& p) { torch::save(*opt_e, p); }},
-                          {"opt_g.pt", [&](const std::string& p) { torch::save(*opt_g, p); }},
-                          {"opt_d.pt", [&](const std::string& p) { torch::save(*opt_d, p); }}},
-                         dir);
-    };
-    spec.load_tensors = [this](const std::string& dir) -> absl::Status {
-      try {
-        torch::load(net, dir + "/net.pt");
-        torch::load(critic, dir + "/critic.pt");
-        torch::load(*opt_e, dir + "/opt_e.pt");
-        torch::load(*opt_g, dir + "/opt_g.pt");
-        torch::load(*opt_d, dir + "/opt_d.pt");
-      } catch (const std::exception& e) {
-        return absl::DataLossError(e.what());
-      }
-      return absl::OkStatus();
-    };
+    const std::vector<TorchFile> files = {
+        Tensors("net.pt", &net), Tensors("critic.pt", &critic), Tensors("opt_e.pt", opt_e.get()),
+        Tensors("opt_g.pt", opt_g.get()), Tensors("opt_d.pt", opt_d.get())};
+    spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
+    spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
     spec.write_package = [this](int iterations, const std::string& csv) {
       return WritePackage(iterations, csv);
     };

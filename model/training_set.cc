@@ -1,9 +1,12 @@
 #include "model/training_set.h"
 
+#include <chrono>
 #include <cmath>
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "model/training_run.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 
@@ -117,6 +120,19 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
         absl::StrCat("no clip is at least ", spec.length, " frames long"));
   }
   return set;
+}
+
+absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
+                                             const motion::WindowSpec& windows,
+                                             const std::function<void(const std::string&)>& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  absl::StatusOr<TrainingSet> loaded = LoadTrainingSet(sources, windows);
+  if (!loaded.ok()) return loaded.status();
+  LogLine(log, absl::StrFormat(
+                   "loaded %d clips, %d windows of %d frames, %d channels in %.1f s",
+                   loaded->clips.size(), loaded->windows.size(), windows.length, loaded->dim(),
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
+  return loaded;
 }
 
 }  // namespace stylus::model

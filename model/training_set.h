@@ -51,6 +51,12 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
                                             bool test = false,
                                             const motion::NormStats* norm = nullptr);
 
+// LoadTrainingSet of the training split for a trainer: logs "loaded N clips,
+// W windows of T frames, D channels in S s" through `log` (stderr when empty).
+absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
+                                             const motion::WindowSpec& windows,
+                                             const std::function<void(const std::string&)>& log);
+
 }  // namespace stylus::model
 
 #endif  // STYLUS_MODEL_TRAINING_SET_H_

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "absl/strings/str_split.h"
+
 namespace stylus::tool {
 
 std::optional<Args> ParseOrExit(const char* command, const Argv& argv, const ArgSpec& spec,
@@ -24,6 +26,15 @@ std::optional<Args> ParseOrExit(const char* command, const Argv& argv, const Arg
 int Fail(const char* command, const absl::Status& status) {
   std::fprintf(stderr, "stylus-tool %s: %s\n", command, std::string(status.message()).c_str());
   return 1;
+}
+
+std::vector<std::string> DataSources(const Args& args) {
+  std::vector<std::string> out;
+  for (const std::string& d : args.All("data")) {
+    for (absl::string_view part : absl::StrSplit(d, ',', absl::SkipEmpty())) out.emplace_back(part);
+  }
+  for (const std::string& p : args.positional) out.push_back(p);
+  return out;
 }
 
 }  // namespace stylus::tool

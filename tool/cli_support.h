@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "tool/args.h"
@@ -17,6 +18,10 @@ namespace stylus::tool {
 // the command should run.
 std::optional<Args> ParseOrExit(const char* command, const Argv& argv, const ArgSpec& spec,
                                 const char* help, int* exit_code);
+
+// Every --data value (each may list several, separated by commas) and the
+// positional arguments: the clips or dataset directories to train on.
+std::vector<std::string> DataSources(const Args& args);
 
 // Prints "stylus-tool COMMAND: message" to stderr and returns 1.
 int Fail(const char* command, const absl::Status& status);

@@ -2,7 +2,6 @@
 #include <cstdio>
 
 #include "absl/strings/str_format.h"
-#include "absl/strings/str_split.h"
 #include "model/cyclic_trainer.h"
 #include "tool/cli_support.h"
 
@@ -41,11 +40,7 @@ int TrainCyclicModel(const Argv& argv) {
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
   model::CyclicTrainOptions opt;
-  for (const std::string& d : args->All("data")) {
-    for (absl::string_view part : absl::StrSplit(d, ',', absl::SkipEmpty()))
-      opt.data.emplace_back(part);
-  }
-  for (const std::string& p : args->positional) opt.data.push_back(p);
+  opt.data = DataSources(*args);
   opt.out = args->Get("out");
   if (opt.data.empty() || opt.out.empty()) {
     std::fprintf(stderr, "stylus-tool train: --data and --out are required\n\n%s", kHelp);

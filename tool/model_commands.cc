@@ -55,11 +55,7 @@ int Train(const Argv& argv) {
                 absl::InvalidArgumentError("--family: families are 'contrastive' and 'cyclic'"));
   }
   model::TrainOptions opt;
-  for (const std::string& d : args->All("data")) {
-    for (absl::string_view part : absl::StrSplit(d, ',', absl::SkipEmpty()))
-      opt.data.emplace_back(part);
-  }
-  for (const std::string& p : args->positional) opt.data.push_back(p);
+  opt.data = DataSources(*args);
   opt.out = args->Get("out");
   if (opt.data.empty() || opt.out.empty()) {
     std::fprintf(stderr, "stylus-tool train: --data and --out are required\n\n%s", kHelp);

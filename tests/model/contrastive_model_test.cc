@@ -10,34 +10,15 @@
 #include "motion/bvh.h"
 #include "motion/kinematics.h"
 #include "motion/synth.h"
+#include "tests/model/synth_clips.h"
 
 namespace stylus::model {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string Dir(const std::string& name) {
-  const std::string d = ::testing::TempDir() + "/contrastive_" + name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-// Four styled walks written as BVH.
-std::vector<std::string> FourClips() {
-  static std::vector<std::string> paths;
-  if (!paths.empty()) return paths;
-  const std::string dir = Dir("clips");
-  for (const char* style :
-       {"normal,frames=64", "old,frames=64", "run,frames=64", "proud,frames=64,turn=30"}) {
-    const std::string path =
-        dir + "/" + std::string(style).substr(0, std::string(style).find(',')) + ".bvh";
-    EXPECT_TRUE(
-        motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(style)), path).ok());
-    paths.push_back(path);
-  }
-  return paths;
-}
+std::string Dir(const std::string& name) { return testing::FreshDir("contrastive_" + name); }
+using testing::FourClips;
 
 TrainOptions TinyOptions(const std::string& out, int iterations) {
   TrainOptions o;

@@ -1,0 +1,45 @@
+// Four synthesized styled walks written as BVH (no dataset needed), shared by
+// the model test files.
+#ifndef STYLUS_TESTS_MODEL_SYNTH_CLIPS_H_
+#define STYLUS_TESTS_MODEL_SYNTH_CLIPS_H_
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "motion/bvh.h"
+#include "motion/synth.h"
+
+namespace stylus::testing {
+
+// An empty directory <test tmp>/<name>.
+inline std::string FreshDir(const std::string& name) {
+  const std::string d = ::testing::TempDir() + "/" + name;
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+// normal, old, run and proud (turning) walks of 64 frames, written once per
+// test binary.
+inline const std::vector<std::string>& FourClips() {
+  static const std::vector<std::string> paths = [] {
+    std::vector<std::string> out;
+    const std::string dir = FreshDir("synth_clips");
+    for (const char* style :
+         {"normal,frames=64", "old,frames=64", "run,frames=64", "proud,frames=64,turn=30"}) {
+      const std::string path =
+          dir + "/" + std::string(style).substr(0, std::string(style).find(',')) + ".bvh";
+      EXPECT_TRUE(
+          motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(style)), path).ok());
+      out.push_back(path);
+    }
+    return out;
+  }();
+  return paths;
+}
+
+}  // namespace stylus::testing
+
+#endif  // STYLUS_TESTS_MODEL_SYNTH_CLIPS_H_

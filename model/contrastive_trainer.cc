@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -20,7 +19,6 @@
 namespace stylus::model {
 namespace {
 
-namespace fs = std::filesystem;
 
 struct Trainer {
   const TrainOptions& opt;
@@ -106,14 +104,8 @@ struct Trainer {
     if (absl::Status s = WritePackageFiles(opt.out, c, data.norm, data.skeleton, data.frame_time);
         !s.ok())
       return s;
-    try {
-      torch::save(net, opt.out + "/weights.pt.tmp");
-    } catch (const std::exception& e) {
-      return absl::InternalError(absl::StrCat("saving weights: ", e.what()));
-    }
-    std::error_code ec;
-    fs::rename(opt.out + "/weights.pt.tmp", opt.out + "/weights.pt", ec);
-    if (ec) return absl::InternalError(absl::StrCat(opt.out, "/weights.pt: ", ec.message()));
+    if (absl::Status s = SaveTorchFileAtomically(Tensors("weights.pt", &net), opt.out); !s.ok())
+      return s;
     return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
   }
 

@@ -3,7 +3,6 @@
 #include <torch/torch.h>
 
 #include <chrono>
-#include <filesystem>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -134,11 +133,8 @@ struct CyclicTrainer {
     if (absl::Status s = motion::WriteFileAtomically(opt.out + "/config.txt", c.Serialize());
         !s.ok())
       return s;
-    if (absl::Status s = SaveTorchFiles({Tensors("weights.pt.tmp", &net)}, opt.out); !s.ok())
+    if (absl::Status s = SaveTorchFileAtomically(Tensors("weights.pt", &net), opt.out); !s.ok())
       return s;
-    std::error_code ec;
-    std::filesystem::rename(opt.out + "/weights.pt.tmp", opt.out + "/weights.pt", ec);
-    if (ec) return absl::InternalError(absl::StrCat(opt.out, "/weights.pt: ", ec.message()));
     return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
   }
 

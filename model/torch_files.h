@@ -5,6 +5,7 @@
 
 #include <torch/torch.h>
 
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <utility>
@@ -47,6 +48,21 @@ inline absl::Status LoadTorchFiles(const std::vector<TorchFile>& files, const st
   } catch (const std::exception& e) {
     return absl::DataLossError(absl::StrCat("loading ", dir, ": ", e.what()));
   }
+  return absl::OkStatus();
+}
+
+// Saves `file` into `dir` through a temporary name and a rename, so a reader
+// (a server loading the package) never sees half a file.
+inline absl::Status SaveTorchFileAtomically(const TorchFile& file, const std::string& dir) {
+  const std::string path = dir + "/" + file.name, tmp = path + ".tmp";
+  try {
+    file.save(tmp);
+  } catch (const std::exception& e) {
+    return absl::InternalError(absl::StrCat("saving ", path, ": ", e.what()));
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return absl::InternalError(absl::StrCat(path, ": ", ec.message()));
   return absl::OkStatus();
 }
 

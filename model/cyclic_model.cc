@@ -22,6 +22,7 @@ struct CyclicModel::Impl {
   std::unique_ptr<KinematicLoss> kinematic;
   torch::Tensor channels;
   int kc_iters = 0;
+  bool adain = false;
 
   absl::Status Internal(const std::exception& e) const {
     return absl::InternalError(absl::StrCat("model ", dir, ": ", e.what()));
@@ -74,6 +75,7 @@ absl::StatusOr<std::unique_ptr<CyclicModel>> CyclicModel::Load(const std::string
   impl->config = *config;
   impl->data = *std::move(data);
   impl->kc_iters = options.kc_iters >= 0 ? options.kc_iters : config->kc_iters;
+  impl->adain = options.adain;
   const int joints = impl->data.skeleton.num_joints();
   impl->channels = torch::tensor(CyclicChannels(joints));
   impl->kinematic = std::make_unique<KinematicLoss>(impl->data.skeleton, impl->data.roles,
@@ -132,7 +134,14 @@ absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& co
       style.select(2, static_cast<int64_t>(k))
           .copy_(torch::from_blob(codes[k].values.data(), {1, code_size}, torch::kFloat32));
     }
-    h = impl_->net->transform(h, style);
+    if (impl_->adain) {
+      const torch::Tensor own = CyclicNetImpl::stats(hx);
+      const int64_t n = config.hidden;
+      h = (hx - own.slice(1, 0, n)) / own.slice(1, n, 2 * n) * style.slice(1, n, 2 * n) +
+          style.slice(1, 0, n);
+    } else {
+      h = impl_->net->transform(h, style);
+    }
     if (config.use_kc && impl_->kc_iters > 0) {
       CyclicConfig run = config;
       run.kc_iters = impl_->kc_iters;

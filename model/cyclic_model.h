@@ -20,6 +20,10 @@ namespace stylus::model {
 
 struct CyclicOptions {
   int kc_iters = -1;  // Inference-time optimization steps; -1: the package's.
+  // A probe, not a product mode: replace the learned style transform by a
+  // parameter-free AdaIN that gives the content's hidden features exactly the
+  // style code's per-channel mean and spread (the most the code says).
+  bool adain = false;
 };
 
 class CyclicModel : public StyleModel {

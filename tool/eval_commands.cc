@@ -80,7 +80,8 @@ int Eval(const Argv& argv) {
       "error, jitter and Euler discontinuities. Rows: the model without and with\n"
       "post-processing, each --ablation model (without), and the identity and\n"
       "copy-style baselines. Any family; a cyclic model's DIR may end in :kc=N to\n"
-      "run N inference-time kinematic optimization steps (:kc=0: none).\n";
+      "run N inference-time kinematic optimization steps (:kc=0: none) and in\n"
+      ":adain for the AdaIN probe (docs/cyclic.md).\n";
   int code = 0;
   auto args = ParseOrExit("eval", argv,
                           {{"model", "judges", "data", "out", "pairs-per-content", "threads", "ablation"}, {}},

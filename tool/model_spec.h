@@ -10,9 +10,10 @@
 
 namespace stylus::tool {
 
-// A model directory of any family, optionally followed by ":kc=N" (cyclic
-// models only): N inference-time kinematic optimization steps instead of the
-// package's (":kc=0": none).
+// A model directory of any family, optionally followed by options for a
+// cyclic model: ":kc=N", N inference-time kinematic optimization steps
+// instead of the package's (":kc=0": none), and ":adain", the AdaIN probe of
+// CyclicOptions. E.g. "models/cyclic/v1:kc=0:adain".
 absl::StatusOr<std::unique_ptr<model::StyleModel>> LoadModelSpec(const std::string& spec);
 
 }  // namespace stylus::tool

@@ -230,6 +230,14 @@ TEST(CyclicModelTest, CycleLossFallsAndThePackageServesTransfers) {
                  ta0),
             1e-3);
 
+  // The AdaIN probe: another style changes the output.
+  auto probe = CyclicModel::Load(o.out, CyclicOptions{0, true});
+  ASSERT_TRUE(probe.ok());
+  const motion::Motion own = *(*probe)->Transfer(content, *(*probe)->EncodeStyle(content),
+                                                 motion::PostProcessMode::kNone);
+  EXPECT_GT(same((*probe)->Transfer(content, sa, motion::PostProcessMode::kNone).value(), own),
+            1e-2);
+
   // Bad input: a clip on another skeleton, a wrong-size style code.
   motion::Motion other = content;
   std::vector<motion::Joint> joints = other.skeleton.joints();
@@ -279,6 +287,15 @@ TEST(CyclicModelTest, ResidualOutputKeepsTheContentTheAutoencoderLoses) {
     const motion::Motion out = *(*m)->Transfer(content, *(*m)->EncodeStyle(content),
                                                motion::PostProcessMode::kNone);
     gap[residual] = motion::MaxPositionDifference(out, content);
+    if (residual) {
+      // The AdaIN probe with the clip's own code leaves the hidden features
+      // as they are: the residual output is the clip itself.
+      auto probe = CyclicModel::Load(o.out, CyclicOptions{0, true});
+      ASSERT_TRUE(probe.ok());
+      const motion::Motion same = *(*probe)->Transfer(content, *(*probe)->EncodeStyle(content),
+                                                      motion::PostProcessMode::kNone);
+      EXPECT_LT(motion::MaxPositionDifference(same, content), 0.05);
+    }
   }
   std::printf("self-transfer max joint gap: decoder-only %.2f, residual %.2f\n", gap[false],
               gap[true]);

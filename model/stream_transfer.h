@@ -18,13 +18,14 @@
 
 #include "absl/status/statusor.h"
 #include "model/contrastive_model.h"
+#include "model/frame_streamer.h"
 #include "model/window_blend.h"
 #include "motion/features.h"
 #include "motion/motion.h"
 
 namespace stylus::model {
 
-class StreamTransfer {
+class StreamTransfer : public FrameStreamer {
  public:
   // INVALID_ARGUMENT when frames on `skeleton` at `frame_time` cannot feed the
   // model or `style` does not fit it. Shares ownership of `model`.
@@ -40,13 +41,13 @@ class StreamTransfer {
   // read) and returns the output frames that became final, in order: they
   // continue where the previous call's ended (see emitted()). INVALID_ARGUMENT
   // for non-finite values.
-  absl::StatusOr<motion::Motion> Push(const motion::Motion& frames);
+  absl::StatusOr<motion::Motion> Push(const motion::Motion& frames) override;
   // Generates the remaining windows and returns every frame not yet returned.
   // FAILED_PRECONDITION when no frame was pushed.
-  absl::StatusOr<motion::Motion> Finish();
+  absl::StatusOr<motion::Motion> Finish() override;
 
-  int64_t received() const { return received_; }
-  int64_t emitted() const { return blender_.taken(); }
+  int64_t received() const override { return received_; }
+  int64_t emitted() const override { return blender_.taken(); }
 
  private:
   StreamTransfer(std::shared_ptr<const ContrastiveModel> model, StyleCode style,

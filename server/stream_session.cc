@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "client/wire.h"
+#include "model/chunked_stream.h"
 #include "model/stream_transfer.h"
 #include "server/postprocess_option.h"
 #include "server/services.h"
@@ -142,16 +143,18 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, *m, config.style(), "config style");
     if (!style.ok()) return style.status();
-    auto contrastive = std::dynamic_pointer_cast<const model::ContrastiveModel>(m->model);
-    if (!contrastive) {
-      return absl::UnimplementedError(absl::StrCat(
-          "model ", m->id, " (family ", m->model->summary().family,
-          ") does not stream; use Transfer, or a contrastive model for TransferStream"));
+    // The contrastive family streams window by window; any other family in
+    // chunks through its whole-clip Transfer (model/chunked_stream.h).
+    if (auto contrastive = std::dynamic_pointer_cast<const model::ContrastiveModel>(m->model)) {
+      auto st = model::StreamTransfer::Create(contrastive, *style, *sk, 1.0 / config.fps(), *post);
+      if (!st.ok()) return st.status();
+      streamer_ = *std::move(st);
+    } else {
+      auto st = model::ChunkedStreamTransfer::Create(m->model, *style, *sk, 1.0 / config.fps(),
+                                                     *post);
+      if (!st.ok()) return st.status();
+      streamer_ = *std::move(st);
     }
-    absl::StatusOr<std::unique_ptr<model::StreamTransfer>> st =
-        model::StreamTransfer::Create(contrastive, *style, *sk, 1.0 / config.fps(), *post);
-    if (!st.ok()) return st.status();
-    streamer_ = *std::move(st);
     chunk_ = motion::RestMotion(*sk, 0, 1.0 / config.fps());
     prev_euler_.assign(sk->num_joints(), motion::Vec3{});
     return absl::OkStatus();
@@ -279,7 +282,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   v1::StreamRequest request_;  // Read buffer; moved out in OnReadDone.
 
   // Touched by the executor task only (one at a time per session).
-  std::unique_ptr<model::StreamTransfer> streamer_;
+  std::unique_ptr<model::FrameStreamer> streamer_;
   motion::Motion chunk_;
   std::vector<motion::Vec3> prev_euler_;
   int64_t first_index_ = 0;

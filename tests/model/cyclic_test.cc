@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "gtest/gtest.h"
+#include "model/chunked_stream.h"
 #include "model/cyclic_net.h"
 #include "model/cyclic_trainer.h"
 #include "model/package.h"
@@ -17,6 +18,7 @@
 #include "motion/metrics.h"
 #include "motion/synth.h"
 #include "tests/model/synth_clips.h"
+#include "tests/test_support.h"
 
 namespace stylus::model {
 namespace {
@@ -300,6 +302,53 @@ TEST(CyclicModelTest, ResidualOutputKeepsTheContentTheAutoencoderLoses) {
   std::printf("self-transfer max joint gap: decoder-only %.2f, residual %.2f\n", gap[false],
               gap[true]);
   EXPECT_LT(gap[true], 0.5 * gap[false]);
+}
+
+TEST(ChunkedStreamTest, StreamsEveryFrameInOrderWithAContinuousRoot) {
+  CyclicTrainOptions o = TinyOptions(Dir("stream"));
+  o.config.iterations = 80;
+  ASSERT_TRUE(TrainCyclic(o).ok());
+  auto loaded = LoadStyleModel(o.out);
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  std::shared_ptr<const StyleModel> m = std::move(*loaded);
+  const motion::Motion content = Clip(3), style = Clip(1);  // A turning walk.
+  const StyleCode code = *m->EncodeStyle(style);
+  auto bad = ChunkedStreamTransfer::Create(m, StyleCode{{1, 2}}, content.skeleton,
+                                           content.frame_time, motion::PostProcessMode::kFull);
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
+  auto st = ChunkedStreamTransfer::Create(m, code, content.skeleton, content.frame_time,
+                                          motion::PostProcessMode::kFull, /*chunk=*/16,
+                                          /*context=*/24);
+  ASSERT_TRUE(st.ok()) << st.status();
+  EXPECT_EQ((*st)->Finish().status().code(), absl::StatusCode::kFailedPrecondition);
+  motion::Motion out = motion::RestMotion(content.skeleton, 0, content.frame_time);
+  for (int f = 0; f < content.num_frames; f += 5) {  // Arrives 5 frames at a time.
+    absl::StatusOr<motion::Motion> part =
+        (*st)->Push(testing::Frames(content, f, std::min(f + 5, content.num_frames)));
+    ASSERT_TRUE(part.ok()) << part.status();
+    EXPECT_EQ((*st)->emitted() % 16, 0);
+    out.values.insert(out.values.end(), part->values.begin(), part->values.end());
+    out.num_frames += part->num_frames;
+  }
+  EXPECT_EQ(out.num_frames, 64);  // 4 full chunks; nothing left for Finish.
+  absl::StatusOr<motion::Motion> rest = (*st)->Finish();
+  ASSERT_TRUE(rest.ok());
+  EXPECT_EQ(rest->num_frames, 0);
+  EXPECT_EQ((*st)->received(), 64);
+  // The root path has no jump at the chunk seams: no step is more than twice
+  // the largest step of the whole-clip transfer.
+  const motion::Motion whole = *m->Transfer(content, code);
+  const size_t c = content.skeleton.num_channels();
+  auto largest_step = [&](const motion::Motion& x) {
+    double worst = 0;
+    for (int f = 1; f < x.num_frames; ++f)
+      worst = std::max(worst, std::hypot(x.values[f * c] - x.values[(f - 1) * c],
+                                         x.values[f * c + 2] - x.values[(f - 1) * c + 2]));
+    return worst;
+  };
+  EXPECT_LT(largest_step(out), 2 * largest_step(whole) + 1e-3);
+  EXPECT_LT(motion::MaxPositionDifference(out, whole), 0.25 * motion::FindHumanoidRoles(
+                                                                  content.skeleton)->leg_length);
 }
 
 TEST(CyclicConfigTest, RoundTripAndErrors) {

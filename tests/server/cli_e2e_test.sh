@@ -29,7 +29,7 @@ check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrast
 check "model-info cyclic" 0 "window 60" -- "$cli" "${s[@]}" model-info --model cyclic
 check "transfer --model cyclic" 0 "wrote .*cyc.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --model cyclic \
   --content "$walk" --style "$old" -o "$work/cyc.bvh"
-check "stream --model cyclic" 1 "UNIMPLEMENTED: .*cyclic" -- "$cli" "${s[@]}" stream --model cyclic \
+check "stream --model cyclic" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${s[@]}" stream --model cyclic \
   --content "$walk" --style "$old" -o "$work/cyc_stream.bvh"
 check "model-info unknown" 1 "NOT_FOUND" -- "$cli" "${s[@]}" model-info --model nope/v1
 check "unload" 0 "unloaded contrastive/v1" -- "$cli" "${s[@]}" unload --model contrastive/v1

@@ -3,6 +3,8 @@
 #ifndef STYLUS_TESTS_MODEL_SYNTH_CLIPS_H_
 #define STYLUS_TESTS_MODEL_SYNTH_CLIPS_H_
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -13,16 +15,18 @@
 
 namespace stylus::testing {
 
-// An empty directory <test tmp>/<name>.
+// An empty directory <test tmp>/<name>_<pid>: ctest runs the tests of one
+// binary as parallel processes, so a directory shared between processes
+// could be emptied under another.
 inline std::string FreshDir(const std::string& name) {
-  const std::string d = ::testing::TempDir() + "/" + name;
+  const std::string d = ::testing::TempDir() + "/" + name + "_" + std::to_string(getpid());
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;
 }
 
 // normal, old, run and proud (turning) walks of 64 frames, written once per
-// test binary.
+// test process.
 inline const std::vector<std::string>& FourClips() {
   static const std::vector<std::string> paths = [] {
     std::vector<std::string> out;

@@ -2,11 +2,9 @@
 
 #include <torch/torch.h>
 
-#include <chrono>
 #include <cstdio>
 
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "model/contrastive_net.h"
 #include "model/package.h"

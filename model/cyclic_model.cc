@@ -2,10 +2,10 @@
 
 #include <torch/torch.h>
 
-#include "absl/strings/str_cat.h"
-#include "model/config_text.h"
 #include <fstream>
 
+#include "absl/strings/str_cat.h"
+#include "model/config_text.h"
 #include "model/contrastive_model.h"
 #include "model/cyclic_net.h"
 #include "model/weights_io.h"

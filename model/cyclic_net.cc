@@ -120,27 +120,24 @@ torch::Tensor KinematicLoss::Positions(const torch::Tensor& x) const {
   return real.slice(1, 0, 3 * joints_).reshape({x.size(0), joints_, 3, x.size(2)}) / leg_;
 }
 
-torch::Tensor KinematicLoss::BoneError(const torch::Tensor& out) const {
-  const torch::Tensor p = Positions(out);
+torch::Tensor KinematicLoss::BoneErrors(const torch::Tensor& p) const {
   const torch::Tensor d = (p.index_select(1, bone_child_) - p.index_select(1, bone_parent_))
                               .pow(2)
                               .sum(2)
                               .add(1e-12)
-                              .sqrt();  // (B, bones, T)
-  return ((d - bone_length_) / bone_length_).abs().mean();
+                              .sqrt();
+  return (d - bone_length_) / bone_length_;
+}
+
+torch::Tensor KinematicLoss::BoneError(const torch::Tensor& out) const {
+  return BoneErrors(Positions(out)).abs().mean();
 }
 
 KinematicLoss::Terms KinematicLoss::Compute(const torch::Tensor& out,
                                             const torch::Tensor& content) const {
   Terms t;
   const torch::Tensor po = Positions(out), pc = Positions(content);
-  // Bone length (eq. 11), relative.
-  const torch::Tensor d = (po.index_select(1, bone_child_) - po.index_select(1, bone_parent_))
-                              .pow(2)
-                              .sum(2)
-                              .add(1e-12)
-                              .sqrt();
-  t.bone = ((d - bone_length_) / bone_length_).pow(2).mean();
+  t.bone = BoneErrors(po).pow(2).mean();  // Bone length (eq. 11), relative.
   // Smoothness (eq. 10): squared joint accelerations (leg lengths/s^2, in
   // units of 10) beyond the content's own; one-sided, so the output may be
   // smoother than the content but not jerkier.

@@ -2,10 +2,7 @@
 
 #include <torch/torch.h>
 
-#include <chrono>
-
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "model/cyclic_net.h"
 #include "model/package.h"
@@ -25,7 +22,6 @@ const std::vector<std::string>& CyclicLossNames() {
 }
 
 namespace {
-
 
 // Gradient norm cap of the generator's and encoder's steps: one bad batch
 // must not throw the autoencoder out of its basin.
@@ -66,13 +62,15 @@ struct CyclicTrainer {
     for (const torch::Tensor& p : EncoderParameters()) p.requires_grad_(autoencoder_only);
     const torch::Tensor c = Batch(rng);
     const torch::Tensor h_c = net->encode(c);
-    const torch::Tensor rec = torch::mse_loss(net->decode(h_c), c) +
-                              torch::mse_loss(net->decode(net->transform(h_c, net->stats(h_c))), c);
+    const torch::Tensor reconstruction = net->decode(h_c);
+    const torch::Tensor rec =
+        torch::mse_loss(reconstruction, c) +
+        torch::mse_loss(net->decode(net->transform(h_c, net->stats(h_c))), c);
     torch::Tensor total = config.rec_weight * rec;
     r[0] = rec.item<double>();
     torch::Tensor out;  // What the kinematic constraints judge.
     if (autoencoder_only) {
-      out = net->decode(h_c);
+      out = reconstruction;
     } else {
       const torch::Tensor s = Batch(rng);
       const torch::Tensor h_s = net->encode(s).detach();

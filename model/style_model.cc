@@ -34,6 +34,10 @@ absl::Status CheckStyleMix(const std::vector<StyleCode>& styles, const StyleWeig
   return absl::OkStatus();
 }
 
+bool IsServedFamily(const std::string& family) {
+  return family == "contrastive" || family == "cyclic";
+}
+
 StyleCode MixStyles(const std::vector<StyleCode>& styles, const std::vector<double>& mix) {
   StyleCode out;
   out.values.assign(styles[0].values.size(), 0.f);

@@ -75,6 +75,9 @@ absl::Status CheckStyleMix(const std::vector<StyleCode>& styles, const StyleWeig
 // The weighted sum of `styles` with `mix`.
 StyleCode MixStyles(const std::vector<StyleCode>& styles, const std::vector<double>& mix);
 
+// Whether LoadStyleModel can load packages of `family`.
+bool IsServedFamily(const std::string& family);
+
 // Loads the package in `dir` with the family its config.txt names.
 // INVALID_ARGUMENT for an unknown family; otherwise the family's own errors.
 absl::StatusOr<std::unique_ptr<StyleModel>> LoadStyleModel(const std::string& dir);

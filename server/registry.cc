@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 // Whether <dir>/config.txt declares a family this server can host.
 bool IsServable(const fs::path& dir) {
   absl::StatusOr<std::string> family = model::ReadConfigFamily(dir.string());
-  return family.ok() && (*family == "contrastive" || *family == "cyclic");
+  return family.ok() && model::IsServedFamily(*family);
 }
 
 bool ValidId(const std::string& id) {

@@ -28,6 +28,11 @@ std::string ContrastiveConfig::Serialize() const {
   put("keep_amplitude", keep_amplitude ? "1" : "0");
   if (centred_style) put("centred_style", "1");
   if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
+  if (guided) {
+    put("guided", "1");
+    put("class_weight", absl::StrCat(class_weight));
+    put("cycle_weight", absl::StrCat(cycle_weight));
+  }
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -65,6 +70,9 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "beta") return e.Double(&c.beta, 0, 1e6);
     if (key == "gamma") return e.Double(&c.gamma, 0, 1e6);
     if (key == "content_weight") return e.Double(&c.content_weight, 0, 1e6);
+    if (key == "guided") return e.Bool(&c.guided);
+    if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
+    if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "margin") return e.Double(&c.margin, 0, 1e6);
     if (key == "temperature") return e.Double(&c.temperature, 1e-6, 1e6);
     if (key == "use_nce") return e.Bool(&c.use_nce);

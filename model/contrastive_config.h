@@ -45,6 +45,15 @@ struct ContrastiveConfig {
   // what is being done and where: root trajectory, foot contacts and the
   // legs' positions and rotations (docs/contrastive.md).
   double content_weight = 0;
+  // Label-guided training (docs/contrastive.md, "Label-guided training"):
+  // style labels choose the style clips (the reconstruction's style code from
+  // a clip of the same style doing something else, the transfer's from a clip
+  // of another style), and a critic trained on the labels of real windows
+  // judges each transfer: `class_weight` x its cross-entropy against the
+  // target style and the content input's content, plus `cycle_weight` x the
+  // L1 error of restyling the transfer back with the content's own style.
+  bool guided = false;
+  double class_weight = 1.0, cycle_weight = 1.0;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

@@ -6,7 +6,9 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "model/clip_classes.h"
 #include "model/contrastive_net.h"
+#include "model/label_critic_net.h"
 #include "model/package.h"
 #include "model/runtime.h"
 #include "model/torch_files.h"
@@ -25,6 +27,10 @@ struct Trainer {
   ContrastiveNet net{nullptr};
   Discriminator disc{nullptr};
   std::unique_ptr<torch::optim::Adam> opt_g, opt_d;
+  // Label-guided training only.
+  ClipClasses classes;
+  LabelCritic critic{nullptr};
+  std::unique_ptr<torch::optim::Adam> opt_c;
   torch::Tensor content_mask;  // (1, dim, 1): channels of the content-keeping term.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
@@ -96,6 +102,86 @@ struct Trainer {
     return r;
   }
 
+  torch::Tensor Labels(const std::vector<int>& clips, const std::vector<int>& label_of) const {
+    std::vector<int64_t> v;
+    for (int c : clips) v.push_back(label_of[c]);
+    return torch::tensor(v, torch::kLong);
+  }
+
+  // Label-guided step (docs/contrastive.md): content windows x; for each, a
+  // window of a clip of the same style doing something else (the
+  // reconstruction's style) and one of a clip of another style (the
+  // transfer's style, and the discriminator's real sample).
+  LossRecord GuidedStep() {
+    std::vector<float> buf;
+    std::vector<int> clips;
+    data.SampleBatch(config.batch, config.window, rng, &buf, &clips);
+    const torch::Tensor x = ToTensor(&buf);
+    std::vector<int> same, other;
+    for (int c : clips) same.push_back(classes.SameStyle(c, rng));
+    for (int c : clips) other.push_back(classes.OtherStyle(c, rng));
+    data.SampleFromClips(same, config.window, rng, &buf);
+    const torch::Tensor y_same = ToTensor(&buf);
+    data.SampleFromClips(other, config.window, rng, &buf);
+    const torch::Tensor y_other = ToTensor(&buf);
+    const torch::Tensor x_style = Labels(clips, classes.style_of),
+                        x_content = Labels(clips, classes.content_of);
+    const torch::Tensor target_style = Labels(other, classes.style_of),
+                        other_content = Labels(other, classes.content_of);
+    LossRecord r;
+    // The critic learns the labels of real windows, never of transfers.
+    opt_c->zero_grad();
+    const torch::Tensor critic_loss = (LabelLoss(critic->forward(x), x_style, x_content) +
+                                       LabelLoss(critic->forward(y_other), target_style,
+                                                 other_content)) /
+                                      2;
+    critic_loss.backward();
+    opt_c->step();
+    r.critic = critic_loss.item<double>();
+
+    const torch::Tensor c_x = net->content(x);
+    const torch::Tensor s_same = net->style(y_same), s_other = net->style(y_other);
+    const torch::Tensor rec = ReconstructionLoss(net->decode(c_x, s_same), x);
+    const torch::Tensor x_g = net->decode(c_x, s_other);
+    torch::Tensor total = rec;
+    if (config.alpha > 0) {
+      opt_d->zero_grad();
+      const torch::Tensor d_loss =
+          DiscriminatorGanLoss(disc->forward(y_other), disc->forward(x_g.detach()));
+      d_loss.backward();
+      opt_d->step();
+      r.disc = d_loss.item<double>();
+      const torch::Tensor gan = GeneratorGanLoss(disc->forward(x_g));
+      r.gan = gan.item<double>();
+      total = total + config.alpha * gan;
+    }
+    const LabelLogits judged = critic->forward(x_g);
+    const torch::Tensor cls = LabelLoss(judged, target_style, x_content);
+    r.cls = cls.item<double>();
+    total = total + config.class_weight * cls;
+    const torch::Tensor c_g = net->content(x_g);
+    const torch::Tensor cyc = ReconstructionLoss(net->decode(c_g, s_same), x);
+    r.cyc = cyc.item<double>();
+    total = total + config.cycle_weight * cyc;
+    if (config.use_nce && config.beta > 0) {
+      const torch::Tensor nce = NceLoss(c_g, c_x, net->nce_w, config.temperature);
+      r.nce = nce.item<double>();
+      total = total + config.beta * nce;
+    }
+    if (config.use_tri && config.gamma > 0) {
+      const torch::Tensor tri =
+          TripletLoss(net->style(x_g), s_other, net->style(x), config.margin);
+      r.tri = tri.item<double>();
+      total = total + config.gamma * tri;
+    }
+    opt_g->zero_grad();
+    total.backward();
+    opt_g->step();
+    r.rec = rec.item<double>();
+    r.total = total.item<double>();
+    return r;
+  }
+
   absl::Status WritePackage(int iterations, const std::string& csv) {
     ContrastiveConfig c = config;
     c.trained_iterations = iterations;
@@ -133,16 +219,33 @@ struct Trainer {
     config.data = absl::StrJoin(opt.data, ";");
     config.commit = opt.commit;
     content_mask = ContentMask();
+    if (config.guided) {
+      std::vector<bool> usable;
+      for (const motion::FeatureClip& clip : data.clips) usable.push_back(clip.frames >= config.window);
+      absl::StatusOr<ClipClasses> c = ClipClasses::FromPaths(data.paths, usable);
+      if (!c.ok()) return c.status();
+      classes = *std::move(c);
+      Log(absl::StrCat("label-guided: ", classes.styles.size(), " styles, ",
+                       classes.contents.size(), " contents"));
+    }
     torch::manual_seed(config.seed);
     net = ContrastiveNet(config);
     disc = Discriminator(config);
+    if (config.guided) {
+      critic = LabelCritic(config.dim, static_cast<int>(classes.styles.size()),
+                           static_cast<int>(classes.contents.size()));
+      opt_c = std::make_unique<torch::optim::Adam>(critic->parameters(),
+                                                   torch::optim::AdamOptions(1e-3));
+    }
     opt_g = std::make_unique<torch::optim::Adam>(
         net->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
     opt_d = std::make_unique<torch::optim::Adam>(
         disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
     TrainingRun::Spec spec;
     spec.out = opt.out;
-    spec.loss_names = {"rec", "gan", "nce", "tri", "disc", "total"};
+    spec.loss_names = {"rec", "gan", "nce", "tri", "disc"};
+    if (config.guided) spec.loss_names.insert(spec.loss_names.end(), {"cls", "cyc", "critic"});
+    spec.loss_names.push_back("total");
     spec.config_text = config.Serialize();
     spec.iterations = config.iterations;
     spec.log_every = opt.log_every;
@@ -151,12 +254,18 @@ struct Trainer {
     if (opt.on_record) {
       spec.on_record = [this](const LossRow& row) {
         const std::vector<double>& v = row.values;
-        opt.on_record(LossRecord{row.iteration, v[0], v[1], v[2], v[3], v[4], v[5]});
+        LossRecord r{row.iteration, v[0], v[1], v[2], v[3], v[4], v.back()};
+        if (config.guided) r.cls = v[5], r.cyc = v[6], r.critic = v[7];
+        opt.on_record(r);
       };
     }
-    const std::vector<TorchFile> files = {Tensors("net.pt", &net), Tensors("disc.pt", &disc),
-                                          Tensors("opt_g.pt", opt_g.get()),
-                                          Tensors("opt_d.pt", opt_d.get())};
+    std::vector<TorchFile> files = {Tensors("net.pt", &net), Tensors("disc.pt", &disc),
+                                    Tensors("opt_g.pt", opt_g.get()),
+                                    Tensors("opt_d.pt", opt_d.get())};
+    if (config.guided) {
+      files.push_back(Tensors("critic.pt", &critic));
+      files.push_back(Tensors("opt_c.pt", opt_c.get()));
+    }
     spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
     spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
     spec.write_package = [this](int iterations, const std::string& csv) {
@@ -175,8 +284,11 @@ struct Trainer {
       if (!s.ok()) return s;
     }
     return run.Run([this](int) {
-      const LossRecord r = Step();
-      return std::vector<double>{r.rec, r.gan, r.nce, r.tri, r.disc, r.total};
+      const LossRecord r = config.guided ? GuidedStep() : Step();
+      std::vector<double> v = {r.rec, r.gan, r.nce, r.tri, r.disc};
+      if (config.guided) v.insert(v.end(), {r.cls, r.cyc, r.critic});
+      v.push_back(r.total);
+      return v;
     });
   }
 };
@@ -189,7 +301,8 @@ absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
-  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, {}, nullptr};
+  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr,
+            {},      nullptr,        nullptr, {},      nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -1,4 +1,5 @@
-// Training of the `contrastive` family: self-supervised (no labels), with
+// Training of the `contrastive` family: self-supervised (no labels), or
+// label-guided (ContrastiveConfig::guided, docs/contrastive.md); with
 // periodic checkpoints, resumable, deterministic for a seed.
 #ifndef STYLUS_MODEL_CONTRASTIVE_TRAINER_H_
 #define STYLUS_MODEL_CONTRASTIVE_TRAINER_H_
@@ -15,6 +16,9 @@ namespace stylus::model {
 struct LossRecord {
   int iteration = 0;
   double rec = 0, gan = 0, nce = 0, tri = 0, disc = 0, total = 0;
+  // Label-guided training only: the transfers' classification loss, the
+  // cycle loss and the critic's own loss on real windows.
+  double cls = 0, cyc = 0, critic = 0;
 };
 
 struct TrainOptions {

@@ -27,9 +27,10 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--content-weight W] [--threads N]\n"
+      "         [--guided [--class-weight 1] [--cycle-weight 1]]\n"
       "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
-      ".bvh files given directly) without using any label. Prints the losses,\n"
+      ".bvh files given directly), by default without using any label. Prints the losses,\n"
       "it/s and ETA; every --checkpoint-every iterations writes a checkpoint and a\n"
       "usable package (config.txt, norm.txt, skeleton.bvh, weights.pt, loss.csv)\n"
       "into --out. --resume continues from that checkpoint after a kill.\n"
@@ -41,13 +42,21 @@ int Train(const Argv& argv) {
       "feeds the style encoder each window minus its mean pose. --content-weight W\n"
       "adds W x the L1 distance between the transfer and its content input over\n"
       "the root trajectory, foot contacts and legs (default 0: off).\n"
+      "--guided trains with the clips' style and content labels (from the Bandai\n"
+      "file names): the reconstruction takes its style code from a clip of the\n"
+      "same style doing something else, the transfer from a clip of another\n"
+      "style, and a critic trained on real labelled windows scores each transfer\n"
+      "against the target style and the content input's content (--class-weight),\n"
+      "plus a cycle back to the content's own style (--cycle-weight).\n"
       "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
   int code = 0;
   auto args =
       ParseOrExit("train", argv,
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
-                    "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight"},
-                   {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude", "centred-style", "resume"}},
+                    "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
+                    "class-weight", "cycle-weight"},
+                   {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
+                    "centred-style", "resume", "guided"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -90,6 +99,19 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--content-weight must be a number >= 0"));
   }
   c.content_weight = *content_weight;
+  c.guided = args->switches.count("guided") > 0;
+  for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
+                             {"cycle-weight", &c.cycle_weight}}) {
+    if (!args->Has(name)) continue;
+    absl::StatusOr<double> w = args->GetDouble(name, *field);
+    if (!c.guided) {
+      return Fail("train", absl::InvalidArgumentError(absl::StrCat("--", name, " needs --guided")));
+    }
+    if (!w.ok() || *w < 0) {
+      return Fail("train", absl::InvalidArgumentError(absl::StrCat("--", name, " must be a number >= 0")));
+    }
+    *field = *w;
+  }
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

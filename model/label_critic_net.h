@@ -1,0 +1,34 @@
+// The label critic of label-guided contrastive training (docs/contrastive.md):
+// a style and a content classifier on feature windows, trained on real
+// training windows only, whose verdict on a transfer the generator is trained
+// to match (the target's style, the content input's content). Internal to
+// model/ (includes LibTorch). Deliberately unlike the evaluation judges
+// (model/judges.cc): dilated convolutions and mean + spread pooling, so that
+// a transfer the judges recognize is not one tuned to the judges' own design.
+#ifndef STYLUS_MODEL_LABEL_CRITIC_NET_H_
+#define STYLUS_MODEL_LABEL_CRITIC_NET_H_
+
+#include <torch/torch.h>
+
+namespace stylus::model {
+
+struct LabelLogits {
+  torch::Tensor style, content;  // (B, styles), (B, contents).
+};
+
+struct LabelCriticImpl : torch::nn::Module {
+  LabelCriticImpl(int dim, int styles, int contents, int width = 96);
+  // x: (B, dim, T) normalized feature windows.
+  LabelLogits forward(const torch::Tensor& x);
+  torch::nn::Conv1d conv1{nullptr}, conv2{nullptr}, conv3{nullptr};
+  torch::nn::Linear style_head{nullptr}, content_head{nullptr};
+};
+TORCH_MODULE(LabelCritic);
+
+// Mean cross-entropy of both heads against the labels (kLong tensors (B,)).
+torch::Tensor LabelLoss(const LabelLogits& logits, const torch::Tensor& style,
+                        const torch::Tensor& content);
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_LABEL_CRITIC_NET_H_

@@ -33,6 +33,7 @@ std::string ContrastiveConfig::Serialize() const {
     put("class_weight", absl::StrCat(class_weight));
     put("cycle_weight", absl::StrCat(cycle_weight));
   }
+  if (keep_path) put("keep_path", "1");
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -71,6 +72,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "gamma") return e.Double(&c.gamma, 0, 1e6);
     if (key == "content_weight") return e.Double(&c.content_weight, 0, 1e6);
     if (key == "guided") return e.Bool(&c.guided);
+    if (key == "keep_path") return e.Bool(&c.keep_path);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "margin") return e.Double(&c.margin, 0, 1e6);

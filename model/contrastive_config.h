@@ -54,6 +54,10 @@ struct ContrastiveConfig {
   // L1 error of restyling the transfer back with the content's own style.
   bool guided = false;
   double class_weight = 1.0, cycle_weight = 1.0;
+  // Inference: with `keep_path`, a transfer's root trajectory and foot
+  // contacts are the content clip's (the style restyles the body along the
+  // content's path; docs/contrastive.md).
+  bool keep_path = false;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

@@ -105,9 +105,15 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
       code_tensor[w].copy_(torch::from_blob(const_cast<float*>(codes[w].values.data()),
                                             {config.channels}, torch::kFloat32));
     }
-    const torch::Tensor y =
-        impl_->net->decode(impl_->net->content(impl_->Windows(features, starts)), code_tensor)
-            .contiguous();
+    const torch::Tensor x = impl_->Windows(features, starts);
+    torch::Tensor y = impl_->net->decode(impl_->net->content(x), code_tensor);
+    if (config.keep_path) {
+      // The content's root trajectory and foot contacts (the last 8 channels,
+      // motion/features.h): the style changes the body, not the path.
+      const int64_t path = config.dim - 8;
+      y.slice(1, path).copy_(x.slice(1, path));
+    }
+    y = y.contiguous();
     return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
   } catch (const std::exception& e) {
     return impl_->Internal(e);

@@ -54,6 +54,12 @@ struct Trainer {
     return {x, ToTensor(&buf)};
   }
 
+  // L1 distance of a transfer to its content input over content_mask.
+  torch::Tensor ContentKeeping(const torch::Tensor& transfer, const torch::Tensor& content) const {
+    return ((transfer - content).abs() * content_mask).sum() /
+           (content_mask.sum() * transfer.size(0) * transfer.size(2));
+  }
+
   LossRecord Step() {
     const auto [x_t, v_t] = Batch();
     const auto [x_s, v_s] = Batch();
@@ -76,11 +82,7 @@ struct Trainer {
       r.gan = gan.item<double>();
       total = total + config.alpha * gan;
     }
-    if (config.content_weight > 0) {
-      const torch::Tensor keep = ((x_g - x_t).abs() * content_mask).sum() /
-                                 (content_mask.sum() * x_g.size(0) * x_g.size(2));
-      total = total + config.content_weight * keep;
-    }
+    if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x_t);
     if (config.use_nce && config.beta > 0) {
       const torch::Tensor nce = NceLoss(net->content(x_g), c_t, net->nce_w, config.temperature);
       r.nce = nce.item<double>();
@@ -155,6 +157,7 @@ struct Trainer {
       r.gan = gan.item<double>();
       total = total + config.alpha * gan;
     }
+    if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x);
     const LabelLogits judged = critic->forward(x_g);
     const torch::Tensor cls = LabelLoss(judged, target_style, x_content);
     r.cls = cls.item<double>();

@@ -28,6 +28,10 @@ std::string CyclicConfig::Serialize() const {
   put("residual", residual ? "1" : "0");
   put("use_cycle", use_cycle ? "1" : "0");
   put("use_kc", use_kc ? "1" : "0");
+  if (guided) {
+    put("guided", "1");
+    num("class_weight", class_weight);
+  }
   num("kc_iters", kc_iters);
   num("kc_lr", kc_lr);
   num("ae_iterations", ae_iterations);
@@ -78,6 +82,8 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "use_cycle") return e.Bool(&c.use_cycle);
     if (key == "residual") return e.Bool(&c.residual);
     if (key == "use_kc") return e.Bool(&c.use_kc);
+    if (key == "guided") return e.Bool(&c.guided);
+    if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "kc_iters") return e.Int(&c.kc_iters, 0, 100000);
     if (key == "kc_lr") return e.Double(&c.kc_lr, 0, 10);
     if (key == "ae_iterations") return e.Int(&c.ae_iterations, 0, 1 << 30);

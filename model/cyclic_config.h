@@ -33,6 +33,12 @@ struct CyclicConfig {
   double smooth_weight = 1, bone_weight = 1, traj_weight = 1, foot_weight = 1;
   bool use_cycle = true;  // Off: no cycle loss.
   bool use_kc = true;     // Off: no kinematic constraint in training or inference.
+  // Label-guided generator stage (docs/cyclic.md, "Label-guided training"):
+  // the style clip of each content clip has another style label, and a
+  // critic trained on real labelled windows scores G(C, S) against S's
+  // style and C's content, weighted by `class_weight`.
+  bool guided = false;
+  double class_weight = 1;
   // Inference-time kinematic optimization of the hidden features: at most
   // kc_iters backtracking gradient steps (the first of RMS size kc_lr per
   // hidden unit), stopping when the loss stops falling.

@@ -4,7 +4,9 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "model/clip_classes.h"
 #include "model/cyclic_net.h"
+#include "model/label_critic_net.h"
 #include "model/package.h"
 #include "model/runtime.h"
 #include "model/torch_files.h"
@@ -17,7 +19,8 @@ namespace stylus::model {
 const std::vector<std::string>& CyclicLossNames() {
   static const std::vector<std::string> names = {"rec",   "style", "content", "gan",
                                                  "cycle", "smooth", "bone",   "traj",
-                                                 "foot",  "disc",  "total"};
+                                                 "foot",  "disc",  "cls",    "labels",
+                                                 "total"};
   return names;
 }
 
@@ -36,6 +39,10 @@ struct CyclicTrainer {
   std::unique_ptr<KinematicLoss> kinematic;
   std::unique_ptr<torch::optim::Adam> opt_e, opt_g, opt_d;
   torch::Tensor channels;
+  // Label-guided training only.
+  ClipClasses classes;
+  LabelCritic label_critic{nullptr};
+  std::unique_ptr<torch::optim::Adam> opt_l;
 
   std::vector<torch::Tensor> EncoderParameters() { return net->enc_conv->parameters(); }
   std::vector<torch::Tensor> GeneratorParameters() {
@@ -48,19 +55,42 @@ struct CyclicTrainer {
     return p;
   }
 
-  torch::Tensor Batch(std::mt19937_64* rng) {
-    std::vector<float> buf;
-    data.SampleBatch(config.batch, config.window, rng, &buf);
-    return torch::from_blob(buf.data(), {config.batch, config.dim, config.window}, torch::kFloat32)
+  torch::Tensor NetChannels(std::vector<float>* buf) const {
+    return torch::from_blob(buf->data(), {config.batch, config.dim, config.window},
+                            torch::kFloat32)
         .index_select(1, channels)
         .clone();
+  }
+
+  // A batch of windows; `clips` (if not null) gets the clip of each.
+  torch::Tensor Batch(std::mt19937_64* rng, std::vector<int>* clips = nullptr) {
+    std::vector<float> buf;
+    data.SampleBatch(config.batch, config.window, rng, &buf, clips);
+    return NetChannels(&buf);
+  }
+
+  // For each clip, a window of a clip of another style (guided training).
+  torch::Tensor OtherStyleBatch(const std::vector<int>& clips, std::mt19937_64* rng,
+                                std::vector<int>* chosen) {
+    chosen->clear();
+    for (int c : clips) chosen->push_back(classes.OtherStyle(c, rng));
+    std::vector<float> buf;
+    data.SampleFromClips(*chosen, config.window, rng, &buf);
+    return NetChannels(&buf);
+  }
+
+  torch::Tensor Labels(const std::vector<int>& clips, const std::vector<int>& label_of) const {
+    std::vector<int64_t> v;
+    for (int c : clips) v.push_back(label_of[c]);
+    return torch::tensor(v, torch::kLong);
   }
 
   std::vector<double> Step(int iteration, std::mt19937_64* rng) {
     std::vector<double> r(CyclicLossNames().size(), 0.0);
     const bool autoencoder_only = iteration < config.ae_iterations;
     for (const torch::Tensor& p : EncoderParameters()) p.requires_grad_(autoencoder_only);
-    const torch::Tensor c = Batch(rng);
+    std::vector<int> content_clips, style_clips;
+    const torch::Tensor c = Batch(rng, &content_clips);
     const torch::Tensor h_c = net->encode(c);
     const torch::Tensor reconstruction = net->decode(h_c);
     const torch::Tensor rec =
@@ -72,7 +102,8 @@ struct CyclicTrainer {
     if (autoencoder_only) {
       out = reconstruction;
     } else {
-      const torch::Tensor s = Batch(rng);
+      const torch::Tensor s =
+          config.guided ? OtherStyleBatch(content_clips, rng, &style_clips) : Batch(rng);
       const torch::Tensor h_s = net->encode(s).detach();
       const torch::Tensor gm =
           net->output(c, h_c.detach(), net->transform(h_c.detach(), net->stats(h_s)));
@@ -96,6 +127,24 @@ struct CyclicTrainer {
         total = total + config.gan_weight * gan;
         r[3] = gan.item<double>();
       }
+      if (config.guided) {
+        const torch::Tensor target_style = Labels(style_clips, classes.style_of);
+        const torch::Tensor content_label = Labels(content_clips, classes.content_of);
+        // The label critic learns real windows' labels, never transfers'.
+        opt_l->zero_grad();
+        const torch::Tensor labels =
+            (LabelLoss(label_critic->forward(c), Labels(content_clips, classes.style_of),
+                       content_label) +
+             LabelLoss(label_critic->forward(s), target_style,
+                       Labels(style_clips, classes.content_of))) /
+            2;
+        labels.backward();
+        opt_l->step();
+        r[11] = labels.item<double>();
+        const torch::Tensor cls = LabelLoss(label_critic->forward(gm), target_style, content_label);
+        total = total + config.class_weight * cls;
+        r[10] = cls.item<double>();
+      }
       if (config.use_cycle) {
         const torch::Tensor back =
             net->output(gm, h_gm, net->transform(h_gm, net->stats(h_c.detach())));
@@ -118,7 +167,7 @@ struct CyclicTrainer {
       torch::nn::utils::clip_grad_norm_(EncoderParameters(), kMaxGradNorm);
       opt_e->step();
     }
-    r[10] = total.item<double>();
+    r[12] = total.item<double>();
     return r;
   }
 
@@ -154,6 +203,19 @@ struct CyclicTrainer {
     const int width = config.net_channels(joints);
     net = CyclicNet(config, width);
     critic = CyclicCritic(config, width);
+    if (config.guided) {
+      std::vector<bool> usable;
+      for (const motion::FeatureClip& clip : data.clips) usable.push_back(clip.frames >= config.window);
+      absl::StatusOr<ClipClasses> labelled = ClipClasses::FromPaths(data.paths, usable);
+      if (!labelled.ok()) return labelled.status();
+      classes = *std::move(labelled);
+      log(absl::StrCat("label-guided: ", classes.styles.size(), " styles, ",
+                       classes.contents.size(), " contents"));
+      label_critic = LabelCritic(width, static_cast<int>(classes.styles.size()),
+                                 static_cast<int>(classes.contents.size()));
+      opt_l = std::make_unique<torch::optim::Adam>(label_critic->parameters(),
+                                                   torch::optim::AdamOptions(1e-3));
+    }
     const auto adam = torch::optim::AdamOptions(config.lr).betas({0.5, 0.999});
     opt_e = std::make_unique<torch::optim::Adam>(EncoderParameters(), adam);
     opt_g = std::make_unique<torch::optim::Adam>(GeneratorParameters(), adam);
@@ -168,9 +230,13 @@ struct CyclicTrainer {
     spec.log_every = opt.log_every;
     spec.checkpoint_every = opt.checkpoint_every;
     spec.on_record = opt.on_record;
-    const std::vector<TorchFile> files = {
+    std::vector<TorchFile> files = {
         Tensors("net.pt", &net), Tensors("critic.pt", &critic), Tensors("opt_e.pt", opt_e.get()),
         Tensors("opt_g.pt", opt_g.get()), Tensors("opt_d.pt", opt_d.get())};
+    if (config.guided) {
+      files.push_back(Tensors("label_critic.pt", &label_critic));
+      files.push_back(Tensors("opt_l.pt", opt_l.get()));
+    }
     spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
     spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
     spec.write_package = [this](int iterations, const std::string& csv) {
@@ -207,7 +273,7 @@ absl::Status TrainCyclic(const CyclicTrainOptions& options) {
   }
   if (options.config.window % 2 != 0) return absl::InvalidArgumentError("window must be even");
   CyclicTrainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
-                  nullptr, {}};
+                  nullptr, {},      {},      nullptr, nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -34,7 +34,9 @@ struct CyclicTrainOptions {
   std::function<void(const LossRow&)> on_record;
 };
 
-// rec, style, content, gan, cycle, smooth, bone, traj, foot, disc, total.
+// rec, style, content, gan, cycle, smooth, bone, traj, foot, disc, cls (the
+// transfers' classification loss), labels (the label critic's own loss on
+// real windows; both 0 unless guided), total.
 const std::vector<std::string>& CyclicLossNames();
 
 // Trains to options.config.iterations, writing the package (config.txt,

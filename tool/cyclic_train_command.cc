@@ -16,7 +16,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
-      "         [--init-from PACKAGE] [--resume]\n\n"
+      "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
       "autoencoder alone for --ae-iters, then the generator with the Gram style\n"
@@ -28,14 +28,18 @@ int TrainCyclicModel(const Argv& argv) {
       "losses, it/s and ETA; writes a checkpoint and a usable package into --out\n"
       "every --checkpoint-every iterations; --resume continues after a kill.\n"
       "--init-from starts from another package's weights (same architecture),\n"
-      "e.g. with --ae-iters 0 to train only the generator stage on its autoencoder.\n";
+      "e.g. with --ae-iters 0 to train only the generator stage on its autoencoder.\n"
+      "--guided uses the clips' style and content labels (Bandai file names) in\n"
+      "the generator stage: each content clip's style clip has another style, and\n"
+      "a critic trained on real labelled windows scores the transfer against that\n"
+      "style and the content's content (--class-weight).\n";
   int code = 0;
   const std::vector<std::string> weights = {"style-weight",  "content-weight", "gan-weight",
                                             "cycle-weight",  "smooth-weight",  "bone-weight",
-                                            "traj-weight",   "foot-weight"};
+                                            "traj-weight",   "foot-weight",    "class-weight"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from"},
-               {"no-cycle", "no-kc", "no-residual", "resume"}};
+               {"no-cycle", "no-kc", "no-residual", "resume", "guided"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
@@ -72,7 +76,7 @@ int TrainCyclicModel(const Argv& argv) {
   c.seed = seed;
   double* weight_fields[] = {&c.style_weight,  &c.content_weight, &c.gan_weight,
                              &c.cycle_weight,  &c.smooth_weight,  &c.bone_weight,
-                             &c.traj_weight,   &c.foot_weight};
+                             &c.traj_weight,   &c.foot_weight,    &c.class_weight};
   for (size_t i = 0; i < weights.size(); ++i) {
     absl::StatusOr<double> v = args->GetDouble(weights[i], *weight_fields[i]);
     if (!v.ok() || *v < 0) {
@@ -90,6 +94,10 @@ int TrainCyclicModel(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--dropout must be a number in [0, 0.95]"));
   }
   c.dropout = *dropout;
+  c.guided = args->switches.count("guided") > 0;
+  if (args->Has("class-weight") && !c.guided) {
+    return Fail("train", absl::InvalidArgumentError("--class-weight needs --guided"));
+  }
   c.use_cycle = !args->switches.count("no-cycle");
   c.use_kc = !args->switches.count("no-kc");
   c.residual = !args->switches.count("no-residual");

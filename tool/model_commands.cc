@@ -27,7 +27,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--content-weight W] [--threads N]\n"
-      "         [--guided [--class-weight 1] [--cycle-weight 1]]\n"
+      "         [--guided [--class-weight 1] [--cycle-weight 1]] [--keep-path]\n"
       "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
@@ -48,6 +48,8 @@ int Train(const Argv& argv) {
       "style, and a critic trained on real labelled windows scores each transfer\n"
       "against the target style and the content input's content (--class-weight),\n"
       "plus a cycle back to the content's own style (--cycle-weight).\n"
+      "--keep-path makes the package's transfers keep the content's root\n"
+      "trajectory and foot contacts (stored as keep_path in config.txt).\n"
       "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
   int code = 0;
   auto args =
@@ -56,7 +58,7 @@ int Train(const Argv& argv) {
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
                     "class-weight", "cycle-weight"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
-                    "centred-style", "resume", "guided"}},
+                    "centred-style", "resume", "guided", "keep-path"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -100,6 +102,7 @@ int Train(const Argv& argv) {
   }
   c.content_weight = *content_weight;
   c.guided = args->switches.count("guided") > 0;
+  c.keep_path = args->switches.count("keep-path") > 0;
   for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
                              {"cycle-weight", &c.cycle_weight}}) {
     if (!args->Has(name)) continue;

@@ -274,6 +274,37 @@ TEST(CyclicModelTest, CycleLossFallsAndThePackageServesTransfers) {
   EXPECT_NE(bad.status().message().find("weights.pt"), absl::string_view::npos);
 }
 
+TEST(CyclicModelTest, GuidedGeneratorStageLearnsFromTheLabelCritic) {
+  // --guided: the label critic learns real windows' labels and the
+  // generator's classification loss on transfers falls.
+  CyclicTrainOptions o = TinyOptions(Dir("guided"));
+  o.data = testing::LabelledClips();
+  o.config.guided = true;
+  std::vector<LossRow> rows;
+  o.on_record = [&](const LossRow& r) { rows.push_back(r); };
+  ASSERT_TRUE(TrainCyclic(o).ok());
+  const auto& names = CyclicLossNames();
+  const size_t cls = std::find(names.begin(), names.end(), "cls") - names.begin();
+  const size_t labels = std::find(names.begin(), names.end(), "labels") - names.begin();
+  std::vector<LossRow> generator;
+  for (const LossRow& r : rows)
+    if (r.iteration > o.config.ae_iterations + 10) generator.push_back(r);
+  ASSERT_GE(generator.size(), 5u);
+  std::printf("labels %.4f -> %.4f; cls %.4f -> %.4f\n", generator.front().values[labels],
+              generator.back().values[labels], generator.front().values[cls],
+              generator.back().values[cls]);
+  EXPECT_LT(generator.back().values[labels], 0.5 * generator.front().values[labels]);
+  EXPECT_LT(generator.back().values[cls], 0.8 * generator.front().values[cls]);
+  absl::StatusOr<std::unique_ptr<StyleModel>> m = LoadStyleModel(o.out);
+  ASSERT_TRUE(m.ok()) << m.status();
+  // Unlabelled names are refused, naming the file.
+  o.data = testing::FourClips();
+  o.out = Dir("guided_unlabelled");
+  const absl::Status s = TrainCyclic(o);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("normal.bvh"), std::string::npos) << s;
+}
+
 TEST(CyclicModelTest, ResidualOutputKeepsTheContentTheAutoencoderLoses) {
   // Restyled with its own style, a clip should come back as itself: the
   // residual output does so far more closely than the decoder-only one.

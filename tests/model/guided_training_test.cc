@@ -1,7 +1,9 @@
 // Label-guided training of the contrastive family (ContrastiveConfig::guided):
 // the reference clips drawn from the labels, the critic, resume, and the
 // error for clips without labelled names. Synthesized clips; runs in seconds.
+#include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <set>
 
@@ -10,6 +12,7 @@
 #include "model/contrastive_model.h"
 #include "model/contrastive_trainer.h"
 #include "motion/bvh.h"
+#include "motion/metrics.h"
 #include "tests/model/synth_clips.h"
 
 namespace stylus::model {
@@ -17,21 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The four synthesized walks under labelled Bandai names: 3 styles, 3 contents.
-const std::vector<std::string>& LabelledClips() {
-  static const std::vector<std::string> paths = [] {
-    const std::string dir = testing::FreshDir("guided_clips");
-    const char* names[] = {"dataset-9_walk_normal_001.bvh", "dataset-9_walk_old_001.bvh",
-                           "dataset-9_run_normal_001.bvh", "dataset-9_turn_proud_001.bvh"};
-    std::vector<std::string> out;
-    for (int i = 0; i < 4; ++i) {
-      out.push_back(dir + "/" + names[i]);
-      fs::copy_file(testing::FourClips()[i], out.back());
-    }
-    return out;
-  }();
-  return paths;
-}
+using testing::LabelledClips;
 
 TrainOptions GuidedOptions(const std::string& out, int iterations) {
   TrainOptions o;
@@ -108,6 +97,23 @@ TEST(GuidedTrainingTest, CriticLearnsTheLabelsAndTransfersFollowIt) {
   absl::StatusOr<motion::Motion> out = (*m)->Transfer(content, *(*m)->EncodeStyle(style));
   ASSERT_TRUE(out.ok()) << out.status();
   EXPECT_EQ(out->num_frames, content.num_frames);
+
+  // keep_path: the transfer walks the content's root path (pelvis on the
+  // floor), which the generated trajectory of a briefly trained model does not.
+  const std::string kept = testing::FreshDir("guided_keep_path");
+  fs::copy(o.out, kept, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  std::ofstream(kept + "/config.txt", std::ios::app) << "keep_path = 1\n";
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> k = ContrastiveModel::Load(kept);
+  ASSERT_TRUE(k.ok()) << k.status();
+  ASSERT_TRUE((*k)->package().config.keep_path);
+  absl::StatusOr<motion::Motion> on_path = (*k)->Transfer(content, *(*k)->EncodeStyle(style));
+  ASSERT_TRUE(on_path.ok()) << on_path.status();
+  auto path_error = [&](const motion::Motion& m) {
+    return motion::TrajectoryError(m, content, (*k)->package().roles);
+  };
+  std::printf("root path error: free %.3f, kept %.3f\n", path_error(*out), path_error(*on_path));
+  EXPECT_LT(path_error(*on_path), 0.5);
+  EXPECT_GT(path_error(*out), 4 * path_error(*on_path));
 }
 
 TEST(GuidedTrainingTest, ResumesWithItsCritic) {

@@ -44,6 +44,23 @@ inline const std::vector<std::string>& FourClips() {
   return paths;
 }
 
+// The four walks under labelled Bandai names (3 styles, 3 contents), for
+// label-guided training.
+inline const std::vector<std::string>& LabelledClips() {
+  static const std::vector<std::string> paths = [] {
+    const std::string dir = FreshDir("labelled_clips");
+    const char* names[] = {"dataset-9_walk_normal_001.bvh", "dataset-9_walk_old_001.bvh",
+                           "dataset-9_run_normal_001.bvh", "dataset-9_turn_proud_001.bvh"};
+    std::vector<std::string> out;
+    for (int i = 0; i < 4; ++i) {
+      out.push_back(dir + "/" + names[i]);
+      std::filesystem::copy_file(FourClips()[i], out.back());
+    }
+    return out;
+  }();
+  return paths;
+}
+
 }  // namespace stylus::testing
 
 #endif  // STYLUS_TESTS_MODEL_SYNTH_CLIPS_H_

@@ -42,6 +42,12 @@ check "train loss curve" 0 "^6,[0-9.]+," -- cat "$work/model/loss.csv"
 check "train resume" 0 "resumed from .* at iteration 6" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/model" --iters 9 --batch 2 --log-every 3 --checkpoint-every 3 \
   --threads 1 --resume
+check "train --class-weight without --guided" 1 "--class-weight needs --guided" -- "$tool" train \
+  --data "$work/old.bvh" --out "$work/unguided" --class-weight 2
+check "train --guided on unlabelled names" 1 "old.bvh: label-guided training needs labelled clip names" -- \
+  "$tool" train --guided --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/guided" --iters 2
+check "train cyclic --class-weight without --guided" 1 "--class-weight needs --guided" -- "$tool" train \
+  --family cyclic --data "$work/old.bvh" --out "$work/unguided" --class-weight 2
 check "train bad family" 1 "families are 'contrastive' and 'cyclic'" -- "$tool" train --family gan \
   --data "$work/old.bvh" --out "$work/m2"
 check "train cyclic --help" 0 "usage: stylus-tool train --family cyclic" -- "$tool" train --family cyclic --help

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "absl/strings/str_cat.h"
+#include "model/training_run.h"
 #include "motion/dataset.h"
 
 namespace stylus::model {
@@ -48,6 +50,18 @@ absl::StatusOr<ClipClasses> ClipClasses::FromPaths(const std::vector<std::string
     c.content_of.push_back(IndexOf(c.contents, labels[i].content));
     if (i < usable.size() && usable[i])
       c.clips_of_style[c.style_of.back()].push_back(static_cast<int>(i));
+  }
+  return c;
+}
+
+absl::StatusOr<ClipClasses> ClipClasses::ForTraining(
+    const TrainingSet& data, int window, const std::function<void(const std::string&)>& log) {
+  std::vector<bool> usable;
+  for (const motion::FeatureClip& clip : data.clips) usable.push_back(clip.frames >= window);
+  absl::StatusOr<ClipClasses> c = FromPaths(data.paths, usable);
+  if (c.ok()) {
+    LogLine(log, absl::StrCat("label-guided: ", c->styles.size(), " styles, ",
+                              c->contents.size(), " contents"));
   }
   return c;
 }

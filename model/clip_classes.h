@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "model/training_set.h"
 
 namespace stylus::model {
 
@@ -21,6 +22,11 @@ struct ClipClasses {
   // false (e.g. shorter than a window) are labelled but never drawn.
   static absl::StatusOr<ClipClasses> FromPaths(const std::vector<std::string>& paths,
                                                const std::vector<bool>& usable);
+
+  // The classes of a training set's clips for windows of `window` frames
+  // (shorter clips are never drawn); logs the class counts through `log`.
+  static absl::StatusOr<ClipClasses> ForTraining(
+      const TrainingSet& data, int window, const std::function<void(const std::string&)>& log);
 
   // A usable clip of the same style as `clip` doing something else; another
   // clip of that style when all of them do the same; `clip` itself when it is

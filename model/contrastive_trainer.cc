@@ -104,12 +104,6 @@ struct Trainer {
     return r;
   }
 
-  torch::Tensor Labels(const std::vector<int>& clips, const std::vector<int>& label_of) const {
-    std::vector<int64_t> v;
-    for (int c : clips) v.push_back(label_of[c]);
-    return torch::tensor(v, torch::kLong);
-  }
-
   // Label-guided step (docs/contrastive.md): content windows x; for each, a
   // window of a clip of the same style doing something else (the
   // reconstruction's style) and one of a clip of another style (the
@@ -126,10 +120,10 @@ struct Trainer {
     const torch::Tensor y_same = ToTensor(&buf);
     data.SampleFromClips(other, config.window, rng, &buf);
     const torch::Tensor y_other = ToTensor(&buf);
-    const torch::Tensor x_style = Labels(clips, classes.style_of),
-                        x_content = Labels(clips, classes.content_of);
-    const torch::Tensor target_style = Labels(other, classes.style_of),
-                        other_content = Labels(other, classes.content_of);
+    const torch::Tensor x_style = LabelTensor(clips, classes.style_of),
+                        x_content = LabelTensor(clips, classes.content_of);
+    const torch::Tensor target_style = LabelTensor(other, classes.style_of),
+                        other_content = LabelTensor(other, classes.content_of);
     LossRecord r;
     // The critic learns the labels of real windows, never of transfers.
     opt_c->zero_grad();
@@ -223,13 +217,9 @@ struct Trainer {
     config.commit = opt.commit;
     content_mask = ContentMask();
     if (config.guided) {
-      std::vector<bool> usable;
-      for (const motion::FeatureClip& clip : data.clips) usable.push_back(clip.frames >= config.window);
-      absl::StatusOr<ClipClasses> c = ClipClasses::FromPaths(data.paths, usable);
+      absl::StatusOr<ClipClasses> c = ClipClasses::ForTraining(data, config.window, opt.log);
       if (!c.ok()) return c.status();
       classes = *std::move(c);
-      Log(absl::StrCat("label-guided: ", classes.styles.size(), " styles, ",
-                       classes.contents.size(), " contents"));
     }
     torch::manual_seed(config.seed);
     net = ContrastiveNet(config);

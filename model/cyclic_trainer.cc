@@ -79,11 +79,6 @@ struct CyclicTrainer {
     return NetChannels(&buf);
   }
 
-  torch::Tensor Labels(const std::vector<int>& clips, const std::vector<int>& label_of) const {
-    std::vector<int64_t> v;
-    for (int c : clips) v.push_back(label_of[c]);
-    return torch::tensor(v, torch::kLong);
-  }
 
   std::vector<double> Step(int iteration, std::mt19937_64* rng) {
     std::vector<double> r(CyclicLossNames().size(), 0.0);
@@ -128,15 +123,15 @@ struct CyclicTrainer {
         r[3] = gan.item<double>();
       }
       if (config.guided) {
-        const torch::Tensor target_style = Labels(style_clips, classes.style_of);
-        const torch::Tensor content_label = Labels(content_clips, classes.content_of);
+        const torch::Tensor target_style = LabelTensor(style_clips, classes.style_of);
+        const torch::Tensor content_label = LabelTensor(content_clips, classes.content_of);
         // The label critic learns real windows' labels, never transfers'.
         opt_l->zero_grad();
         const torch::Tensor labels =
-            (LabelLoss(label_critic->forward(c), Labels(content_clips, classes.style_of),
+            (LabelLoss(label_critic->forward(c), LabelTensor(content_clips, classes.style_of),
                        content_label) +
              LabelLoss(label_critic->forward(s), target_style,
-                       Labels(style_clips, classes.content_of))) /
+                       LabelTensor(style_clips, classes.content_of))) /
             2;
         labels.backward();
         opt_l->step();
@@ -204,13 +199,10 @@ struct CyclicTrainer {
     net = CyclicNet(config, width);
     critic = CyclicCritic(config, width);
     if (config.guided) {
-      std::vector<bool> usable;
-      for (const motion::FeatureClip& clip : data.clips) usable.push_back(clip.frames >= config.window);
-      absl::StatusOr<ClipClasses> labelled = ClipClasses::FromPaths(data.paths, usable);
+      absl::StatusOr<ClipClasses> labelled =
+          ClipClasses::ForTraining(data, config.window, opt.log);
       if (!labelled.ok()) return labelled.status();
       classes = *std::move(labelled);
-      log(absl::StrCat("label-guided: ", classes.styles.size(), " styles, ",
-                       classes.contents.size(), " contents"));
       label_critic = LabelCritic(width, static_cast<int>(classes.styles.size()),
                                  static_cast<int>(classes.contents.size()));
       opt_l = std::make_unique<torch::optim::Adam>(label_critic->parameters(),

@@ -23,6 +23,12 @@ LabelLogits LabelCriticImpl::forward(const torch::Tensor& x) {
   return {style_head->forward(pooled), content_head->forward(pooled)};
 }
 
+torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of) {
+  std::vector<int64_t> v;
+  for (int c : clips) v.push_back(label_of[c]);
+  return torch::tensor(v, torch::kLong);
+}
+
 torch::Tensor LabelLoss(const LabelLogits& logits, const torch::Tensor& style,
                         const torch::Tensor& content) {
   return torch::nn::functional::cross_entropy(logits.style, style) +

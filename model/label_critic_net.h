@@ -10,6 +10,8 @@
 
 #include <torch/torch.h>
 
+#include <vector>
+
 namespace stylus::model {
 
 struct LabelLogits {
@@ -24,6 +26,9 @@ struct LabelCriticImpl : torch::nn::Module {
   torch::nn::Linear style_head{nullptr}, content_head{nullptr};
 };
 TORCH_MODULE(LabelCritic);
+
+// The label (kLong, (B,)) of each of `clips`, read from `label_of`.
+torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of);
 
 // Mean cross-entropy of both heads against the labels (kLong tensors (B,)).
 torch::Tensor LabelLoss(const LabelLogits& logits, const torch::Tensor& style,

@@ -60,6 +60,20 @@ struct Trainer {
            (content_mask.sum() * transfer.size(0) * transfer.size(2));
   }
 
+  // One discriminator step on `real` vs the detached `fake`; returns the
+  // generator's adversarial loss on `fake` (both recorded in `r`).
+  torch::Tensor Adversarial(const torch::Tensor& real, const torch::Tensor& fake, LossRecord* r) {
+    opt_d->zero_grad();
+    const torch::Tensor d_loss =
+        DiscriminatorGanLoss(disc->forward(real), disc->forward(fake.detach()));
+    d_loss.backward();
+    opt_d->step();
+    r->disc = d_loss.item<double>();
+    const torch::Tensor gan = GeneratorGanLoss(disc->forward(fake));
+    r->gan = gan.item<double>();
+    return gan;
+  }
+
   LossRecord Step() {
     const auto [x_t, v_t] = Batch();
     const auto [x_s, v_s] = Batch();
@@ -71,17 +85,7 @@ struct Trainer {
     const torch::Tensor x_g = net->decode(c_t, s_s);
     LossRecord r;
     torch::Tensor total = rec;
-    if (config.alpha > 0) {
-      opt_d->zero_grad();
-      const torch::Tensor d_loss =
-          DiscriminatorGanLoss(disc->forward(x_s), disc->forward(x_g.detach()));
-      d_loss.backward();
-      opt_d->step();
-      r.disc = d_loss.item<double>();
-      const torch::Tensor gan = GeneratorGanLoss(disc->forward(x_g));
-      r.gan = gan.item<double>();
-      total = total + config.alpha * gan;
-    }
+    if (config.alpha > 0) total = total + config.alpha * Adversarial(x_s, x_g, &r);
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x_t);
     if (config.use_nce && config.beta > 0) {
       const torch::Tensor nce = NceLoss(net->content(x_g), c_t, net->nce_w, config.temperature);
@@ -140,17 +144,7 @@ struct Trainer {
     const torch::Tensor rec = ReconstructionLoss(net->decode(c_x, s_same), x);
     const torch::Tensor x_g = net->decode(c_x, s_other);
     torch::Tensor total = rec;
-    if (config.alpha > 0) {
-      opt_d->zero_grad();
-      const torch::Tensor d_loss =
-          DiscriminatorGanLoss(disc->forward(y_other), disc->forward(x_g.detach()));
-      d_loss.backward();
-      opt_d->step();
-      r.disc = d_loss.item<double>();
-      const torch::Tensor gan = GeneratorGanLoss(disc->forward(x_g));
-      r.gan = gan.item<double>();
-      total = total + config.alpha * gan;
-    }
+    if (config.alpha > 0) total = total + config.alpha * Adversarial(y_other, x_g, &r);
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x);
     const LabelLogits judged = critic->forward(x_g);
     const torch::Tensor cls = LabelLoss(judged, target_style, x_content);

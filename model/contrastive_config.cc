@@ -32,6 +32,7 @@ std::string ContrastiveConfig::Serialize() const {
     put("guided", "1");
     put("class_weight", absl::StrCat(class_weight));
     put("cycle_weight", absl::StrCat(cycle_weight));
+    if (pair_gan) put("pair_gan", "1");
   }
   if (keep_path) put("keep_path", "1");
   put("batch", absl::StrCat(batch));
@@ -73,6 +74,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "content_weight") return e.Double(&c.content_weight, 0, 1e6);
     if (key == "guided") return e.Bool(&c.guided);
     if (key == "keep_path") return e.Bool(&c.keep_path);
+    if (key == "pair_gan") return e.Bool(&c.pair_gan);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "margin") return e.Double(&c.margin, 0, 1e6);

@@ -54,6 +54,11 @@ struct ContrastiveConfig {
   // L1 error of restyling the transfer back with the content's own style.
   bool guided = false;
   double class_weight = 1.0, cycle_weight = 1.0;
+  // Guided only: with `pair_gan`, the adversarial term (weight alpha) is a
+  // discriminator conditioned on the (style, content) label pair, which also
+  // rejects the content window (identity) and the style window (copy-style)
+  // under the transfer's labels (docs/contrastive.md).
+  bool pair_gan = false;
   // Inference: with `keep_path`, a transfer's root trajectory and foot
   // contacts are the content clip's (the style restyles the body along the
   // content's path; docs/contrastive.md).

@@ -31,6 +31,8 @@ struct Trainer {
   ClipClasses classes;
   LabelCritic critic{nullptr};
   std::unique_ptr<torch::optim::Adam> opt_c;
+  PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
+  std::unique_ptr<torch::optim::Adam> opt_p;
   torch::Tensor content_mask;  // (1, dim, 1): channels of the content-keeping term.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
@@ -70,6 +72,35 @@ struct Trainer {
     opt_d->step();
     r->disc = d_loss.item<double>();
     const torch::Tensor gan = GeneratorGanLoss(disc->forward(fake));
+    r->gan = gan.item<double>();
+    return gan;
+  }
+
+  // One step of the label-conditional discriminator (config.pair_gan): real
+  // for the content and style windows with their own labels; fake for the
+  // transfer, and for the content window (identity) and the style window
+  // (copy-style) under the transfer's label pair (target style, content's
+  // content). Returns the generator's adversarial loss on the transfer.
+  torch::Tensor PairAdversarial(const torch::Tensor& x, const torch::Tensor& x_style,
+                                const torch::Tensor& x_content, const torch::Tensor& y,
+                                const torch::Tensor& y_style, const torch::Tensor& y_content,
+                                const torch::Tensor& fake, LossRecord* r) {
+    namespace F = torch::nn::functional;
+    opt_p->zero_grad();
+    const torch::Tensor real = (F::softplus(-pair_disc->forward(x, x_style, x_content)).mean() +
+                                F::softplus(-pair_disc->forward(y, y_style, y_content)).mean()) /
+                               2;
+    const torch::Tensor as_fake = F::softplus(pair_disc->forward(fake.detach(), y_style, x_content));
+    const torch::Tensor identity = F::softplus(pair_disc->forward(x, y_style, x_content));
+    // A style window of the content's own content is a right answer, not a copy.
+    const torch::Tensor differs = (y_content != x_content).to(torch::kFloat32);
+    const torch::Tensor copy = F::softplus(pair_disc->forward(y, y_style, x_content)) * differs;
+    const torch::Tensor d_loss = real + 0.5 * as_fake.mean() + 0.25 * identity.mean() +
+                                 0.25 * copy.sum() / differs.sum().clamp_min(1);
+    d_loss.backward();
+    opt_p->step();
+    r->disc = d_loss.item<double>();
+    const torch::Tensor gan = F::softplus(-pair_disc->forward(fake, y_style, x_content)).mean();
     r->gan = gan.item<double>();
     return gan;
   }
@@ -144,7 +175,13 @@ struct Trainer {
     const torch::Tensor rec = ReconstructionLoss(net->decode(c_x, s_same), x);
     const torch::Tensor x_g = net->decode(c_x, s_other);
     torch::Tensor total = rec;
-    if (config.alpha > 0) total = total + config.alpha * Adversarial(y_other, x_g, &r);
+    if (config.alpha > 0) {
+      const torch::Tensor adv = config.pair_gan
+                                    ? PairAdversarial(x, x_style, x_content, y_other, target_style,
+                                                      other_content, x_g, &r)
+                                    : Adversarial(y_other, x_g, &r);
+      total = total + config.alpha * adv;
+    }
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x);
     const LabelLogits judged = critic->forward(x_g);
     const torch::Tensor cls = LabelLoss(judged, target_style, x_content);
@@ -224,6 +261,12 @@ struct Trainer {
       opt_c = std::make_unique<torch::optim::Adam>(critic->parameters(),
                                                    torch::optim::AdamOptions(1e-3));
     }
+    if (config.pair_gan) {
+      pair_disc = PairDiscriminator(config.dim, static_cast<int>(classes.styles.size()),
+                                    static_cast<int>(classes.contents.size()));
+      opt_p = std::make_unique<torch::optim::Adam>(
+          pair_disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+    }
     opt_g = std::make_unique<torch::optim::Adam>(
         net->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
     opt_d = std::make_unique<torch::optim::Adam>(
@@ -252,6 +295,10 @@ struct Trainer {
     if (config.guided) {
       files.push_back(Tensors("critic.pt", &critic));
       files.push_back(Tensors("opt_c.pt", opt_c.get()));
+    }
+    if (config.pair_gan) {
+      files.push_back(Tensors("pair_disc.pt", &pair_disc));
+      files.push_back(Tensors("opt_p.pt", opt_p.get()));
     }
     spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
     spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
@@ -289,7 +336,7 @@ absl::Status TrainContrastive(const TrainOptions& options) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
   Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr,
-            {},      nullptr,        nullptr, {},      nullptr};
+            {},      nullptr,        nullptr, nullptr, nullptr, {},      nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -4,23 +4,55 @@ namespace stylus::model {
 
 namespace nn = torch::nn;
 
+namespace {
+
+nn::Conv1d DilatedConv(int in, int width, int dilation) {
+  return nn::Conv1d(nn::Conv1dOptions(in, width, 3).dilation(dilation).padding(dilation));
+}
+
+// Three dilated convolutions, then each channel's mean and spread over time.
+torch::Tensor PooledTrunk(const torch::Tensor& x, nn::Conv1d& c1, nn::Conv1d& c2,
+                          nn::Conv1d& c3) {
+  torch::Tensor h = torch::leaky_relu(c1->forward(x), 0.2);
+  h = torch::leaky_relu(c2->forward(h), 0.2);
+  h = torch::leaky_relu(c3->forward(h), 0.2);
+  return torch::cat({h.mean(2), (h.var(2, false) + 1e-5).sqrt()}, 1);
+}
+
+}  // namespace
+
 LabelCriticImpl::LabelCriticImpl(int dim, int styles, int contents, int width) {
-  auto conv = [&](int in, int dilation) {
-    return nn::Conv1d(nn::Conv1dOptions(in, width, 3).dilation(dilation).padding(dilation));
-  };
-  conv1 = register_module("conv1", conv(dim, 1));
-  conv2 = register_module("conv2", conv(width, 2));
-  conv3 = register_module("conv3", conv(width, 4));
+  conv1 = register_module("conv1", DilatedConv(dim, width, 1));
+  conv2 = register_module("conv2", DilatedConv(width, width, 2));
+  conv3 = register_module("conv3", DilatedConv(width, width, 4));
   style_head = register_module("style_head", nn::Linear(2 * width, styles));
   content_head = register_module("content_head", nn::Linear(2 * width, contents));
 }
 
 LabelLogits LabelCriticImpl::forward(const torch::Tensor& x) {
-  torch::Tensor h = torch::leaky_relu(conv1->forward(x), 0.2);
-  h = torch::leaky_relu(conv2->forward(h), 0.2);
-  h = torch::leaky_relu(conv3->forward(h), 0.2);
-  const torch::Tensor pooled = torch::cat({h.mean(2), (h.var(2, false) + 1e-5).sqrt()}, 1);
+  const torch::Tensor pooled = PooledTrunk(x, conv1, conv2, conv3);
   return {style_head->forward(pooled), content_head->forward(pooled)};
+}
+
+PairDiscriminatorImpl::PairDiscriminatorImpl(int dim, int styles, int contents, int width) {
+  conv1 = register_module("conv1", DilatedConv(dim, width, 1));
+  conv2 = register_module("conv2", DilatedConv(width, width, 2));
+  conv3 = register_module("conv3", DilatedConv(width, width, 4));
+  real_head = register_module("real_head", nn::Linear(2 * width, 1));
+  style_embed = register_module("style_embed", nn::Embedding(styles, 2 * width));
+  content_embed = register_module("content_embed", nn::Embedding(contents, 2 * width));
+  // Small label embeddings: the verdict starts from realism alone.
+  torch::NoGradGuard no_grad;
+  style_embed->weight.normal_(0, 0.02);
+  content_embed->weight.normal_(0, 0.02);
+}
+
+torch::Tensor PairDiscriminatorImpl::forward(const torch::Tensor& x, const torch::Tensor& style,
+                                             const torch::Tensor& content) {
+  const torch::Tensor h = PooledTrunk(x, conv1, conv2, conv3);
+  const torch::Tensor projection =
+      ((style_embed->forward(style) + content_embed->forward(content)) * h).sum(1);
+  return real_head->forward(h).squeeze(1) + projection;
 }
 
 torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of) {

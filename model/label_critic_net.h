@@ -27,6 +27,23 @@ struct LabelCriticImpl : torch::nn::Module {
 };
 TORCH_MODULE(LabelCritic);
 
+// The label-conditional discriminator of label-guided training with
+// `pair_gan` (docs/contrastive.md): a projection discriminator
+//   D(x, s, c) = w . h(x) + e_s[s] . h(x) + e_c[c] . h(x)
+// on the same trunk design as the critic, real for real windows with their
+// own labels, fake for transfers and for real windows given a label pair they
+// do not have (the identity and copy-style answers).
+struct PairDiscriminatorImpl : torch::nn::Module {
+  PairDiscriminatorImpl(int dim, int styles, int contents, int width = 96);
+  // x: (B, dim, T); style, content: kLong (B,). Returns logits (B,).
+  torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& style,
+                        const torch::Tensor& content);
+  torch::nn::Conv1d conv1{nullptr}, conv2{nullptr}, conv3{nullptr};
+  torch::nn::Linear real_head{nullptr};
+  torch::nn::Embedding style_embed{nullptr}, content_embed{nullptr};
+};
+TORCH_MODULE(PairDiscriminator);
+
 // The label (kLong, (B,)) of each of `clips`, read from `label_of`.
 torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of);
 

@@ -27,7 +27,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--content-weight W] [--threads N]\n"
-      "         [--guided [--class-weight 1] [--cycle-weight 1]] [--keep-path]\n"
+      "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]] [--keep-path]\n"
       "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
@@ -48,6 +48,9 @@ int Train(const Argv& argv) {
       "style, and a critic trained on real labelled windows scores each transfer\n"
       "against the target style and the content input's content (--class-weight),\n"
       "plus a cycle back to the content's own style (--cycle-weight).\n"
+      "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
+      "(style, content) label pair; it also rejects the unchanged content and the\n"
+      "style clip itself under the transfer's labels.\n"
       "--keep-path makes the package's transfers keep the content's root\n"
       "trajectory and foot contacts (stored as keep_path in config.txt).\n"
       "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
@@ -58,7 +61,7 @@ int Train(const Argv& argv) {
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
                     "class-weight", "cycle-weight"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
-                    "centred-style", "resume", "guided", "keep-path"}},
+                    "centred-style", "resume", "guided", "keep-path", "pair-gan"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -103,6 +106,10 @@ int Train(const Argv& argv) {
   c.content_weight = *content_weight;
   c.guided = args->switches.count("guided") > 0;
   c.keep_path = args->switches.count("keep-path") > 0;
+  c.pair_gan = args->switches.count("pair-gan") > 0;
+  if (c.pair_gan && !c.guided) {
+    return Fail("train", absl::InvalidArgumentError("--pair-gan needs --guided"));
+  }
   for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
                              {"cycle-weight", &c.cycle_weight}}) {
     if (!args->Has(name)) continue;

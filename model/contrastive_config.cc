@@ -35,6 +35,7 @@ std::string ContrastiveConfig::Serialize() const {
     if (pair_gan) put("pair_gan", "1");
   }
   if (keep_path) put("keep_path", "1");
+  if (smooth_sigma > 0) put("smooth_sigma", absl::StrCat(smooth_sigma));
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -75,6 +76,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "guided") return e.Bool(&c.guided);
     if (key == "keep_path") return e.Bool(&c.keep_path);
     if (key == "pair_gan") return e.Bool(&c.pair_gan);
+    if (key == "smooth_sigma") return e.Double(&c.smooth_sigma, 0, 100);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "margin") return e.Double(&c.margin, 0, 1e6);

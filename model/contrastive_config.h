@@ -63,6 +63,11 @@ struct ContrastiveConfig {
   // contacts are the content clip's (the style restyles the body along the
   // content's path; docs/contrastive.md).
   bool keep_path = false;
+  // Inference: a Gaussian of this many frames (sigma; 0: off) over time on
+  // each generated window's pose channels (positions and rotations): the
+  // generator's frame-to-frame shake removed before windows are cross-faded,
+  // alike for whole clips and streams (docs/postprocess.md).
+  double smooth_sigma = 0;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

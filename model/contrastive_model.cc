@@ -113,6 +113,10 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
       const int64_t path = config.dim - 8;
       y.slice(1, path).copy_(x.slice(1, path));
     }
+    if (config.smooth_sigma > 0) {
+      const int64_t body = config.dim - 8;
+      y.slice(1, 0, body).copy_(SmoothOverTime(y.slice(1, 0, body), config.smooth_sigma));
+    }
     y = y.contiguous();
     return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
   } catch (const std::exception& e) {

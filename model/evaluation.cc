@@ -112,6 +112,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       absl::StatusOr<int> c = judges.ClassifyContent(out);
       if (!c.ok()) return c.status();
       EvalRow& row = report.rows[r];
+      report.verdicts.push_back({done, static_cast<int>(r), styles[*s], contents[*c]});
       row.style_accuracy += *s == want_style;
       row.content_accuracy += *c == want_content;
       // Copy-style has another length: its feet are measured against itself.
@@ -168,6 +169,34 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     }
   }
   return report;
+}
+
+namespace {
+
+// A CSV field, quoted when it holds a comma, a quote or a line break.
+std::string CsvField(const std::string& v) {
+  if (v.find_first_of(",\"\n") == std::string::npos) return v;
+  std::string q = "\"";
+  for (char c : v) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
+std::string EvalReport::VerdictsCsv(const std::vector<EvalPair>& pairs) const {
+  std::string s = "content_bvh,style_bvh,output,style,judged_style,content,judged_content\n";
+  for (const EvalVerdict& v : verdicts) {
+    const EvalPair& p = pairs[v.pair];
+    const auto style = motion::ParseClipName(p.style_path);
+    const auto content = motion::ParseClipName(p.content_path);
+    const std::vector<std::string> fields = {p.content_path, p.style_path, rows[v.row].name,
+                                             style ? style->style : "", v.style,
+                                             content ? content->content : "", v.content};
+    for (size_t i = 0; i < fields.size(); ++i)
+      absl::StrAppend(&s, i ? "," : "", CsvField(fields[i]));
+    s += "\n";
+  }
+  return s;
 }
 
 std::string EvalReport::Markdown() const {

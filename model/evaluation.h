@@ -58,6 +58,13 @@ struct EvalModel {
   bool postprocess = false;
 };
 
+// What the judges said about one output of one pair.
+struct EvalVerdict {
+  int pair = 0;  // Index into the evaluated pairs.
+  int row = 0;   // Index into EvalReport::rows.
+  std::string style, content;  // Judged labels.
+};
+
 struct EvalReport {
   // Each model's rows (no post-processing; then `full` if asked), identity
   // (the content clips: real data), copy-style (the style clips).
@@ -65,7 +72,11 @@ struct EvalReport {
   int identity_row = -1;
   double real_diversity = 0;  // Of the reference clips (with a feature judge).
   int reference_clips = 0;
+  std::vector<EvalVerdict> verdicts;  // Every row's verdict on every pair.
   std::string Markdown() const;
+  // One line per pair and row: content_bvh, style_bvh, output, wanted and
+  // judged style and content (where a transfer goes wrong, and into what).
+  std::string VerdictsCsv(const std::vector<EvalPair>& pairs) const;
 };
 
 // Runs every model over every pair. With `features` (may be null), FMD and KID

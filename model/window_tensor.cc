@@ -1,5 +1,7 @@
 #include "model/window_tensor.h"
 
+#include <cmath>
+
 namespace stylus::model {
 
 void PadToLength(motion::FeatureClip* f, int length) {
@@ -23,6 +25,22 @@ torch::Tensor WindowTensor(const motion::FeatureClip& f, const std::vector<int>&
     }
   }
   return x;
+}
+
+torch::Tensor SmoothOverTime(const torch::Tensor& x, double sigma) {
+  const int64_t radius = static_cast<int64_t>(std::ceil(3 * sigma));
+  if (radius <= 0) return x;
+  std::vector<float> taps;
+  for (int64_t d = -radius; d <= radius; ++d)
+    taps.push_back(static_cast<float>(std::exp(-0.5 * d * d / (sigma * sigma))));
+  torch::Tensor kernel = torch::tensor(taps).view({1, 1, -1});
+  kernel = kernel / kernel.sum();
+  const int64_t b = x.size(0), c = x.size(1), t = x.size(2);
+  namespace F = torch::nn::functional;
+  const torch::Tensor padded =
+      F::pad(x.reshape({b * c, 1, t}),
+             F::PadFuncOptions({radius, radius}).mode(torch::kReplicate));
+  return F::conv1d(padded, kernel).view({b, c, t});
 }
 
 }  // namespace stylus::model

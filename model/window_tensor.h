@@ -17,6 +17,10 @@ void PadToLength(motion::FeatureClip* clip, int length);
 torch::Tensor WindowTensor(const motion::FeatureClip& clip, const std::vector<int>& starts,
                            int length);
 
+// x (B, C, T) filtered over time by a Gaussian of `sigma` frames (kernel
+// radius ceil(3 sigma), edges repeated): the same shape back.
+torch::Tensor SmoothOverTime(const torch::Tensor& x, double sigma);
+
 }  // namespace stylus::model
 
 #endif  // STYLUS_MODEL_WINDOW_TENSOR_H_

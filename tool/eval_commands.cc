@@ -71,7 +71,8 @@ int TrainJudges(const Argv& argv) {
 int Eval(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool eval --model DIR --judges DIR --data DIR... --out report.md\n"
-      "         [--ablation LABEL=DIR]... [--pairs-per-content 3] [--threads N]\n\n"
+      "         [--ablation LABEL=DIR]... [--pairs-per-content 3] [--threads N]\n"
+      "         [--verdicts verdicts.csv]\n\n"
       "Transfers deterministic held-out pairs (content clip x style clip of another\n"
       "content and another style) and reports, as Markdown: style and content\n"
       "recognition accuracy (by the judges); FMD and KID against every clip of\n"
@@ -81,10 +82,14 @@ int Eval(const Argv& argv) {
       "post-processing, each --ablation model (without), and the identity and\n"
       "copy-style baselines. Any family; a cyclic model's DIR may end in :kc=N to\n"
       "run N inference-time kinematic optimization steps (:kc=0: none) and in\n"
-      ":adain for the AdaIN probe (docs/cyclic.md).\n";
+      ":adain for the AdaIN probe (docs/cyclic.md).\n"
+      "--verdicts writes, per pair and output, the judged style and content\n"
+      "next to the wanted ones (CSV).\n";
   int code = 0;
   auto args = ParseOrExit("eval", argv,
-                          {{"model", "judges", "data", "out", "pairs-per-content", "threads", "ablation"}, {}},
+                          {{"model", "judges", "data", "out", "pairs-per-content", "threads",
+                            "ablation", "verdicts"},
+                           {}},
                           kHelp, &code);
   if (!args) return code;
   if (!args->Has("model") || !args->Has("judges") || !args->Has("data") || !args->Has("out")) {
@@ -142,6 +147,12 @@ int Eval(const Argv& argv) {
                       args->Get("model"), args->Get("judges"), pairs->size(), report->Markdown());
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
+  if (args->Has("verdicts")) {
+    if (absl::Status s = motion::WriteFileAtomically(args->Get("verdicts"),
+                                                     report->VerdictsCsv(*pairs));
+        !s.ok())
+      return Fail("eval", s);
+  }
   std::fputs(text.c_str(), stdout);
   return 0;
 }

@@ -3,6 +3,7 @@
 #include "model/evaluation.h"
 
 #include <filesystem>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -102,6 +103,26 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   // about real clips scores them low there.
   EXPECT_NE(report->Markdown().find("| model, post-processing full |"), std::string::npos);
   EXPECT_NE(report->Markdown().find("foot skating"), std::string::npos);
+  // Verdicts: one per pair and row; the identity row's judged labels are the
+  // judges' verdicts on the content clips themselves, and its accuracy counts
+  // exactly the verdicts that match.
+  ASSERT_EQ(report->verdicts.size(), pairs->size() * report->rows.size());
+  int identity_right = 0;
+  for (const EvalVerdict& v : report->verdicts) {
+    if (v.row != report->identity_row) continue;
+    const auto label = motion::ParseClipName((*pairs)[v.pair].content_path);
+    ASSERT_TRUE(label.has_value());
+    identity_right += v.content == label->content;
+  }
+  EXPECT_EQ(identity_right, static_cast<int>(std::lround(report->rows[3].content_accuracy *
+                                                         pairs->size())));
+  const std::string csv = report->VerdictsCsv(*pairs);
+  EXPECT_EQ(csv.rfind("content_bvh,style_bvh,output,style,judged_style,content,judged_content\n", 0),
+            0u);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'),
+            static_cast<long>(report->verdicts.size() + 1));
+  EXPECT_NE(csv.find(",identity (output = content),"), std::string::npos);
+  EXPECT_NE(csv.find(",\"model, post-processing full\","), std::string::npos);  // Quoted.
 }
 
 TEST(FeatureMetricsTest, DistancesAreZeroForIdenticalSetsAndGrowWithAShift) {

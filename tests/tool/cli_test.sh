@@ -44,6 +44,8 @@ check "train resume" 0 "resumed from .* at iteration 6" -- "$tool" train --data 
   --threads 1 --resume
 check "train --class-weight without --guided" 1 "--class-weight needs --guided" -- "$tool" train \
   --data "$work/old.bvh" --out "$work/unguided" --class-weight 2
+check "train --pair-gan without --guided" 1 "--pair-gan needs --guided" -- "$tool" train \
+  --data "$work/old.bvh" --out "$work/unguided" --pair-gan
 check "train --guided on unlabelled names" 1 "old.bvh: label-guided training needs labelled clip names" -- \
   "$tool" train --guided --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/guided" --iters 2
 check "train cyclic --class-weight without --guided" 1 "--class-weight needs --guided" -- "$tool" train \

@@ -65,7 +65,8 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
   std::vector<std::vector<std::vector<double>>> embeddings(n_rows);
   const motion::HumanoidRoles& roles = models[0].model->data().roles;
   int done = 0;
-  for (const EvalPair& p : pairs) {
+  for (size_t pair = 0; pair < pairs.size(); ++pair) {
+    const EvalPair& p = pairs[pair];
     absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(p.content_path);
     if (!content.ok()) return content.status();
     absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(p.style_path);
@@ -112,7 +113,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       absl::StatusOr<int> c = judges.ClassifyContent(out);
       if (!c.ok()) return c.status();
       EvalRow& row = report.rows[r];
-      report.verdicts.push_back({done, static_cast<int>(r), styles[*s], contents[*c]});
+      report.verdicts.push_back({static_cast<int>(pair), static_cast<int>(r), styles[*s], contents[*c]});
       row.style_accuracy += *s == want_style;
       row.content_accuracy += *c == want_content;
       // Copy-style has another length: its feet are measured against itself.

@@ -11,6 +11,8 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   c.alpha = 0.1, c.beta = 0.6, c.gamma = 0.2, c.margin = 0.5, c.temperature = 0.2;
   c.use_nce = false, c.use_tri = false, c.cross_view = false, c.local_style = true,
   c.keep_amplitude = true;
+  c.content_weight = 0.5, c.guided = true, c.class_weight = 2, c.cycle_weight = 3;
+  c.pair_gan = true, c.keep_path = true, c.smooth_sigma = 1.5;
   c.batch = 8, c.lr = 3e-4, c.iterations = 123, c.seed = 99, c.trained_iterations = 77;
   c.data = "../shared/data/bandai", c.commit = "abc123";
   absl::StatusOr<ContrastiveConfig> back = ContrastiveConfig::Parse(c.Serialize(), "config.txt");
@@ -19,6 +21,9 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_FALSE(back->cross_view);
   EXPECT_TRUE(back->local_style);
   EXPECT_TRUE(back->keep_amplitude);
+  EXPECT_TRUE(back->pair_gan);
+  EXPECT_TRUE(back->keep_path);
+  EXPECT_DOUBLE_EQ(back->smooth_sigma, 1.5);
 }
 
 TEST(ContrastiveConfigTest, ErrorsNameTheLine) {
@@ -28,6 +33,7 @@ TEST(ContrastiveConfigTest, ErrorsNameTheLine) {
   EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\nuse_nce = yes\n", "c.txt").ok());
   EXPECT_FALSE(ContrastiveConfig::Parse("family = cyclic\ndim = 10\n", "c.txt").ok());
   EXPECT_FALSE(ContrastiveConfig::Parse("window = 32\n", "c.txt").ok());  // No dim.
+  EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\nsmooth_sigma = -1\n", "c.txt").ok());
 }
 
 }  // namespace

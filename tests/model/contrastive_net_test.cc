@@ -2,6 +2,7 @@
 #include "model/contrastive_net.h"
 
 #include "gtest/gtest.h"
+#include "model/window_tensor.h"
 
 namespace stylus::model {
 namespace {
@@ -71,6 +72,21 @@ TEST(ContrastiveNetTest, GanLossesAreNonSaturating) {
   EXPECT_LT(DiscriminatorGanLoss(confident_real, confident_fake).item<float>(), 1e-3);
   EXPECT_GT(GeneratorGanLoss(confident_fake).item<float>(), 9.f);  // Strong gradient when D wins.
   EXPECT_NEAR(GeneratorGanLoss(torch::zeros({4})).item<float>(), std::log(2.0), 1e-6);
+}
+
+TEST(SmoothOverTimeTest, KeepsSlowMotionAndRemovesShake) {
+  const torch::Tensor t = torch::arange(32, torch::kFloat32);
+  const torch::Tensor ramp = (t * 0.1).view({1, 1, 32});
+  const torch::Tensor shake = torch::where(t.remainder(2) == 0, torch::ones({32}), -torch::ones({32}));
+  const torch::Tensor x = torch::cat({ramp, shake.view({1, 1, 32}), torch::full({1, 1, 32}, 3.0)}, 1);
+  const torch::Tensor y = SmoothOverTime(x, 1.5);
+  ASSERT_EQ(y.sizes(), x.sizes());
+  // A ramp is kept away from the edges, a constant everywhere; the
+  // frame-to-frame alternation all but vanishes.
+  EXPECT_LT((y[0][0].slice(0, 5, 27) - x[0][0].slice(0, 5, 27)).abs().max().item<float>(), 1e-4);
+  EXPECT_LT((y[0][2] - 3).abs().max().item<float>(), 1e-5);
+  EXPECT_LT(y[0][1].slice(0, 5, 27).abs().max().item<float>(), 0.02);
+  EXPECT_TRUE(SmoothOverTime(x, 0).equal(x));
 }
 
 }  // namespace

@@ -115,6 +115,19 @@ TEST(GuidedTrainingTest, CriticLearnsTheLabelsAndTransfersFollowIt) {
   std::printf("root path error: free %.3f, kept %.3f\n", path_error(*out), path_error(*on_path));
   EXPECT_LT(path_error(*on_path), 0.5);
   EXPECT_GT(path_error(*out), 4 * path_error(*on_path));
+
+  // smooth_sigma: the same transfer without the generator's frame-to-frame
+  // shake (the mean jerk falls), the same length and path.
+  std::ofstream(kept + "/config.txt", std::ios::app) << "smooth_sigma = 2\n";
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> sm = ContrastiveModel::Load(kept);
+  ASSERT_TRUE(sm.ok()) << sm.status();
+  absl::StatusOr<motion::Motion> smooth = (*sm)->Transfer(content, *(*sm)->EncodeStyle(style));
+  ASSERT_TRUE(smooth.ok()) << smooth.status();
+  EXPECT_EQ(smooth->num_frames, content.num_frames);
+  std::printf("jitter: raw %.1f, smoothed %.1f\n", motion::Jitter(*on_path),
+              motion::Jitter(*smooth));
+  EXPECT_LT(motion::Jitter(*smooth), 0.7 * motion::Jitter(*on_path));
+  EXPECT_LT(path_error(*smooth), 0.5);
 }
 
 TEST(GuidedTrainingTest, ResumesWithItsCritic) {

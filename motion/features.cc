@@ -118,7 +118,7 @@ absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const Humanoid
 absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Skeleton& sk,
                                           const HumanoidRoles& roles, double frame_time,
                                           const RootStart& start) {
-  DecodeState state{start, {}};
+  DecodeState state{start, {}, {}};
   return MotionFromFeatures(features, sk, roles, frame_time, &state);
 }
 
@@ -154,13 +154,19 @@ absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Ske
     local.rotations.resize(nj);
     for (int j = 0; j < nj; ++j) {
       const float* q = row + layout.rotation(j);
-      local.rotations[j] = Normalized(Quat{q[0], q[1], q[2], q[3]});
+      const Quat raw{q[0], q[1], q[2], q[3]};
+      const bool vague = std::sqrt(raw.w * raw.w + raw.x * raw.x + raw.y * raw.y + raw.z * raw.z) <
+                         kMinRotationNorm;
+      local.rotations[j] = vague && static_cast<int>(state->prev_rotations.size()) == nj
+                               ? state->prev_rotations[j]
+                               : Normalized(raw);
       local.translations[j] = sk.joint(j).offset;
       if (above[j]) {
         const float* p = row + layout.position(j);
         local.translations[j] = {p[0], p[1], p[2]};
       }
     }
+    const std::vector<Quat> decoded = local.rotations;  // Before the pelvis is placed.
     // The pelvis is placed in the world, then expressed relative to its parent.
     GlobalPose g = ForwardKinematics(sk, local);
     const float* pp = row + layout.position(roles.pelvis);
@@ -176,6 +182,7 @@ absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Ske
       local.rotations[roles.pelvis] = Normalized(inv * pelvis_rot);
     }
     SetPose(&m, f, local, &prev_euler);
+    state->prev_rotations = decoded;
     const float* t = row + layout.trajectory();
     const Vec3 step = Rotate(yaw_q, Vec3{t[0], 0, t[1]}) * frame_time;
     x += step.x;

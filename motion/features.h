@@ -74,7 +74,10 @@ RootStart RootAt(const Motion& motion, const HumanoidRoles& roles, int f);
 // The inverse of ExtractFeatures: a motion on `skeleton` (same channel layout)
 // whose root follows the integrated trajectory from `start`. Joints below the
 // pelvis keep the skeleton's offsets (bone lengths), quaternions are
-// renormalized, Euler angles are continuous. INVALID_ARGUMENT when the clip's
+// renormalized, Euler angles are continuous. A generated quaternion shorter
+// than kMinRotationNorm says no rotation clearly (a network torn between q
+// and -q): the joint keeps its previous frame's rotation instead of snapping
+// to an arbitrary one. INVALID_ARGUMENT when the clip's
 // width does not match the skeleton or a value is not finite.
 absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Skeleton& skeleton,
                                           const HumanoidRoles& roles, double frame_time,
@@ -83,9 +86,11 @@ absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Ske
 // Where the reconstruction of a clip stands between consecutive chunks of it
 // (streaming): the root's floor position and facing for the next frame, and
 // the last Euler angles written (one per joint; zeros before the first frame).
+inline constexpr double kMinRotationNorm = 0.5;
 struct DecodeState {
   RootStart root;
   std::vector<Vec3> prev_euler;
+  std::vector<Quat> prev_rotations;  // Last frame's local rotations (empty at first).
 };
 // MotionFromFeatures for the next chunk of a clip: starts at `state` and
 // leaves it ready for the chunk after, so chunks decoded one after another

@@ -1,5 +1,6 @@
 #include "motion/features.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "gtest/gtest.h"
@@ -52,6 +53,30 @@ TEST(FeaturesTest, QuaternionsStayInOneHemisphere) {
           << "frame " << t << " joint " << j;
     }
   }
+}
+
+TEST(FeaturesTest, AVagueGeneratedRotationKeepsThePreviousFrames) {
+  const Fixture fx = Walk("normal,frames=20");
+  absl::StatusOr<FeatureClip> f = ExtractFeatures(fx.motion, fx.roles);
+  ASSERT_TRUE(f.ok()) << f.status();
+  const FeatureLayout layout(fx.motion.skeleton.num_joints());
+  const int knee = fx.motion.skeleton.joint(fx.roles.left_ankle).parent;
+  // Frame 10's knee: a short quaternion pointing somewhere else entirely.
+  float* q = f->row(10) + layout.rotation(knee);
+  const float vague[4] = {0.05f, -0.2f, 0.1f, 0.05f};
+  std::copy(vague, vague + 4, q);
+  absl::StatusOr<Motion> m = MotionFromFeatures(*f, fx.motion.skeleton, fx.roles,
+                                                fx.motion.frame_time, RootAt(fx.motion, fx.roles, 0));
+  ASSERT_TRUE(m.ok()) << m.status();
+  const Quat at9 = PoseAt(*m, 9).rotations[knee], at10 = PoseAt(*m, 10).rotations[knee];
+  EXPECT_LT(AngleBetween(at9, at10), 1e-4);
+  // Scaled, but clear: taken as it is.
+  std::copy(vague, vague + 4, q);
+  for (int c = 0; c < 4; ++c) q[c] *= 5;
+  m = MotionFromFeatures(*f, fx.motion.skeleton, fx.roles, fx.motion.frame_time,
+                         RootAt(fx.motion, fx.roles, 0));
+  ASSERT_TRUE(m.ok()) << m.status();
+  EXPECT_GT(AngleBetween(PoseAt(*m, 9).rotations[knee], PoseAt(*m, 10).rotations[knee]), 0.3);
 }
 
 TEST(FeaturesTest, FeaturesToMotionToFeaturesIsIdentity) {

@@ -23,7 +23,7 @@ struct LossRecord {
 
 struct TrainOptions {
   std::vector<std::string> data;  // Directories (training split) or .bvh files.
-  std::string out;                // Package directory, e.g. models/contrastive/v1.
+  std::string out;                // Package directory, e.g. models/contrastive/v2.
   ContrastiveConfig config;       // dim is filled from the data.
   bool resume = false;            // Continue from out/checkpoint if present.
   int checkpoint_every = 500;     // Iterations; also rewrites the package.

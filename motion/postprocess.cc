@@ -214,7 +214,10 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
       pin.y = y / (s.end - s.begin);
       for (int f = std::max(0, s.begin - blend); f < std::min(n, s.end + blend); ++f) {
         const int dist = f < s.begin ? s.begin - f : (f >= s.end ? f - s.end + 1 : 0);
-        const double w = 1.0 - static_cast<double>(dist) / (blend + 1);
+        // Smoothstep ramp: no corner where the lock starts or ends, so the
+        // blend adds no jerk spike.
+        const double t = 1.0 - static_cast<double>(dist) / (blend + 1);
+        const double w = t * t * (3 - 2 * t);
         if (w > weight[k][f]) {
           weight[k][f] = w;
           target[k][f] = pin;

@@ -50,7 +50,7 @@ struct PostProcessParams {
   // `full` first smooths every joint's local rotation over +-this many frames
   // (triangle weights): generated rotations carry frame-to-frame noise.
   int smooth_radius = 2;
-  double blend_s = 0.1;  // Locks blend in and out over this long.
+  double blend_s = 0.1;  // Locks blend in and out over this long (smoothstep).
   // Where a locked foot is pinned: the mean of its span (offline), or, for
   // streaming, where it is at the span's first frame (known without waiting
   // for the span's end).

@@ -107,15 +107,13 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
     }
     const torch::Tensor x = impl_->Windows(features, starts);
     torch::Tensor y = impl_->net->decode(impl_->net->content(x), code_tensor);
-    if (config.keep_path) {
-      // The content's root trajectory and foot contacts (the last 8 channels,
-      // motion/features.h): the style changes the body, not the path.
-      const int64_t path = config.dim - 8;
-      y.slice(1, path).copy_(x.slice(1, path));
-    }
+    // Channels [0, path) pose the body; [path, dim) are the root trajectory
+    // and foot contacts (motion/features.h).
+    const int64_t path = config.dim - 8;
+    // keep_path: the style changes the body, not the content's path.
+    if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
     if (config.smooth_sigma > 0) {
-      const int64_t body = config.dim - 8;
-      y.slice(1, 0, body).copy_(SmoothOverTime(y.slice(1, 0, body), config.smooth_sigma));
+      y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config.smooth_sigma));
     }
     y = y.contiguous();
     return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());

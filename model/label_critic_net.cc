@@ -49,7 +49,15 @@ PairDiscriminatorImpl::PairDiscriminatorImpl(int dim, int styles, int contents, 
 
 torch::Tensor PairDiscriminatorImpl::forward(const torch::Tensor& x, const torch::Tensor& style,
                                              const torch::Tensor& content) {
-  const torch::Tensor h = PooledTrunk(x, conv1, conv2, conv3);
+  return Verdict(Trunk(x), style, content);
+}
+
+torch::Tensor PairDiscriminatorImpl::Trunk(const torch::Tensor& x) {
+  return PooledTrunk(x, conv1, conv2, conv3);
+}
+
+torch::Tensor PairDiscriminatorImpl::Verdict(const torch::Tensor& h, const torch::Tensor& style,
+                                             const torch::Tensor& content) {
   const torch::Tensor projection =
       ((style_embed->forward(style) + content_embed->forward(content)) * h).sum(1);
   return real_head->forward(h).squeeze(1) + projection;

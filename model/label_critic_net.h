@@ -38,6 +38,11 @@ struct PairDiscriminatorImpl : torch::nn::Module {
   // x: (B, dim, T); style, content: kLong (B,). Returns logits (B,).
   torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& style,
                         const torch::Tensor& content);
+  // The same in two parts, so one window batch can be judged under several
+  // label pairs: h(x) (B, 2 width), then the logits for a label pair.
+  torch::Tensor Trunk(const torch::Tensor& x);
+  torch::Tensor Verdict(const torch::Tensor& h, const torch::Tensor& style,
+                        const torch::Tensor& content);
   torch::nn::Conv1d conv1{nullptr}, conv2{nullptr}, conv3{nullptr};
   torch::nn::Linear real_head{nullptr};
   torch::nn::Embedding style_embed{nullptr}, content_embed{nullptr};

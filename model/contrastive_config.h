@@ -68,6 +68,12 @@ struct ContrastiveConfig {
   // generator's frame-to-frame shake removed before windows are cross-faded,
   // alike for whole clips and streams (docs/postprocess.md).
   double smooth_sigma = 0;
+  // Inference: how far each window's style moves from the content window's
+  // own style code towards the requested one, k in [0, 1]: the generator gets
+  // k * requested + (1 - k) * Es(content window). 1 (the default): the
+  // requested style alone; 0: the content restyled with itself. Per window,
+  // so whole clips and streams stay alike (docs/contrastive.md).
+  double style_strength = 1;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

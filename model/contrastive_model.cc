@@ -106,6 +106,10 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
                                             {config.channels}, torch::kFloat32));
     }
     const torch::Tensor x = impl_->Windows(features, starts);
+    if (config.style_strength < 1) {
+      const double k = config.style_strength;
+      code_tensor = k * code_tensor + (1 - k) * impl_->net->style(x);
+    }
     torch::Tensor y = impl_->net->decode(impl_->net->content(x), code_tensor);
     // Channels [0, path) pose the body; [path, dim) are the root trajectory
     // and foot contacts (motion/features.h).

@@ -1,6 +1,7 @@
 #include "motion/postprocess.h"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -143,9 +144,17 @@ void SmoothRotations(Motion* motion, int radius) {
   std::vector<LocalPose> poses(n);
   for (int f = 0; f < n; ++f) poses[f] = PoseAt(*motion, f);
   for (int j = 1; j < sk.num_joints(); ++j) {
-    std::vector<Quat> q(n);
+    // The root's rotation is kept as it is (it carries the path's facing).
+    // Its children are smoothed in the root's parent frame (the world): a
+    // generated root may wobble while its child turns the other way, and
+    // smoothing only the child would put the root's wobble into the body.
+    const bool under_root = sk.joint(j).parent == 0;
+    auto rotation = [&](int f) {
+      return under_root ? poses[f].rotations[0] * poses[f].rotations[j] : poses[f].rotations[j];
+    };
+    std::vector<Quat> q(n), smoothed_rotations(n);
     for (int f = 0; f < n; ++f) {
-      q[f] = f == 0 ? poses[f].rotations[j] : SameHemisphere(poses[f].rotations[j], q[f - 1]);
+      q[f] = f == 0 ? rotation(f) : SameHemisphere(rotation(f), q[f - 1]);
     }
     for (int f = 0; f < n; ++f) {
       Quat sum{0, 0, 0, 0};
@@ -155,8 +164,11 @@ void SmoothRotations(Motion* motion, int radius) {
         const Quat a = SameHemisphere(q[i], q[f]);
         sum = {sum.w + w * a.w, sum.x + w * a.x, sum.y + w * a.y, sum.z + w * a.z};
       }
-      poses[f].rotations[j] = Normalized(sum);
+      const Quat smoothed = Normalized(sum);
+      smoothed_rotations[f] = under_root ? Normalized(Conjugate(poses[f].rotations[0]) * smoothed)
+                                         : smoothed;
     }
+    for (int f = 0; f < n; ++f) poses[f].rotations[j] = smoothed_rotations[f];
   }
   std::vector<Vec3> prev = EulerAt(*motion, 0);
   for (int f = 0; f < n; ++f) SetPose(motion, f, poses[f], &prev);
@@ -209,9 +221,6 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
         for (int f = s.begin; f < last; ++f) pin = pin + out_pos[f][j];
         pin = pin * (1.0 / (last - s.begin));
       }
-      double y = 0;
-      for (int f = s.begin; f < s.end; ++f) y += content_pos[f][j].y;
-      pin.y = y / (s.end - s.begin);
       for (int f = std::max(0, s.begin - blend); f < std::min(n, s.end + blend); ++f) {
         const int dist = f < s.begin ? s.begin - f : (f >= s.end ? f - s.end + 1 : 0);
         // Smoothstep ramp: no corner where the lock starts or ends, so the
@@ -220,10 +229,33 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
         const double w = t * t * (3 - 2 * t);
         if (w > weight[k][f]) {
           weight[k][f] = w;
-          target[k][f] = pin;
+          // Held in place over the floor, at the height the content's foot
+          // has at that moment: a planted foot still rolls (heel down, heel
+          // off), and pressing it flat would make the knee take up the roll.
+          target[k][f] = {pin.x, content_pos[f][j].y, pin.z};
         }
       }
     }
+  }
+
+  // Each knee's hinge in its thigh's frame, the same for the whole clip (a
+  // per-frame hinge from positions is noise when the leg is nearly
+  // straight): the mean over frames of the bend plane's normal, which
+  // weighs each frame by how bent its knee is.
+  std::array<std::optional<Vec3>, 2> hinge;
+  std::array<double, 2> leg_length{};
+  for (int side = 0; side < 2; ++side) {
+    const Leg& leg = (*legs)[side];
+    Vec3 sum;
+    for (int f = 0; f < n; ++f) {
+      const GlobalPose g = ForwardKinematics(sk, PoseAt(source, f));
+      const Vec3 hip = g.positions[leg.hip], knee = g.positions[leg.knee],
+                 ankle = g.positions[leg.ankle];
+      sum = sum + Rotate(Conjugate(g.rotations[leg.hip]), Cross(knee - hip, ankle - knee));
+      leg_length[side] += (Norm(knee - hip) + Norm(ankle - knee)) / n;
+    }
+    // A leg straight in every frame has none: each frame's own is used.
+    if (Norm(sum) > 1e-9) hinge[side] = Normalized(sum, {1, 0, 0});
   }
 
   Motion result = output;
@@ -239,35 +271,25 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
       }
     }
     GlobalPose g = ForwardKinematics(sk, local);
-    for (const Leg& leg : *legs) {
+    for (int side = 0; side < 2; ++side) {
+      const Leg& leg = (*legs)[side];
       const double wa = weight[leg.ankle_k][f], wt = weight[leg.toe_k][f];
       if (wa <= 0 && wt <= 0) continue;
       Vec3 ankle = g.positions[leg.ankle];
       const Vec3 toe_offset = g.positions[leg.toe] - ankle;
       if (wa > 0) {
         const Vec3 want = Lerp(ankle, target[leg.ankle_k][f], wa);
-        // Knees bend forward: keep the pose's own knee direction unless it
-        // points backwards or along the leg, where the solve would flip.
-        const Vec3 forward = Normalized(
-            Cross(g.positions[roles.left_hip] - g.positions[roles.right_hip], Vec3{0, 1, 0}),
-            {0, 0, 1});
-        const Vec3 hip = g.positions[leg.hip];
-        const Vec3 line = Normalized(want - hip, {0, -1, 0});
-        Vec3 bend = (g.positions[leg.knee] - hip) - line * Dot(g.positions[leg.knee] - hip, line);
-        const Vec3 forward_perp = Normalized(forward - line * Dot(forward, line), forward);
-        Vec3 knee = g.positions[leg.knee];
-        if (Dot(Normalized(bend, forward_perp), forward_perp) < 0.3) {
-          knee = hip + line * Dot(knee - hip, line) + forward_perp * std::max(1e-3, Norm(bend));
+        TwoBoneParams ik_params;
+        if (hinge[side]) {
+          ik_params.hinge = Rotate(g.rotations[leg.hip], *hinge[side]);
+        } else {  // A straight leg bends towards the character's facing.
+          ik_params.pole_hint = Normalized(
+              Cross(g.positions[roles.left_hip] - g.positions[roles.right_hip], Vec3{0, 1, 0}),
+              {0, 0, 1});
         }
-        TwoBoneResult ik = SolveTwoBone(hip, knee, ankle, want, forward_perp);
-        if (knee.x != g.positions[leg.knee].x || knee.y != g.positions[leg.knee].y ||
-            knee.z != g.positions[leg.knee].z) {
-          // Solved from a moved knee: rotate from the pose's real bones.
-          ik.hip_delta = RotationBetween(g.positions[leg.knee] - hip, ik.knee - hip);
-          ik.knee_delta = RotationBetween(Rotate(ik.hip_delta, ankle - g.positions[leg.knee]),
-                                          ik.ankle - ik.knee) *
-                          ik.hip_delta;
-        }
+        ik_params.soft = params.soft_reach * leg_length[side];
+        const TwoBoneResult ik = SolveTwoBone(g.positions[leg.hip], g.positions[leg.knee], ankle,
+                                              want, ik_params);
         g.rotations[leg.hip] = Normalized(ik.hip_delta * g.rotations[leg.hip]);
         g.rotations[leg.knee] = Normalized(ik.knee_delta * g.rotations[leg.knee]);
         ankle = ik.ankle;

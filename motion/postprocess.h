@@ -51,6 +51,9 @@ struct PostProcessParams {
   // (triangle weights): generated rotations carry frame-to-frame noise.
   int smooth_radius = 2;
   double blend_s = 0.1;  // Locks blend in and out over this long (smoothstep).
+  // The leg solve's soft reach, in leg lengths (motion/ik.h): a stance leg
+  // near full stretch eases towards its pin instead of snapping straight.
+  double soft_reach = 0.02;
   // Where a locked foot is pinned: the mean of its span (offline), or, for
   // streaming, where it is at the span's first frame (known without waiting
   // for the span's end).

@@ -139,6 +139,32 @@ TEST_F(TrainedModelTest, InterpolationEndpointsEqualTransfer) {
   EXPECT_FALSE(m->Interpolate(content, {a, b}, {{1.0}, {}}).ok());
 }
 
+// style_strength (config.txt): 0 restyles the content with its own windows'
+// style whatever is asked; 0.5 lies between that and the full transfer.
+TEST_F(TrainedModelTest, StyleStrengthMovesFromTheContentsOwnStyle) {
+  auto full = *ContrastiveModel::Load(*dir_);
+  const std::string weak = Dir("weak_style");
+  for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh", "weights.pt"}) {
+    std::filesystem::copy_file(*dir_ + "/" + f, weak + "/" + f);
+  }
+  auto with_strength = [&](double k) {
+    std::ofstream(weak + "/config.txt", std::ios::app) << "style_strength = " << k << "\n";
+    return *ContrastiveModel::Load(weak);
+  };
+  const auto none = with_strength(0);
+  const StyleCode a = *full->EncodeStyle(Clip(1)), b = *full->EncodeStyle(Clip(2));
+  const motion::Motion content = Clip(0);
+  EXPECT_LT(motion::MaxPositionDifference(*none->Transfer(content, a), *none->Transfer(content, b)),
+            1e-4);
+  const auto half = with_strength(0.5);  // The later key wins.
+  const motion::Motion target = *full->Transfer(content, a), own = *none->Transfer(content, a),
+                       mid = *half->Transfer(content, a);
+  EXPECT_GT(motion::MaxPositionDifference(target, own), 1e-3);
+  EXPECT_LT(motion::MaxPositionDifference(mid, target), motion::MaxPositionDifference(own, target));
+  EXPECT_LT(motion::MaxPositionDifference(mid, own), motion::MaxPositionDifference(target, own));
+  EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\nstyle_strength = 1.5\n", "c.txt").ok());
+}
+
 TEST_F(TrainedModelTest, RejectsClipsTheModelCannotTake) {
   auto m = *ContrastiveModel::Load(*dir_);
   motion::Motion fast = Clip(0);

@@ -51,6 +51,85 @@ TEST(TwoBoneIkTest, UnreachableTargetsGiveAStraightLegNotNan) {
     EXPECT_TRUE(std::isfinite(v));
 }
 
+TEST(TwoBoneIkTest, TheKneeTurnsOnlyAboutItsHingeAndStaysPutForItsOwnAnkle) {
+  const Vec3 hip{0, 100, 0}, knee{0, 55, 5}, ankle{0, 10, 0};
+  TwoBoneParams params;
+  params.hinge = Vec3{1, 0.1, 0};  // Not quite the pose's own (x).
+  const TwoBoneResult r = SolveTwoBone(hip, knee, ankle, {8, 25, 12}, params);
+  EXPECT_TRUE(r.reached);
+  // What the knee gets beyond the hip's swing is a turn about the hinge.
+  const Quat bend = Conjugate(r.hip_delta) * r.knee_delta;
+  const Vec3 axis{bend.x, bend.y, bend.z};
+  EXPECT_GT(Norm(axis), 1e-3);
+  EXPECT_LT(Norm(Cross(Normalized(axis), Normalized(*params.hinge))), 1e-9);
+  // The ankle's own position as target: nothing moves, straight leg included.
+  for (const Vec3& k : {knee, Vec3{0, 55, 0.2}}) {
+    const TwoBoneResult same = SolveTwoBone(hip, k, ankle, ankle, params);
+    EXPECT_LT(Dist(same.knee, k), 1e-9);
+    EXPECT_LT(AngleBetween(same.knee_delta, Quat{}), 1e-9);
+  }
+}
+
+// A nearly straight leg whose target slides through its full reach: without a
+// soft reach the knee races as the leg snaps straight (the knee angle's
+// sensitivity to the hip-ankle distance has no bound there); with one it
+// eases.
+TEST(TwoBoneIkTest, SoftReachKeepsTheKneeFromRacingAtFullStretch) {
+  const Vec3 hip{0, 100, 0}, knee{0, 55, 3}, ankle{0, 10, 0};
+  const double reach = Dist(knee, hip) + Dist(ankle, knee);
+  auto fastest_knee = [&](double soft) {
+    TwoBoneParams params;
+    params.soft = soft;
+    double worst = 0;
+    Vec3 previous = SolveTwoBone(hip, knee, ankle, {0, 100 - 0.95 * reach, 0}, params).knee;
+    for (int i = 1; i <= 100; ++i) {  // Target steps of 0.001 reach.
+      const Vec3 target{0, 100 - (0.95 + 0.001 * i) * reach, 0};
+      const TwoBoneResult r = SolveTwoBone(hip, knee, ankle, target, params);
+      EXPECT_TRUE(std::isfinite(r.knee.z));
+      worst = std::max(worst, Dist(r.knee, previous) / (0.001 * reach));
+      previous = r.knee;
+    }
+    return worst;
+  };
+  const double hard = fastest_knee(0), soft = fastest_knee(0.02 * reach);
+  EXPECT_GT(hard, 4.0);
+  EXPECT_LT(soft, 0.5 * hard);
+  // Below the soft zone the solve is exact.
+  TwoBoneParams params;
+  params.soft = 0.02 * reach;
+  EXPECT_TRUE(SolveTwoBone(hip, knee, ankle, {10, 30, 10}, params).reached);
+}
+
+// A generated root may wobble while its child turns the other way (the body
+// itself still): smoothing must not put the root's wobble into the body.
+TEST(PostProcessTest, SmoothingKeepsARootWobbleOutOfTheBody) {
+  std::vector<Joint> joints(3);
+  joints[0].name = "root";
+  joints[1].name = "hips";
+  joints[2].name = "head";
+  joints[1].parent = 0;
+  joints[2].parent = 1;
+  joints[2].offset = {0, 50, 0};
+  for (int j = 0; j < 3; ++j) {
+    for (const char* c : {"Zrotation", "Xrotation", "Yrotation"})
+      joints[j].channels.push_back(*ParseChannel(c));
+  }
+  Motion m = RestMotion(*Skeleton::Create(joints), 40, 1.0 / 30);
+  const Quat lean = AxisAngle({1, 0, 0}, 0.3);
+  for (int f = 0; f < m.num_frames; ++f) {
+    LocalPose pose = PoseAt(m, f);
+    pose.rotations[0] = AxisAngle({0.2, 1, 0.1}, (f % 2 ? 8.0 : -8.0) * M_PI / 180);
+    pose.rotations[1] = Conjugate(pose.rotations[0]) * lean;
+    std::vector<Vec3> previous(3);
+    SetPose(&m, f, pose, &previous);
+  }
+  const double before = Jitter(m);
+  SmoothRotations(&m, 2);
+  const auto pos = GlobalPositions(m);
+  for (int f = 1; f < m.num_frames; ++f) EXPECT_LT(Dist(pos[f][2], pos[0][2]), 1e-6) << f;
+  EXPECT_LE(Jitter(m), before + 1e-6);
+}
+
 // One joint spinning 720 degrees, 5 degrees a frame, about the order's first
 // axis tilted by ~12 degrees (away from gimbal lock, where even continuous
 // angles must swing), written as wrapped (discontinuous) Euler angles.
@@ -177,6 +256,17 @@ TEST(PostProcessTest, RealDataIsAlreadyCleanAndStaysPut) {
     for (int j : FootJoints(roles)) ASSERT_LT(Dist(a[f][j], b[f][j]), 6.0) << "frame " << f;
   }
   EXPECT_LT(Jitter(*fixed), 1.5 * Jitter(clip));
+  // Neither do the knees shake: a planted leg near full stretch is solved
+  // with a soft reach about the knee's hinge, not snapped straight.
+  auto joint_jerk = [](const std::vector<std::vector<Vec3>>& p, int j) {
+    double sum = 0;
+    for (size_t f = 3; f < p.size(); ++f) sum += Norm(p[f][j] - p[f - 1][j] * 3.0 + p[f - 2][j] * 3.0 - p[f - 3][j]);
+    return sum;
+  };
+  for (int ankle : {roles.left_ankle, roles.right_ankle}) {
+    const int knee = clip.skeleton.joint(ankle).parent;
+    EXPECT_LT(joint_jerk(a, knee), 1.7 * joint_jerk(b, knee)) << clip.skeleton.joint(knee).name;
+  }
 }
 
 }  // namespace

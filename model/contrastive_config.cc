@@ -37,6 +37,7 @@ std::string ContrastiveConfig::Serialize() const {
   if (keep_path) put("keep_path", "1");
   if (smooth_sigma > 0) put("smooth_sigma", absl::StrCat(smooth_sigma));
   if (style_strength != 1) put("style_strength", absl::StrCat(style_strength));
+  if (residual) put("residual", "1");
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -79,6 +80,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "pair_gan") return e.Bool(&c.pair_gan);
     if (key == "smooth_sigma") return e.Double(&c.smooth_sigma, 0, 100);
     if (key == "style_strength") return e.Double(&c.style_strength, 0, 1);
+    if (key == "residual") return e.Bool(&c.residual);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "margin") return e.Double(&c.margin, 0, 1e6);

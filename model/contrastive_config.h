@@ -74,6 +74,11 @@ struct ContrastiveConfig {
   // requested style alone; 0: the content restyled with itself. Per window,
   // so whole clips and streams stay alike (docs/contrastive.md).
   double style_strength = 1;
+  // Inference: with `residual`, each window is the content window plus
+  // G(Ec(x), style) - G(Ec(x), Es(x)), the change the style makes in the
+  // generator's output (smoothed by smooth_sigma), so what the generator
+  // fails to reproduce of the content is not lost (docs/contrastive.md).
+  bool residual = false;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

@@ -106,19 +106,26 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
                                             {config.channels}, torch::kFloat32));
     }
     const torch::Tensor x = impl_->Windows(features, starts);
+    const torch::Tensor content = impl_->net->content(x);
+    torch::Tensor own_style;
+    if (config.style_strength < 1 || config.residual) own_style = impl_->net->style(x);
     if (config.style_strength < 1) {
       const double k = config.style_strength;
-      code_tensor = k * code_tensor + (1 - k) * impl_->net->style(x);
+      code_tensor = k * code_tensor + (1 - k) * own_style;
     }
-    torch::Tensor y = impl_->net->decode(impl_->net->content(x), code_tensor);
+    torch::Tensor y = impl_->net->decode(content, code_tensor);
+    // residual: the content window plus what the style changes in the
+    // generator's output; what the generator loses of any window cancels.
+    if (config.residual) y = y - impl_->net->decode(content, own_style);
     // Channels [0, path) pose the body; [path, dim) are the root trajectory
     // and foot contacts (motion/features.h).
     const int64_t path = config.dim - 8;
-    // keep_path: the style changes the body, not the content's path.
-    if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
     if (config.smooth_sigma > 0) {
       y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config.smooth_sigma));
     }
+    if (config.residual) y = y + x;
+    // keep_path: the style changes the body, not the content's path.
+    if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
     y = y.contiguous();
     return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
   } catch (const std::exception& e) {

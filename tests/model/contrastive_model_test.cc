@@ -165,6 +165,30 @@ TEST_F(TrainedModelTest, StyleStrengthMovesFromTheContentsOwnStyle) {
   EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\nstyle_strength = 1.5\n", "c.txt").ok());
 }
 
+// residual (config.txt): the content window plus the change the style makes
+// in the generator's output. With style_strength 0 that change is nothing, so
+// the content comes back as it was, which the plain generator cannot do.
+TEST_F(TrainedModelTest, ResidualTransferKeepsWhatTheGeneratorLoses) {
+  auto plain = *ContrastiveModel::Load(*dir_);
+  const std::string dir = Dir("residual");
+  for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh", "weights.pt"}) {
+    std::filesystem::copy_file(*dir_ + "/" + f, dir + "/" + f);
+  }
+  std::ofstream(dir + "/config.txt", std::ios::app) << "residual = 1\n";
+  const auto residual = *ContrastiveModel::Load(dir);
+  std::ofstream(dir + "/config.txt", std::ios::app) << "style_strength = 0\n";
+  const auto own = *ContrastiveModel::Load(dir);
+  const motion::Motion content = Clip(0);
+  const StyleCode a = *plain->EncodeStyle(Clip(1));
+  auto off = [&](const ContrastiveModel& m) {
+    return motion::MaxPositionDifference(*m.Transfer(content, a, motion::PostProcessMode::kNone),
+                                         content);
+  };
+  EXPECT_LT(off(*own), 1e-3);
+  EXPECT_GT(off(*plain), 100 * off(*own));
+  EXPECT_GT(off(*residual), 1e-3);  // A real style change remains.
+}
+
 TEST_F(TrainedModelTest, RejectsClipsTheModelCannotTake) {
   auto m = *ContrastiveModel::Load(*dir_);
   motion::Motion fast = Clip(0);

@@ -92,8 +92,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "centred_style") return e.Bool(&c.centred_style);
     if (key == "keep_amplitude") return e.Bool(&c.keep_amplitude);
     if (std::optional<absl::Status> s = ParseTrainingKey(
-            e, {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data,
-                &c.commit}))
+            e,
+            {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data, &c.commit}))
       return *s;
     return e.Error("unknown key '" + key + "'");
   });

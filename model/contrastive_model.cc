@@ -6,8 +6,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "model/contrastive_net.h"
-#include "model/window_blend.h"
 #include "model/weights_io.h"
+#include "model/window_blend.h"
 #include "model/window_tensor.h"
 #include "motion/features.h"
 #include "motion/windowing.h"
@@ -88,9 +88,8 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
   }
   for (size_t w = 0; w < starts.size(); ++w) {
     if (starts[w] < 0 || starts[w] + config.window > features.frames) {
-      return absl::InvalidArgumentError(absl::StrCat("window at frame ", starts[w],
-                                                     " does not fit in ", features.frames,
-                                                     " frames"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "window at frame ", starts[w], " does not fit in ", features.frames, " frames"));
     }
     if (static_cast<int>(codes[w].values.size()) != config.channels) {
       return absl::InvalidArgumentError(absl::StrCat("style code has ", codes[w].values.size(),
@@ -100,7 +99,8 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
   }
   try {
     c10::InferenceMode guard;
-    torch::Tensor code_tensor = torch::empty({static_cast<int64_t>(starts.size()), config.channels});
+    torch::Tensor code_tensor =
+        torch::empty({static_cast<int64_t>(starts.size()), config.channels});
     for (size_t w = 0; w < starts.size(); ++w) {
       code_tensor[w].copy_(torch::from_blob(const_cast<float*>(codes[w].values.data()),
                                             {config.channels}, torch::kFloat32));
@@ -138,8 +138,7 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
                                                              const StyleWeights& weights,
                                                              motion::PostProcessMode post) const {
   const ContrastiveConfig& config = impl_->package.config;
-  if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, config.channels);
-      !s.ok())
+  if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, config.channels); !s.ok())
     return s;
   const bool per_frame = !weights.per_frame.empty();
   absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(content, "content clip");

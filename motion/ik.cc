@@ -26,8 +26,8 @@ double Soften(double d, double start, double soft) {
 
 }  // namespace
 
-TwoBoneResult SolveTwoBone(const Vec3& hip, const Vec3& knee, const Vec3& ankle,
-                           const Vec3& target, const TwoBoneParams& params) {
+TwoBoneResult SolveTwoBone(const Vec3& hip, const Vec3& knee, const Vec3& ankle, const Vec3& target,
+                           const TwoBoneParams& params) {
   TwoBoneResult r;
   const double l1 = Norm(knee - hip), l2 = Norm(ankle - knee);
   const Vec3 n = params.hinge ? Normalized(*params.hinge, {1, 0, 0})
@@ -48,14 +48,16 @@ TwoBoneResult SolveTwoBone(const Vec3& hip, const Vec3& knee, const Vec3& ankle,
   const double reach = std::sqrt(std::max(0.0, l1 * l1 + l2 * l2 + 2 * l1 * l2 * (along + across)));
   const double soft_start = reach - params.soft;
   const double wanted = Norm(target - hip), now = Norm(ankle - hip);
-  const double d = Soften(wanted, soft_start, params.soft), d_now = Soften(now, soft_start, params.soft);
+  const double d = Soften(wanted, soft_start, params.soft),
+               d_now = Soften(now, soft_start, params.soft);
   // Exact for a forward-bent knee; a hyperextended one (phi < 0) changes by
   // the same amount, so the solve is continuous through the straight leg.
   const double new_phi = phi >= 0 ? bend_for(d) : phi + bend_for(d) - bend_for(d_now);
   const Quat bend = AxisAngle(n, new_phi - phi);
   const Vec3 bent_ankle = knee + Rotate(bend, ankle - knee);
   const Vec3 to_target = target - hip;
-  const Quat swing = Norm(to_target) > 1e-12 ? RotationBetween(bent_ankle - hip, to_target) : Quat{};
+  const Quat swing =
+      Norm(to_target) > 1e-12 ? RotationBetween(bent_ankle - hip, to_target) : Quat{};
   r.knee = hip + Rotate(swing, knee - hip);
   r.ankle = hip + Rotate(swing, bent_ankle - hip);
   r.hip_delta = swing;

@@ -37,8 +37,8 @@ struct TwoBoneParams {
 // the target. A target out of reach gives the leg as straight as its hinge
 // allows (straight for the pose's own hinge), pointing at it. Never NaN for
 // finite input.
-TwoBoneResult SolveTwoBone(const Vec3& hip, const Vec3& knee, const Vec3& ankle,
-                           const Vec3& target, const TwoBoneParams& params = {});
+TwoBoneResult SolveTwoBone(const Vec3& hip, const Vec3& knee, const Vec3& ankle, const Vec3& target,
+                           const TwoBoneParams& params = {});
 
 }  // namespace stylus::motion
 

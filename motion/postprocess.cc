@@ -1,8 +1,8 @@
 #include "motion/postprocess.h"
 
 #include <algorithm>
-#include <optional>
 #include <cmath>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "motion/contacts.h"
@@ -165,8 +165,8 @@ void SmoothRotations(Motion* motion, int radius) {
         sum = {sum.w + w * a.w, sum.x + w * a.x, sum.y + w * a.y, sum.z + w * a.z};
       }
       const Quat smoothed = Normalized(sum);
-      smoothed_rotations[f] = under_root ? Normalized(Conjugate(poses[f].rotations[0]) * smoothed)
-                                         : smoothed;
+      smoothed_rotations[f] =
+          under_root ? Normalized(Conjugate(poses[f].rotations[0]) * smoothed) : smoothed;
     }
     for (int f = 0; f < n; ++f) poses[f].rotations[j] = smoothed_rotations[f];
   }
@@ -288,8 +288,8 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
               {0, 0, 1});
         }
         ik_params.soft = params.soft_reach * leg_length[side];
-        const TwoBoneResult ik = SolveTwoBone(g.positions[leg.hip], g.positions[leg.knee], ankle,
-                                              want, ik_params);
+        const TwoBoneResult ik =
+            SolveTwoBone(g.positions[leg.hip], g.positions[leg.knee], ankle, want, ik_params);
         g.rotations[leg.hip] = Normalized(ik.hip_delta * g.rotations[leg.hip]);
         g.rotations[leg.knee] = Normalized(ik.knee_delta * g.rotations[leg.knee]);
         ankle = ik.ankle;

@@ -18,7 +18,8 @@ double Dist(const Vec3& a, const Vec3& b) { return Norm(a - b); }
 
 TEST(TwoBoneIkTest, ReachesReachableTargetsKeepingLengthsAndBendPlane) {
   const Vec3 hip{0, 100, 0}, knee{0, 55, 5}, ankle{0, 10, 0};
-  for (const Vec3& target : {Vec3{10, 20, 15}, Vec3{-20, 30, 0}, Vec3{5, 60, -10}, Vec3{0, 12, 0}}) {
+  for (const Vec3& target :
+       {Vec3{10, 20, 15}, Vec3{-20, 30, 0}, Vec3{5, 60, -10}, Vec3{0, 12, 0}}) {
     const TwoBoneResult r = SolveTwoBone(hip, knee, ankle, target);
     EXPECT_TRUE(r.reached);
     EXPECT_LT(Dist(r.ankle, target), 1e-3);
@@ -26,7 +27,10 @@ TEST(TwoBoneIkTest, ReachesReachableTargetsKeepingLengthsAndBendPlane) {
     EXPECT_NEAR(Dist(r.ankle, r.knee), Dist(ankle, knee), 1e-9);
     // The deltas move the bones where the positions say.
     EXPECT_LT(Dist(hip + Rotate(r.hip_delta, knee - hip), r.knee), 1e-6);
-    EXPECT_LT(Dist(r.knee + Rotate(r.knee_delta, Rotate(Conjugate(r.hip_delta), Rotate(r.hip_delta, ankle - knee))), r.ankle), 1e-6);
+    EXPECT_LT(Dist(r.knee + Rotate(r.knee_delta, Rotate(Conjugate(r.hip_delta),
+                                                        Rotate(r.hip_delta, ankle - knee))),
+                   r.ankle),
+              1e-6);
   }
   // The knee still points forward (+z), as in the input pose.
   const TwoBoneResult r = SolveTwoBone(hip, knee, ankle, {0, 30, 0});
@@ -185,9 +189,9 @@ TEST(ContactSpanTest, HysteresisKeepsOneSpanThroughJitterAndDropsBlips) {
   std::vector<std::vector<Vec3>> pos(60, std::vector<Vec3>(walk.skeleton.num_joints()));
   for (int f = 0; f < 60; ++f) {
     double y = 0;
-    if (f >= 10 && f < 14) y = 0.06 * leg;        // Between height_on and height_off.
-    if (f >= 30) y = 0.5 * leg;                     // Lifted...
-    if (f == 45) y = 0;                             // ...a one-frame touch.
+    if (f >= 10 && f < 14) y = 0.06 * leg;  // Between height_on and height_off.
+    if (f >= 30) y = 0.5 * leg;             // Lifted...
+    if (f == 45) y = 0;                     // ...a one-frame touch.
     pos[f][j] = {0, y, 0};
   }
   const auto spans = DetectContactSpans(pos, roles, 30);
@@ -215,7 +219,8 @@ TEST(PostProcessTest, SlidingFeetGetLockedKeepingFramesAndRoot) {
     ASSERT_TRUE(fixed.ok()) << fixed.status();
     EXPECT_EQ(fixed->num_frames, output.num_frames);
     const double after = FootSkating(*fixed, content, roles);
-    EXPECT_LT(after, 0.25 * before) << PostProcessModeName(mode) << " " << before << " -> " << after;
+    EXPECT_LT(after, 0.25 * before)
+        << PostProcessModeName(mode) << " " << before << " -> " << after;
     EXPECT_LT(after, 2 * FootSkating(content, content, roles) + 1.0);
     // Root and hips untouched.
     const auto a = GlobalPositions(*fixed), b = GlobalPositions(output);
@@ -260,7 +265,8 @@ TEST(PostProcessTest, RealDataIsAlreadyCleanAndStaysPut) {
   // with a soft reach about the knee's hinge, not snapped straight.
   auto joint_jerk = [](const std::vector<std::vector<Vec3>>& p, int j) {
     double sum = 0;
-    for (size_t f = 3; f < p.size(); ++f) sum += Norm(p[f][j] - p[f - 1][j] * 3.0 + p[f - 2][j] * 3.0 - p[f - 3][j]);
+    for (size_t f = 3; f < p.size(); ++f)
+      sum += Norm(p[f][j] - p[f - 1][j] * 3.0 + p[f - 2][j] * 3.0 - p[f - 3][j]);
     return sum;
   };
   for (int ankle : {roles.left_ankle, roles.right_ankle}) {

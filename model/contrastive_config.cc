@@ -28,10 +28,12 @@ std::string ContrastiveConfig::Serialize() const {
   put("keep_amplitude", keep_amplitude ? "1" : "0");
   if (centred_style) put("centred_style", "1");
   if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
+  if (content_body) put("content_body", "1");
   if (guided) {
     put("guided", "1");
     put("class_weight", absl::StrCat(class_weight));
     put("cycle_weight", absl::StrCat(cycle_weight));
+    if (content_class_weight != 1) put("content_class_weight", absl::StrCat(content_class_weight));
     if (pair_gan) put("pair_gan", "1");
   }
   if (keep_path) put("keep_path", "1");
@@ -83,6 +85,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "residual") return e.Bool(&c.residual);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
+    if (key == "content_class_weight") return e.Double(&c.content_class_weight, 0, 1e6);
+    if (key == "content_body") return e.Bool(&c.content_body);
     if (key == "margin") return e.Double(&c.margin, 0, 1e6);
     if (key == "temperature") return e.Double(&c.temperature, 1e-6, 1e6);
     if (key == "use_nce") return e.Bool(&c.use_nce);

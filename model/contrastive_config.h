@@ -54,6 +54,12 @@ struct ContrastiveConfig {
   // L1 error of restyling the transfer back with the content's own style.
   bool guided = false;
   double class_weight = 1.0, cycle_weight = 1.0;
+  // Guided only: the content head's share of the critic's verdict on a
+  // transfer, times this (1: style and content weigh alike).
+  double content_class_weight = 1.0;
+  // With content_weight: the kept channels also cover the arms, spine and
+  // head (the whole body), not only the legs and the path.
+  bool content_body = false;
   // Guided only: with `pair_gan`, the adversarial term (weight alpha) is a
   // discriminator conditioned on the (style, content) label pair, which also
   // rejects the content window (identity) and the style window (copy-style)

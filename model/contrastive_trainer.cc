@@ -14,11 +14,11 @@
 #include "model/torch_files.h"
 #include "model/training_run.h"
 #include "model/training_set.h"
+#include "model/weights_io.h"
 #include "motion/files.h"
 
 namespace stylus::model {
 namespace {
-
 
 struct Trainer {
   const TrainOptions& opt;
@@ -33,14 +33,13 @@ struct Trainer {
   std::unique_ptr<torch::optim::Adam> opt_c;
   PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
   std::unique_ptr<torch::optim::Adam> opt_p;
-  torch::Tensor content_mask;  // (1, dim, 1): channels of the content-keeping term.
+  torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
   void Log(const std::string& s) const { LogLine(opt.log, s); }
 
   torch::Tensor ToTensor(std::vector<float>* buf) const {
-    return torch::from_blob(buf->data(), {config.batch, config.dim, config.window},
-                            torch::kFloat32)
+    return torch::from_blob(buf->data(), {config.batch, config.dim, config.window}, torch::kFloat32)
         .clone();
   }
 
@@ -92,7 +91,8 @@ struct Trainer {
     const torch::Tensor real = (F::softplus(-pair_disc->Verdict(h_x, x_style, x_content)).mean() +
                                 F::softplus(-pair_disc->Verdict(h_y, y_style, y_content)).mean()) /
                                2;
-    const torch::Tensor as_fake = F::softplus(pair_disc->forward(fake.detach(), y_style, x_content));
+    const torch::Tensor as_fake =
+        F::softplus(pair_disc->forward(fake.detach(), y_style, x_content));
     const torch::Tensor identity = F::softplus(pair_disc->Verdict(h_x, y_style, x_content));
     // A style window of the content's own content is a right answer, not a copy.
     const torch::Tensor differs = (y_content != x_content).to(torch::kFloat32);
@@ -164,10 +164,10 @@ struct Trainer {
     LossRecord r;
     // The critic learns the labels of real windows, never of transfers.
     opt_c->zero_grad();
-    const torch::Tensor critic_loss = (LabelLoss(critic->forward(x), x_style, x_content) +
-                                       LabelLoss(critic->forward(y_other), target_style,
-                                                 other_content)) /
-                                      2;
+    const torch::Tensor critic_loss =
+        (LabelLoss(critic->forward(x), x_style, x_content) +
+         LabelLoss(critic->forward(y_other), target_style, other_content)) /
+        2;
     critic_loss.backward();
     opt_c->step();
     r.critic = critic_loss.item<double>();
@@ -186,7 +186,8 @@ struct Trainer {
     }
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x);
     const LabelLogits judged = critic->forward(x_g);
-    const torch::Tensor cls = LabelLoss(judged, target_style, x_content);
+    const torch::Tensor cls =
+        LabelLoss(judged, target_style, x_content, config.content_class_weight);
     r.cls = cls.item<double>();
     total = total + config.class_weight * cls;
     const torch::Tensor c_g = net->content(x_g);
@@ -199,8 +200,7 @@ struct Trainer {
       total = total + config.beta * nce;
     }
     if (config.use_tri && config.gamma > 0) {
-      const torch::Tensor tri =
-          TripletLoss(net->style(x_g), s_other, net->style(x), config.margin);
+      const torch::Tensor tri = TripletLoss(net->style(x_g), s_other, net->style(x), config.margin);
       r.tri = tri.item<double>();
       total = total + config.gamma * tri;
     }
@@ -230,7 +230,8 @@ struct Trainer {
     std::vector<bool> leg(sk.num_joints(), false);
     for (int j = 0; j < sk.num_joints(); ++j) {
       const int p = sk.joint(j).parent;
-      leg[j] = j == data.roles.left_hip || j == data.roles.right_hip || (p >= 0 && leg[p]);
+      leg[j] = config.content_body || j == data.roles.left_hip || j == data.roles.right_hip ||
+               (p >= 0 && leg[p]);
       if (!leg[j]) continue;
       for (int c = 0; c < 3; ++c) mask[0][layout.position(j) + c][0] = 1;
       for (int c = 0; c < 4; ++c) mask[0][layout.rotation(j) + c][0] = 1;
@@ -256,6 +257,12 @@ struct Trainer {
     }
     torch::manual_seed(config.seed);
     net = ContrastiveNet(config);
+    if (!opt.init_from.empty() && !opt.resume) {
+      // Fine-tuning: the networks start from a trained package's weights
+      // (shapes checked); the critics and optimizers start afresh.
+      if (absl::Status s = LoadWeights(net, opt.init_from + "/weights.pt"); !s.ok()) return s;
+      Log("initialized from " + opt.init_from);
+    }
     disc = Discriminator(config);
     if (config.guided) {
       critic = LabelCritic(config.dim, static_cast<int>(classes.styles.size()),
@@ -337,7 +344,7 @@ absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
-  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr,
+  Trainer t{options, options.config, {},      nullptr, nullptr, nullptr, nullptr,
             {},      nullptr,        nullptr, nullptr, nullptr, {},      nullptr};
   try {
     return t.Run();

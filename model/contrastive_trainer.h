@@ -26,7 +26,10 @@ struct TrainOptions {
   std::string out;                // Package directory, e.g. models/contrastive/v2.
   ContrastiveConfig config;       // dim is filled from the data.
   bool resume = false;            // Continue from out/checkpoint if present.
-  int checkpoint_every = 500;     // Iterations; also rewrites the package.
+  // A package whose weights.pt starts the networks (fine-tuning); its shapes
+  // must fit `config`. Ignored when resuming (the checkpoint has them).
+  std::string init_from;
+  int checkpoint_every = 500;  // Iterations; also rewrites the package.
   int log_every = 50;
   int threads = 0;     // LibTorch intra-op threads; 0 = all cores.
   std::string commit;  // Recorded in config.txt.

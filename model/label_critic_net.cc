@@ -11,8 +11,7 @@ nn::Conv1d DilatedConv(int in, int width, int dilation) {
 }
 
 // Three dilated convolutions, then each channel's mean and spread over time.
-torch::Tensor PooledTrunk(const torch::Tensor& x, nn::Conv1d& c1, nn::Conv1d& c2,
-                          nn::Conv1d& c3) {
+torch::Tensor PooledTrunk(const torch::Tensor& x, nn::Conv1d& c1, nn::Conv1d& c2, nn::Conv1d& c3) {
   torch::Tensor h = torch::leaky_relu(c1->forward(x), 0.2);
   h = torch::leaky_relu(c2->forward(h), 0.2);
   h = torch::leaky_relu(c3->forward(h), 0.2);
@@ -70,9 +69,9 @@ torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>&
 }
 
 torch::Tensor LabelLoss(const LabelLogits& logits, const torch::Tensor& style,
-                        const torch::Tensor& content) {
+                        const torch::Tensor& content, double content_weight) {
   return torch::nn::functional::cross_entropy(logits.style, style) +
-         torch::nn::functional::cross_entropy(logits.content, content);
+         content_weight * torch::nn::functional::cross_entropy(logits.content, content);
 }
 
 }  // namespace stylus::model

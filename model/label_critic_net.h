@@ -52,9 +52,10 @@ TORCH_MODULE(PairDiscriminator);
 // The label (kLong, (B,)) of each of `clips`, read from `label_of`.
 torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of);
 
-// Mean cross-entropy of both heads against the labels (kLong tensors (B,)).
+// Mean cross-entropy of both heads against the labels (kLong tensors (B,)),
+// the content head's times `content_weight`.
 torch::Tensor LabelLoss(const LabelLogits& logits, const torch::Tensor& style,
-                        const torch::Tensor& content);
+                        const torch::Tensor& content, double content_weight = 1.0);
 
 }  // namespace stylus::model
 

@@ -6,9 +6,9 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
-#include "model/style_model.h"
 #include "model/contrastive_trainer.h"
 #include "model/runtime.h"
+#include "model/style_model.h"
 #include "motion/bvh.h"
 #include "tool/cli_support.h"
 
@@ -27,8 +27,9 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--content-weight W] [--threads N]\n"
-      "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]] [--keep-path]\n"
-      "         [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
+      "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
+      "          [--content-class-weight 1]] [--keep-path] [--content-body]\n"
+      "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
       "it/s and ETA; every --checkpoint-every iterations writes a checkpoint and a\n"
@@ -41,27 +42,31 @@ int Train(const Argv& argv) {
       "channel's temporal spread (it still removes the mean). --centred-style\n"
       "feeds the style encoder each window minus its mean pose. --content-weight W\n"
       "adds W x the L1 distance between the transfer and its content input over\n"
-      "the root trajectory, foot contacts and legs (default 0: off).\n"
+      "the root trajectory, foot contacts and legs (default 0: off); with\n"
+      "--content-body over the whole body.\n"
       "--guided trains with the clips' style and content labels (from the Bandai\n"
       "file names): the reconstruction takes its style code from a clip of the\n"
       "same style doing something else, the transfer from a clip of another\n"
       "style, and a critic trained on real labelled windows scores each transfer\n"
       "against the target style and the content input's content (--class-weight),\n"
-      "plus a cycle back to the content's own style (--cycle-weight).\n"
+      "plus a cycle back to the content's own style (--cycle-weight);\n"
+      "--content-class-weight scales the content half of that verdict.\n"
       "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
       "(style, content) label pair; it also rejects the unchanged content and the\n"
       "style clip itself under the transfer's labels.\n"
       "--keep-path makes the package's transfers keep the content's root\n"
       "trajectory and foot contacts (stored as keep_path in config.txt).\n"
+      "--init-from PACKAGE starts the networks from a trained package of the\n"
+      "same shape (fine-tuning; critics and optimizers start afresh).\n"
       "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
   int code = 0;
   auto args =
       ParseOrExit("train", argv,
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
-                    "class-weight", "cycle-weight"},
+                    "class-weight", "cycle-weight", "content-class-weight", "init-from"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
-                    "centred-style", "resume", "guided", "keep-path", "pair-gan"}},
+                    "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -110,15 +115,21 @@ int Train(const Argv& argv) {
   if (c.pair_gan && !c.guided) {
     return Fail("train", absl::InvalidArgumentError("--pair-gan needs --guided"));
   }
+  c.content_body = args->switches.count("content-body") > 0;
+  if (c.content_body && c.content_weight <= 0) {
+    return Fail("train", absl::InvalidArgumentError("--content-body needs --content-weight"));
+  }
   for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
-                             {"cycle-weight", &c.cycle_weight}}) {
+                             {"cycle-weight", &c.cycle_weight},
+                             {"content-class-weight", &c.content_class_weight}}) {
     if (!args->Has(name)) continue;
     absl::StatusOr<double> w = args->GetDouble(name, *field);
     if (!c.guided) {
       return Fail("train", absl::InvalidArgumentError(absl::StrCat("--", name, " needs --guided")));
     }
     if (!w.ok() || *w < 0) {
-      return Fail("train", absl::InvalidArgumentError(absl::StrCat("--", name, " must be a number >= 0")));
+      return Fail("train",
+                  absl::InvalidArgumentError(absl::StrCat("--", name, " must be a number >= 0")));
     }
     *field = *w;
   }
@@ -126,6 +137,7 @@ int Train(const Argv& argv) {
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;
   opt.resume = args->switches.count("resume") > 0;
+  opt.init_from = args->Get("init-from");
   opt.commit = args->Get("commit");
   if (absl::Status s = model::TrainContrastive(opt); !s.ok()) return Fail("train", s);
   absl::PrintF("model written to %s\n", opt.out);
@@ -169,11 +181,10 @@ int Transfer(const Argv& argv) {
       "(default full): feet locked where the content's feet are planted, bone\n"
       "lengths restored, rotations smoothed and written continuously.\n";
   int code = 0;
-  auto args = ParseOrExit("transfer", argv,
-                          {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
-                            "postprocess"},
-                           {}},
-                          kHelp, &code);
+  auto args = ParseOrExit(
+      "transfer", argv,
+      {{"model", "content", "style", "out", "pairs", "out-dir", "threads", "postprocess"}, {}},
+      kHelp, &code);
   if (!args) return code;
   const bool batch = args->Has("pairs");
   if (!args->Has("model") ||

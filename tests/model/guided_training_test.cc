@@ -163,7 +163,8 @@ TEST(PairDiscriminatorTest, JudgesTheLabelPairNotOnlyTheWindow) {
     return torch::sin(t * freq).view({1, 1, 16}).expand({8, 3, 16}) +
            0.1 * torch::randn({8, 3, 16});
   };
-  const torch::Tensor zeros = torch::zeros({8}, torch::kLong), ones = torch::ones({8}, torch::kLong);
+  const torch::Tensor zeros = torch::zeros({8}, torch::kLong),
+                      ones = torch::ones({8}, torch::kLong);
   namespace F = torch::nn::functional;
   for (int i = 0; i < 150; ++i) {
     const torch::Tensor slow = windows(0.2), fast = windows(1.1);
@@ -221,6 +222,44 @@ TEST(GuidedTrainingTest, NeedsLabelledClipNames) {
   const absl::Status s = TrainContrastive(o);
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("normal.bvh"), std::string::npos) << s;
+}
+
+}  // namespace
+}  // namespace stylus::model
+
+namespace stylus::model {
+namespace {
+
+// --init-from: a run started from a trained package's weights begins where
+// that package ended (its first losses are the trained ones, not a fresh
+// network's); a package of another shape is refused.
+TEST(GuidedTrainingTest, FineTuningStartsFromTheTrainedWeights) {
+  std::vector<LossRecord> trained, fresh, tuned;
+  TrainOptions base = GuidedOptions(testing::FreshDir("guided_base"), 120);
+  base.on_record = [&](const LossRecord& r) { trained.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(base).ok());
+  TrainOptions scratch = GuidedOptions(testing::FreshDir("guided_scratch"), 10);
+  scratch.on_record = [&](const LossRecord& r) { fresh.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(scratch).ok());
+  TrainOptions tune = GuidedOptions(testing::FreshDir("guided_tuned"), 10);
+  tune.init_from = base.out;
+  tune.config.content_class_weight = 3;
+  tune.on_record = [&](const LossRecord& r) { tuned.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(tune).ok());
+  ASSERT_FALSE(trained.empty() || fresh.empty() || tuned.empty());
+  std::printf("rec: fresh %.3f, trained %.3f, tuned %.3f\n", fresh[0].rec, trained.back().rec,
+              tuned[0].rec);
+  ASSERT_LT(trained.back().rec, fresh[0].rec);
+  EXPECT_LT(std::abs(tuned[0].rec - trained.back().rec),
+            0.25 * (fresh[0].rec - trained.back().rec));
+  auto tuned_model = ContrastiveModel::Load(tune.out);
+  ASSERT_TRUE(tuned_model.ok()) << tuned_model.status();
+  EXPECT_DOUBLE_EQ((*tuned_model)->package().config.content_class_weight, 3);
+
+  TrainOptions other = GuidedOptions(testing::FreshDir("guided_other"), 10);
+  other.config.channels = 8;
+  other.init_from = base.out;
+  EXPECT_FALSE(TrainContrastive(other).ok());
 }
 
 }  // namespace

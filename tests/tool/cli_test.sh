@@ -46,6 +46,14 @@ check "train --class-weight without --guided" 1 "--class-weight needs --guided" 
   --data "$work/old.bvh" --out "$work/unguided" --class-weight 2
 check "train --pair-gan without --guided" 1 "--pair-gan needs --guided" -- "$tool" train \
   --data "$work/old.bvh" --out "$work/unguided" --pair-gan
+check "train --content-body without --content-weight" 1 "--content-body needs --content-weight" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-body
+check "train --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-class-weight 3
+check "train --init-from a missing package" 1 "weights.pt" -- "$tool" train --data "$work/old.bvh" \
+  --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/nowhere"
+check "train --init-from" 0 "initialized from $work/model" -- "$tool" train --data "$work/old.bvh" \
+  --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/model"
 check "train --guided on unlabelled names" 1 "old.bvh: label-guided training needs labelled clip names" -- \
   "$tool" train --guided --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/guided" --iters 2
 check "train cyclic --class-weight without --guided" 1 "--class-weight needs --guided" -- "$tool" train \

@@ -12,7 +12,7 @@
 namespace stylus::model {
 namespace {
 
-const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v2";
+const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v3";
 const std::string kJudges = std::string(STYLUS_SOURCE_DIR) + "/models/judges/v1";
 
 TEST(DefaultModelTest, TransfersTheShippedSamples) {

@@ -244,18 +244,21 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
   // weighs each frame by how bent its knee is.
   std::array<std::optional<Vec3>, 2> hinge;
   std::array<double, 2> leg_length{};
-  for (int side = 0; side < 2; ++side) {
-    const Leg& leg = (*legs)[side];
-    Vec3 sum;
-    for (int f = 0; f < n; ++f) {
-      const GlobalPose g = ForwardKinematics(sk, PoseAt(source, f));
+  std::array<Vec3, 2> bend_sum;
+  for (int f = 0; f < n; ++f) {
+    const GlobalPose g = ForwardKinematics(sk, PoseAt(source, f));
+    for (int side = 0; side < 2; ++side) {
+      const Leg& leg = (*legs)[side];
       const Vec3 hip = g.positions[leg.hip], knee = g.positions[leg.knee],
                  ankle = g.positions[leg.ankle];
-      sum = sum + Rotate(Conjugate(g.rotations[leg.hip]), Cross(knee - hip, ankle - knee));
+      bend_sum[side] =
+          bend_sum[side] + Rotate(Conjugate(g.rotations[leg.hip]), Cross(knee - hip, ankle - knee));
       leg_length[side] += (Norm(knee - hip) + Norm(ankle - knee)) / n;
     }
+  }
+  for (int side = 0; side < 2; ++side) {
     // A leg straight in every frame has none: each frame's own is used.
-    if (Norm(sum) > 1e-9) hinge[side] = Normalized(sum, {1, 0, 0});
+    if (Norm(bend_sum[side]) > 1e-9) hinge[side] = Normalized(bend_sum[side], {1, 0, 0});
   }
 
   Motion result = output;

@@ -50,9 +50,13 @@ TwoBoneResult SolveTwoBone(const Vec3& hip, const Vec3& knee, const Vec3& ankle,
   const double wanted = Norm(target - hip), now = Norm(ankle - hip);
   const double d = Soften(wanted, soft_start, params.soft),
                d_now = Soften(now, soft_start, params.soft);
-  // Exact for a forward-bent knee; a hyperextended one (phi < 0) changes by
-  // the same amount, so the solve is continuous through the straight leg.
-  const double new_phi = phi >= 0 ? bend_for(d) : phi + bend_for(d) - bend_for(d_now);
+  // The knee turns by the change of bend that the change of (softened)
+  // distance needs: nothing for the ankle's own position, soft reach or not;
+  // without a soft reach it is exactly the bend for the target's distance.
+  // A forward-bent knee is not pushed past straight; a hyperextended one
+  // (phi < 0) changes by the same amount, continuous through the straight leg.
+  double new_phi = phi + bend_for(d) - bend_for(d_now);
+  if (phi >= 0) new_phi = std::max(0.0, new_phi);
   const Quat bend = AxisAngle(n, new_phi - phi);
   const Vec3 bent_ankle = knee + Rotate(bend, ankle - knee);
   const Vec3 to_target = target - hip;

@@ -66,11 +66,15 @@ TEST(TwoBoneIkTest, TheKneeTurnsOnlyAboutItsHingeAndStaysPutForItsOwnAnkle) {
   const Vec3 axis{bend.x, bend.y, bend.z};
   EXPECT_GT(Norm(axis), 1e-3);
   EXPECT_LT(Norm(Cross(Normalized(axis), Normalized(*params.hinge))), 1e-9);
-  // The ankle's own position as target: nothing moves, straight leg included.
-  for (const Vec3& k : {knee, Vec3{0, 55, 0.2}}) {
-    const TwoBoneResult same = SolveTwoBone(hip, k, ankle, ankle, params);
-    EXPECT_LT(Dist(same.knee, k), 1e-9);
-    EXPECT_LT(AngleBetween(same.knee_delta, Quat{}), 1e-9);
+  // The ankle's own position as target: nothing moves, straight leg and soft
+  // reach included.
+  for (double soft : {0.0, 5.0}) {
+    params.soft = soft;
+    for (const Vec3& k : {knee, Vec3{0, 55, 0.2}}) {
+      const TwoBoneResult same = SolveTwoBone(hip, k, ankle, ankle, params);
+      EXPECT_LT(Dist(same.knee, k), 1e-9) << soft;
+      EXPECT_LT(AngleBetween(same.knee_delta, Quat{}), 1e-9) << soft;
+    }
   }
 }
 
@@ -98,10 +102,11 @@ TEST(TwoBoneIkTest, SoftReachKeepsTheKneeFromRacingAtFullStretch) {
   const double hard = fastest_knee(0), soft = fastest_knee(0.02 * reach);
   EXPECT_GT(hard, 4.0);
   EXPECT_LT(soft, 0.5 * hard);
-  // Below the soft zone the solve is exact.
+  // From a pose and to a target both short of the soft zone, the solve is
+  // exact.
   TwoBoneParams params;
   params.soft = 0.02 * reach;
-  EXPECT_TRUE(SolveTwoBone(hip, knee, ankle, {10, 30, 10}, params).reached);
+  EXPECT_TRUE(SolveTwoBone(hip, {0, 55, 15}, ankle, {10, 30, 10}, params).reached);
 }
 
 // A generated root may wobble while its child turns the other way (the body
@@ -262,7 +267,8 @@ TEST(PostProcessTest, RealDataIsAlreadyCleanAndStaysPut) {
   }
   EXPECT_LT(Jitter(*fixed), 1.5 * Jitter(clip));
   // Neither do the knees shake: a planted leg near full stretch is solved
-  // with a soft reach about the knee's hinge, not snapped straight.
+  // with a soft reach about the knee's hinge, not snapped straight (the
+  // solve of session 6 gave 2.2-2.5x the capture's knee jerk here).
   auto joint_jerk = [](const std::vector<std::vector<Vec3>>& p, int j) {
     double sum = 0;
     for (size_t f = 3; f < p.size(); ++f)
@@ -271,7 +277,7 @@ TEST(PostProcessTest, RealDataIsAlreadyCleanAndStaysPut) {
   };
   for (int ankle : {roles.left_ankle, roles.right_ankle}) {
     const int knee = clip.skeleton.joint(ankle).parent;
-    EXPECT_LT(joint_jerk(a, knee), 1.7 * joint_jerk(b, knee)) << clip.skeleton.joint(knee).name;
+    EXPECT_LT(joint_jerk(a, knee), 1.25 * joint_jerk(b, knee)) << clip.skeleton.joint(knee).name;
   }
 }
 

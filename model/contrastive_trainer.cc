@@ -227,12 +227,12 @@ struct Trainer {
     const motion::Skeleton& sk = data.skeleton;
     const motion::FeatureLayout layout(sk.num_joints());
     torch::Tensor mask = torch::zeros({1, config.dim, 1});
-    std::vector<bool> leg(sk.num_joints(), false);
+    std::vector<bool> kept(sk.num_joints(), false);  // The legs, or the whole body.
     for (int j = 0; j < sk.num_joints(); ++j) {
       const int p = sk.joint(j).parent;
-      leg[j] = config.content_body || j == data.roles.left_hip || j == data.roles.right_hip ||
-               (p >= 0 && leg[p]);
-      if (!leg[j]) continue;
+      kept[j] = config.content_body || j == data.roles.left_hip || j == data.roles.right_hip ||
+                (p >= 0 && kept[p]);
+      if (!kept[j]) continue;
       for (int c = 0; c < 3; ++c) mask[0][layout.position(j) + c][0] = 1;
       for (int c = 0; c < 4; ++c) mask[0][layout.rotation(j) + c][0] = 1;
     }
@@ -259,7 +259,19 @@ struct Trainer {
     net = ContrastiveNet(config);
     if (!opt.init_from.empty() && !opt.resume) {
       // Fine-tuning: the networks start from a trained package's weights
-      // (shapes checked); the critics and optimizers start afresh.
+      // (shapes checked); the critics and optimizers start afresh. Weights
+      // learned on other normalization statistics would see other inputs.
+      absl::StatusOr<motion::NormStats> norm = motion::NormStats::Load(opt.init_from + "/norm.txt");
+      if (!norm.ok()) {
+        return absl::Status(norm.status().code(),
+                            absl::StrCat("--init-from: ", norm.status().message()));
+      }
+      if (norm->Serialize() != data.norm.Serialize()) {
+        return absl::FailedPreconditionError(
+            absl::StrCat("--init-from ", opt.init_from,
+                         ": its norm.txt differs from this data's statistics (trained on other "
+                         "data); fine-tune on the data it was trained on"));
+      }
       if (absl::Status s = LoadWeights(net, opt.init_from + "/weights.pt"); !s.ok()) return s;
       Log("initialized from " + opt.init_from);
     }

@@ -260,6 +260,12 @@ TEST(GuidedTrainingTest, FineTuningStartsFromTheTrainedWeights) {
   other.config.channels = 8;
   other.init_from = base.out;
   EXPECT_FALSE(TrainContrastive(other).ok());
+  // Weights trained on other data (other normalization statistics) too.
+  TrainOptions elsewhere = GuidedOptions(testing::FreshDir("guided_elsewhere"), 10);
+  elsewhere.data.pop_back();
+  elsewhere.config.guided = false;
+  elsewhere.init_from = base.out;
+  EXPECT_EQ(TrainContrastive(elsewhere).code(), absl::StatusCode::kFailedPrecondition);
 }
 
 }  // namespace

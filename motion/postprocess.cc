@@ -200,7 +200,9 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
   const auto spans = DetectContactSpans(content_pos, roles, content.fps(), params.contacts);
   Motion source = output;
   if (mode == PostProcessMode::kFull) SmoothRotations(&source, params.smooth_radius);
-  const auto out_pos = GlobalPositions(source);
+  // The output's world pose per frame: the pins and the knees' hinges read it.
+  std::vector<GlobalPose> out_pose(n);
+  for (int f = 0; f < n; ++f) out_pose[f] = ForwardKinematics(sk, PoseAt(source, f));
   const std::array<int, 4> feet = FootJoints(roles);
   const int blend = std::max(1, static_cast<int>(std::lround(params.blend_s * fps)));
 
@@ -216,9 +218,9 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
       const int last = std::min(s.end, n);
       Vec3 pin;
       if (params.pin_at_span_start) {
-        pin = out_pos[s.begin][j];
+        pin = out_pose[s.begin].positions[j];
       } else {
-        for (int f = s.begin; f < last; ++f) pin = pin + out_pos[f][j];
+        for (int f = s.begin; f < last; ++f) pin = pin + out_pose[f].positions[j];
         pin = pin * (1.0 / (last - s.begin));
       }
       for (int f = std::max(0, s.begin - blend); f < std::min(n, s.end + blend); ++f) {
@@ -245,8 +247,7 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
   std::array<std::optional<Vec3>, 2> hinge;
   std::array<double, 2> leg_length{};
   std::array<Vec3, 2> bend_sum;
-  for (int f = 0; f < n; ++f) {
-    const GlobalPose g = ForwardKinematics(sk, PoseAt(source, f));
+  for (const GlobalPose& g : out_pose) {
     for (int side = 0; side < 2; ++side) {
       const Leg& leg = (*legs)[side];
       const Vec3 hip = g.positions[leg.hip], knee = g.positions[leg.knee],

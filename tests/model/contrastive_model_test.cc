@@ -144,9 +144,7 @@ TEST_F(TrainedModelTest, InterpolationEndpointsEqualTransfer) {
 TEST_F(TrainedModelTest, StyleStrengthMovesFromTheContentsOwnStyle) {
   auto full = *ContrastiveModel::Load(*dir_);
   const std::string weak = Dir("weak_style");
-  for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh", "weights.pt"}) {
-    std::filesystem::copy_file(*dir_ + "/" + f, weak + "/" + f);
-  }
+  fs::copy(*dir_, weak, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   auto with_strength = [&](double k) {
     std::ofstream(weak + "/config.txt", std::ios::app) << "style_strength = " << k << "\n";
     return *ContrastiveModel::Load(weak);
@@ -171,9 +169,7 @@ TEST_F(TrainedModelTest, StyleStrengthMovesFromTheContentsOwnStyle) {
 TEST_F(TrainedModelTest, ResidualTransferKeepsWhatTheGeneratorLoses) {
   auto plain = *ContrastiveModel::Load(*dir_);
   const std::string dir = Dir("residual");
-  for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh", "weights.pt"}) {
-    std::filesystem::copy_file(*dir_ + "/" + f, dir + "/" + f);
-  }
+  fs::copy(*dir_, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   std::ofstream(dir + "/config.txt", std::ios::app) << "residual = 1\n";
   const auto residual = *ContrastiveModel::Load(dir);
   std::ofstream(dir + "/config.txt", std::ios::app) << "style_strength = 0\n";

@@ -34,6 +34,7 @@ std::string ContrastiveConfig::Serialize() const {
     put("class_weight", absl::StrCat(class_weight));
     put("cycle_weight", absl::StrCat(cycle_weight));
     if (content_class_weight != 1) put("content_class_weight", absl::StrCat(content_class_weight));
+    if (content_balance > 0) put("content_balance", absl::StrCat(content_balance));
     if (pair_gan) put("pair_gan", "1");
   }
   if (keep_path) put("keep_path", "1");
@@ -87,6 +88,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "content_class_weight") return e.Double(&c.content_class_weight, 0, 1e6);
     if (key == "content_body") return e.Bool(&c.content_body);
+    if (key == "content_balance") return e.Double(&c.content_balance, 0, 1);
     if (key == "margin") return e.Double(&c.margin, 0, 1e6);
     if (key == "temperature") return e.Double(&c.temperature, 1e-6, 1e6);
     if (key == "use_nce") return e.Bool(&c.use_nce);

@@ -2,9 +2,11 @@
 
 #include <torch/torch.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "model/clip_classes.h"
 #include "model/contrastive_net.h"
@@ -141,6 +143,17 @@ struct Trainer {
     return r;
   }
 
+  // Reweights the content windows by content class and logs the classes
+  // drawn least and most often.
+  void LogBalance() {
+    const std::vector<double> share = data.BalanceWindows(classes.content_of, config.content_balance);
+    const auto [lo, hi] = std::minmax_element(share.begin(), share.end());
+    LogLine(opt.log, absl::StrFormat(
+                         "content balance %g: %s drawn %.1f%% of the time, %s %.1f%%",
+                         config.content_balance, classes.contents[lo - share.begin()], 100 * *lo,
+                         classes.contents[hi - share.begin()], 100 * *hi));
+  }
+
   // Label-guided step (docs/contrastive.md): content windows x; for each, a
   // window of a clip of the same style doing something else (the
   // reconstruction's style) and one of a clip of another style (the
@@ -254,6 +267,7 @@ struct Trainer {
       absl::StatusOr<ClipClasses> c = ClipClasses::ForTraining(data, config.window, opt.log);
       if (!c.ok()) return c.status();
       classes = *std::move(c);
+      if (config.content_balance > 0) LogBalance();
     }
     torch::manual_seed(config.seed);
     net = ContrastiveNet(config);
@@ -353,6 +367,9 @@ struct Trainer {
 absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
   if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
+  if (options.config.content_balance > 0 && !options.config.guided) {
+    return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
+  }
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }

@@ -1,5 +1,6 @@
 #include "model/training_set.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -29,12 +30,41 @@ void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::
   const int d = dim();
   out->resize(static_cast<size_t>(count) * d * length);
   std::uniform_int_distribution<size_t> pick(0, windows.size() - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int b = 0; b < count; ++b) {
-    const Window& w = windows[pick(*rng)];
+    size_t i;
+    if (window_cdf.empty()) {
+      i = pick(*rng);
+    } else {
+      const double u = unit(*rng) * window_cdf.back();
+      i = std::min<size_t>(std::upper_bound(window_cdf.begin(), window_cdf.end(), u) -
+                               window_cdf.begin(),
+                           windows.size() - 1);
+    }
+    const Window& w = windows[i];
     const motion::FeatureClip& clip = clips[w.clip];
     if (clip_of) clip_of->push_back(w.clip);
     CopyWindow(clip, w.start, length, out->data() + static_cast<size_t>(b) * d * length);
   }
+}
+
+std::vector<double> TrainingSet::BalanceWindows(const std::vector<int>& class_of_clip,
+                                                double power) {
+  int classes = 0;
+  for (int c : class_of_clip) classes = std::max(classes, c + 1);
+  std::vector<double> count(classes, 0.0), share(classes, 0.0);
+  for (const Window& w : windows) count[class_of_clip[w.clip]] += 1;
+  window_cdf.clear();
+  double total = 0;
+  for (const Window& w : windows) {
+    const int c = class_of_clip[w.clip];
+    const double weight = std::pow(count[c], -power);
+    total += weight;
+    share[c] += weight;
+    window_cdf.push_back(total);
+  }
+  for (double& s : share) s /= total;
+  return share;
 }
 
 void TrainingSet::SampleFromClips(const std::vector<int>& clip_ids, int length,

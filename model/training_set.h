@@ -26,9 +26,18 @@ struct TrainingSet {
     int clip, start;
   };
   std::vector<Window> windows;
+  // Cumulative sampling weights of `windows` (empty: uniform); see BalanceWindows.
+  std::vector<double> window_cdf;
   int dim() const { return norm.dim(); }
 
-  // Copies `count` windows of `length` frames, chosen uniformly by `rng`, into
+  // Reweights SampleBatch so that a class with n windows (class_of_clip[c]
+  // per clip) is drawn in proportion to n^(1 - power): 0 keeps the uniform
+  // draw over windows, 1 draws every class alike (windows of a class stay
+  // equally likely among themselves). Returns each class's share of draws.
+  std::vector<double> BalanceWindows(const std::vector<int>& class_of_clip, double power);
+
+  // Copies `count` windows of `length` frames, chosen by `rng` (uniformly
+  // unless BalanceWindows reweighted them), into
   // `out` as (count, dim, length), channels first; `clips` (if not null) gets
   // the clip index of each.
   void SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out,

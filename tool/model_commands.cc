@@ -28,7 +28,8 @@ int Train(const Argv& argv) {
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--content-weight W] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
-      "          [--content-class-weight 1]] [--keep-path] [--content-body]\n"
+      "          [--content-class-weight 1] [--content-balance 0]] [--keep-path]\n"
+      "         [--content-body]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
@@ -51,6 +52,8 @@ int Train(const Argv& argv) {
       "against the target style and the content input's content (--class-weight),\n"
       "plus a cycle back to the content's own style (--cycle-weight);\n"
       "--content-class-weight scales the content half of that verdict.\n"
+      "--content-balance P (0..1) draws a content class with n windows in\n"
+      "proportion to n^(1-P): 1 draws every action alike, 0 (default) every window.\n"
       "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
       "(style, content) label pair; it also rejects the unchanged content and the\n"
       "style clip itself under the transfer's labels.\n"
@@ -64,7 +67,8 @@ int Train(const Argv& argv) {
       ParseOrExit("train", argv,
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
-                    "class-weight", "cycle-weight", "content-class-weight", "init-from"},
+                    "class-weight", "cycle-weight", "content-class-weight", "content-balance",
+                    "init-from"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body"}},
                   kHelp, &code);
@@ -121,7 +125,8 @@ int Train(const Argv& argv) {
   }
   for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
                              {"cycle-weight", &c.cycle_weight},
-                             {"content-class-weight", &c.content_class_weight}}) {
+                             {"content-class-weight", &c.content_class_weight},
+                             {"content-balance", &c.content_balance}}) {
     if (!args->Has(name)) continue;
     absl::StatusOr<double> w = args->GetDouble(name, *field);
     if (!c.guided) {
@@ -130,6 +135,9 @@ int Train(const Argv& argv) {
     if (!w.ok() || *w < 0) {
       return Fail("train",
                   absl::InvalidArgumentError(absl::StrCat("--", name, " must be a number >= 0")));
+    }
+    if (field == &c.content_balance && *w > 1) {
+      return Fail("train", absl::InvalidArgumentError("--content-balance must be in [0, 1]"));
     }
     *field = *w;
   }

@@ -12,7 +12,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   c.use_nce = false, c.use_tri = false, c.cross_view = false, c.local_style = true,
   c.keep_amplitude = true;
   c.content_weight = 0.5, c.guided = true, c.class_weight = 2, c.cycle_weight = 3;
-  c.content_class_weight = 2.5, c.content_body = true;
+  c.content_class_weight = 2.5, c.content_body = true, c.content_balance = 0.5;
   c.pair_gan = true, c.keep_path = true, c.smooth_sigma = 1.5, c.style_strength = 0.7;
   c.residual = true;
   c.batch = 8, c.lr = 3e-4, c.iterations = 123, c.seed = 99, c.trained_iterations = 77;
@@ -29,6 +29,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_DOUBLE_EQ(back->style_strength, 0.7);
   EXPECT_TRUE(back->residual);
   EXPECT_DOUBLE_EQ(back->content_class_weight, 2.5);
+  EXPECT_DOUBLE_EQ(back->content_balance, 0.5);
   EXPECT_TRUE(back->content_body);
 }
 

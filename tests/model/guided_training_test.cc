@@ -12,6 +12,7 @@
 #include "model/contrastive_model.h"
 #include "model/contrastive_trainer.h"
 #include "model/label_critic_net.h"
+#include "model/training_set.h"
 #include "motion/bvh.h"
 #include "motion/metrics.h"
 #include "tests/model/synth_clips.h"
@@ -70,6 +71,48 @@ TEST(ClipClassesTest, DrawsReferencesByLabel) {
   absl::StatusOr<ClipClasses> bad = ClipClasses::FromPaths({"d/take1.bvh"}, {true});
   EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(bad.status().message().find("d/take1.bvh"), std::string::npos);
+}
+
+// --content-balance: the walk has twice the windows of the run and the turn;
+// balanced fully, the three actions are drawn alike, and windows keep coming
+// from both walks.
+TEST(ClipClassesTest, ContentBalanceDrawsEveryActionAlike) {
+  absl::StatusOr<TrainingSet> data = LoadTrainingSet(LabelledClips(), {16, 12});
+  ASSERT_TRUE(data.ok()) << data.status();
+  absl::StatusOr<ClipClasses> c = ClipClasses::ForTraining(*data, 16, {});
+  ASSERT_TRUE(c.ok()) << c.status();
+  ASSERT_EQ(c->contents, (std::vector<std::string>{"run", "turn", "walk"}));
+  const auto drawn = [&](std::vector<double>* share_of_content) {
+    std::mt19937_64 rng(5);
+    std::vector<float> buf;
+    std::vector<int> clips, per_clip(4, 0);
+    share_of_content->assign(3, 0.0);
+    const int n = 6000;
+    for (int i = 0; i < n / 20; ++i) {
+      data->SampleBatch(20, 16, &rng, &buf, &clips);
+      for (int clip : clips) {
+        ++per_clip[clip];
+        (*share_of_content)[c->content_of[clip]] += 1.0 / n;
+      }
+    }
+    return per_clip;
+  };
+  std::vector<double> share;
+  drawn(&share);
+  EXPECT_NEAR(share[2], 0.5, 0.03);  // Uniform over windows: the walks' half.
+
+  const std::vector<double> planned = data->BalanceWindows(c->content_of, 1.0);
+  for (double p : planned) EXPECT_NEAR(p, 1.0 / 3, 1e-9);
+  const std::vector<int> per_clip = drawn(&share);
+  for (double s : share) EXPECT_NEAR(s, 1.0 / 3, 0.03);
+  EXPECT_GT(per_clip[0], 700);  // Both walks still drawn (~1000 each).
+  EXPECT_GT(per_clip[1], 700);
+
+  const std::vector<double> half = data->BalanceWindows(c->content_of, 0.5);
+  EXPECT_NEAR(half[2], std::sqrt(2.0) / (2 + std::sqrt(2.0)), 1e-9);
+  data->BalanceWindows(c->content_of, 0.0);
+  drawn(&share);
+  EXPECT_NEAR(share[2], 0.5, 0.03);
 }
 
 TEST(GuidedTrainingTest, CriticLearnsTheLabelsAndTransfersFollowIt) {

@@ -50,6 +50,10 @@ check "train --content-body without --content-weight" 1 "--content-body needs --
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-body
 check "train --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-class-weight 3
+check "train --content-balance without --guided" 1 "--content-balance needs --guided" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-balance 0.5
+check "train --content-balance above 1" 1 "--content-balance must be in \\[0, 1\\]" -- \
+  "$tool" train --guided --data "$work/old.bvh" --out "$work/unguided" --content-balance 2
 check "train --init-from a missing package" 1 "--init-from: .*nowhere/norm.txt: cannot open" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/nowhere"
 check "train --init-from" 0 "initialized from $work/model" -- "$tool" train --data "$work/old.bvh" \

@@ -41,6 +41,10 @@ std::string ContrastiveConfig::Serialize() const {
   if (smooth_sigma > 0) put("smooth_sigma", absl::StrCat(smooth_sigma));
   if (style_strength != 1) put("style_strength", absl::StrCat(style_strength));
   if (residual) put("residual", "1");
+  if (average_from > 0) {
+    put("average_from", absl::StrCat(average_from));
+    put("average_every", absl::StrCat(average_every));
+  }
   put("batch", absl::StrCat(batch));
   put("lr", absl::StrCat(lr));
   put("iterations", absl::StrCat(iterations));
@@ -89,6 +93,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "content_class_weight") return e.Double(&c.content_class_weight, 0, 1e6);
     if (key == "content_body") return e.Bool(&c.content_body);
     if (key == "content_balance") return e.Double(&c.content_balance, 0, 1);
+    if (key == "average_from") return e.Int(&c.average_from, 0, 100000000);
+    if (key == "average_every") return e.Int(&c.average_every, 1, 100000000);
     if (key == "margin") return e.Double(&c.margin, 0, 1e6);
     if (key == "temperature") return e.Double(&c.temperature, 1e-6, 1e6);
     if (key == "use_nce") return e.Bool(&c.use_nce);

@@ -62,6 +62,11 @@ struct ContrastiveConfig {
   // (0: uniformly over windows; 1: every class alike). Bandai's dataset-1
   // actions have 2-15 clips each against dataset-2's 70.
   double content_balance = 0.0;
+  // Weight averaging (model/weight_average.h): from iteration
+  // `average_from` on (0: off), every `average_every` iterations, the
+  // generator's weights are folded into a running mean, which is what the
+  // package holds.
+  int average_from = 0, average_every = 50;
   // With content_weight: the kept channels also cover the arms, spine and
   // head (the whole body), not only the legs and the path.
   bool content_body = false;

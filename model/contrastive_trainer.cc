@@ -16,6 +16,7 @@
 #include "model/torch_files.h"
 #include "model/training_run.h"
 #include "model/training_set.h"
+#include "model/weight_average.h"
 #include "model/weights_io.h"
 #include "motion/files.h"
 
@@ -27,6 +28,7 @@ struct Trainer {
   ContrastiveConfig config;
   TrainingSet data;
   ContrastiveNet net{nullptr};
+  ContrastiveNet average{nullptr};  // With config.average_from: the running mean of net.
   Discriminator disc{nullptr};
   std::unique_ptr<torch::optim::Adam> opt_g, opt_d;
   // Label-guided training only.
@@ -231,7 +233,12 @@ struct Trainer {
     if (absl::Status s = WritePackageFiles(opt.out, c, data.norm, data.skeleton, data.frame_time);
         !s.ok())
       return s;
-    if (absl::Status s = SaveTorchFileAtomically(Tensors("weights.pt", &net), opt.out); !s.ok())
+    // The running mean once it holds a sample, else the current weights.
+    ContrastiveNet* weights =
+        AveragedSamples(iterations, config.average_from, config.average_every) > 0 ? &average
+                                                                                    : &net;
+    if (absl::Status s = SaveTorchFileAtomically(Tensors("weights.pt", weights), opt.out);
+        !s.ok())
       return s;
     return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
   }
@@ -269,6 +276,9 @@ struct Trainer {
       classes = *std::move(c);
       if (config.content_balance > 0) LogBalance();
     }
+    // Built before the seed is set, so averaging draws nothing from the
+    // generator and a run trains the same weights with it as without.
+    if (config.average_from > 0) average = ContrastiveNet(config);
     torch::manual_seed(config.seed);
     net = ContrastiveNet(config);
     if (!opt.init_from.empty() && !opt.resume) {
@@ -335,6 +345,7 @@ struct Trainer {
       files.push_back(Tensors("pair_disc.pt", &pair_disc));
       files.push_back(Tensors("opt_p.pt", opt_p.get()));
     }
+    if (config.average_from > 0) files.push_back(Tensors("average.pt", &average));
     spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
     spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
     spec.write_package = [this](int iterations, const std::string& csv) {
@@ -352,8 +363,13 @@ struct Trainer {
       });
       if (!s.ok()) return s;
     }
-    return run.Run([this](int) {
+    return run.Run([this](int iteration) {
       const LossRecord r = config.guided ? GuidedStep() : Step();
+      const int done = iteration + 1;
+      if (IsAveragedIteration(done, config.average_from, config.average_every)) {
+        FoldIntoAverage(*net, average.get(),
+                        AveragedSamples(done, config.average_from, config.average_every));
+      }
       std::vector<double> v = {r.rec, r.gan, r.nce, r.tri, r.disc};
       if (config.guided) v.insert(v.end(), {r.cls, r.cyc, r.critic});
       v.push_back(r.total);
@@ -367,14 +383,19 @@ struct Trainer {
 absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
   if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
+  if (options.config.average_from > options.config.iterations) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("weight averaging from iteration ", options.config.average_from,
+                     " would start after the last iteration (", options.config.iterations, ")"));
+  }
   if (options.config.content_balance > 0 && !options.config.guided) {
     return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
   }
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
-  Trainer t{options, options.config, {},      nullptr, nullptr, nullptr, nullptr,
-            {},      nullptr,        nullptr, nullptr, nullptr, {},      nullptr};
+  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
+            {},      nullptr,        nullptr, nullptr, nullptr, {}, nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -29,7 +29,7 @@ int Train(const Argv& argv) {
       "         [--keep-amplitude] [--centred-style] [--content-weight W] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]] [--keep-path]\n"
-      "         [--content-body]\n"
+      "         [--content-body] [--average-from K [--average-every 50]]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
@@ -59,6 +59,9 @@ int Train(const Argv& argv) {
       "style clip itself under the transfer's labels.\n"
       "--keep-path makes the package's transfers keep the content's root\n"
       "trajectory and foot contacts (stored as keep_path in config.txt).\n"
+      "--average-from K: the package holds the mean of the generator's weights\n"
+      "sampled every --average-every iterations from iteration K on (weight\n"
+      "averaging; steadier than the last iteration's weights).\n"
       "--init-from PACKAGE starts the networks from a trained package of the\n"
       "same shape (fine-tuning; critics and optimizers start afresh).\n"
       "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
@@ -68,7 +71,7 @@ int Train(const Argv& argv) {
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
                     "class-weight", "cycle-weight", "content-class-weight", "content-balance",
-                    "init-from"},
+                    "init-from", "average-from", "average-every"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body"}},
                   kHelp, &code);
@@ -141,6 +144,16 @@ int Train(const Argv& argv) {
     }
     *field = *w;
   }
+  absl::StatusOr<int> average_from = args->GetInt("average-from", 0),
+                      average_every = args->GetInt("average-every", c.average_every);
+  if (!average_from.ok() || *average_from < 0 || *average_from > c.iterations) {
+    return Fail("train", absl::InvalidArgumentError(
+                             "--average-from must be an iteration between 0 and --iters"));
+  }
+  if (!average_every.ok() || *average_every < 1) {
+    return Fail("train", absl::InvalidArgumentError("--average-every must be a number >= 1"));
+  }
+  c.average_from = *average_from, c.average_every = *average_every;
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

@@ -6,13 +6,17 @@
 #include <fstream>
 #include <random>
 #include <set>
+#include <sstream>
 
 #include "gtest/gtest.h"
 #include "model/clip_classes.h"
 #include "model/contrastive_model.h"
+#include "model/contrastive_net.h"
 #include "model/contrastive_trainer.h"
 #include "model/label_critic_net.h"
 #include "model/training_set.h"
+#include "model/weight_average.h"
+#include "model/weights_io.h"
 #include "motion/bvh.h"
 #include "motion/metrics.h"
 #include "tests/model/synth_clips.h"
@@ -309,6 +313,91 @@ TEST(GuidedTrainingTest, FineTuningStartsFromTheTrainedWeights) {
   elsewhere.config.guided = false;
   elsewhere.init_from = base.out;
   EXPECT_EQ(TrainContrastive(elsewhere).code(), absl::StatusCode::kFailedPrecondition);
+}
+
+}  // namespace
+}  // namespace stylus::model
+
+namespace stylus::model {
+namespace {
+
+// The configuration of the package in `dir`.
+absl::StatusOr<ContrastiveConfig> ReadPackageConfig(const std::string& dir) {
+  std::ifstream in(dir + "/config.txt");
+  std::stringstream text;
+  text << in.rdbuf();
+  return ContrastiveConfig::Parse(text.str(), dir + "/config.txt");
+}
+
+TEST(WeightAverageTest, FoldsSamplesIntoTheirMean) {
+  EXPECT_EQ(AveragedSamples(19, 20, 10), 0);
+  EXPECT_EQ(AveragedSamples(20, 20, 10), 1);
+  EXPECT_EQ(AveragedSamples(39, 20, 10), 2);
+  EXPECT_EQ(AveragedSamples(100, 0, 10), 0);  // Off.
+  EXPECT_TRUE(IsAveragedIteration(30, 20, 10));
+  EXPECT_FALSE(IsAveragedIteration(31, 20, 10));
+  EXPECT_FALSE(IsAveragedIteration(10, 20, 10));
+  torch::nn::Linear net(3, 2), average(3, 2);
+  std::vector<torch::Tensor> seen;
+  for (int i = 1; i <= 3; ++i) {
+    {
+      torch::NoGradGuard g;
+      net->weight.normal_();
+    }
+    seen.push_back(net->weight.clone());
+    FoldIntoAverage(*net, average.get(), i);
+  }
+  EXPECT_TRUE(torch::allclose(average->weight, (seen[0] + seen[1] + seen[2]) / 3, 1e-6, 1e-6));
+}
+
+// --average-from: the package holds the mean of the weights at the sampled
+// iterations (here 20, 30 and 40, taken from a plain run stopped and resumed
+// at each), also when the averaging run itself is killed and resumed.
+TEST(GuidedTrainingTest, WeightAveragingPackagesTheMeanOfTheSampledWeights) {
+  const auto weights_of = [](const std::string& dir, const ContrastiveConfig& config) {
+    ContrastiveNet net(config);
+    EXPECT_TRUE(LoadWeights(net, dir + "/weights.pt").ok()) << dir;
+    return net;
+  };
+  TrainOptions plain = GuidedOptions(testing::FreshDir("average_plain"), 20);
+  std::vector<ContrastiveNet> sampled;
+  for (int iterations : {20, 30, 40}) {
+    TrainOptions o = GuidedOptions(plain.out, iterations);
+    o.resume = iterations > 20;
+    ASSERT_TRUE(TrainContrastive(o).ok());
+    absl::StatusOr<ContrastiveConfig> c = ReadPackageConfig(plain.out);
+    ASSERT_TRUE(c.ok()) << c.status();
+    sampled.push_back(weights_of(plain.out, *c));
+  }
+  TrainOptions averaged = GuidedOptions(testing::FreshDir("average_run"), 40);
+  averaged.config.average_from = 20, averaged.config.average_every = 10;
+  ASSERT_TRUE(TrainContrastive(averaged).ok());
+  TrainOptions resumed = GuidedOptions(testing::FreshDir("average_resumed"), 30);
+  resumed.config.average_from = 20, resumed.config.average_every = 10;
+  ASSERT_TRUE(TrainContrastive(resumed).ok());
+  resumed.config.iterations = 40;
+  resumed.resume = true;
+  ASSERT_TRUE(TrainContrastive(resumed).ok());
+
+  absl::StatusOr<ContrastiveConfig> c = ReadPackageConfig(averaged.out);
+  ASSERT_TRUE(c.ok()) << c.status();
+  EXPECT_EQ(c->average_from, 20);
+  const ContrastiveNet mean = weights_of(averaged.out, *c),
+                       mean_resumed = weights_of(resumed.out, *c);
+  const auto params = [](const ContrastiveNet& n) { return n->parameters(); };
+  double moved = 0;
+  for (size_t i = 0; i < params(mean).size(); ++i) {
+    const torch::Tensor expected =
+        (params(sampled[0])[i] + params(sampled[1])[i] + params(sampled[2])[i]) / 3;
+    EXPECT_TRUE(torch::allclose(params(mean)[i], expected, 1e-3, 1e-5)) << i;
+    EXPECT_TRUE(torch::allclose(params(mean_resumed)[i], params(mean)[i], 1e-3, 1e-5)) << i;
+    moved = std::max(moved, (params(sampled[2])[i] - expected).abs().max().item<double>());
+  }
+  EXPECT_GT(moved, 1e-3);  // The mean is not simply the last weights.
+
+  TrainOptions late = GuidedOptions(testing::FreshDir("average_late"), 40);
+  late.config.average_from = 50;
+  EXPECT_EQ(TrainContrastive(late).code(), absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

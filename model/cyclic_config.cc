@@ -26,6 +26,10 @@ std::string CyclicConfig::Serialize() const {
   num("traj_weight", traj_weight);
   num("foot_weight", foot_weight);
   put("residual", residual ? "1" : "0");
+  if (style_dim > 0) {
+    num("style_dim", style_dim);
+    num("blocks", blocks);
+  }
   put("use_cycle", use_cycle ? "1" : "0");
   put("use_kc", use_kc ? "1" : "0");
   if (guided) {
@@ -68,6 +72,8 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
       return s;
     }
     if (key == "dropout") return e.Double(&c.dropout, 0, 0.95);
+    if (key == "style_dim") return e.Int(&c.style_dim, 0, 4096);
+    if (key == "blocks") return e.Int(&c.blocks, 1, 16);
     struct Weight {
       const char* name;
       double* value;

@@ -23,6 +23,14 @@ struct CyclicConfig {
   // makes, and the autoencoder's own reconstruction error does not reach the
   // output (docs/cyclic.md). Without, G(C, S) = decode(h) (the paper).
   bool residual = true;
+  // The style input (docs/cyclic.md, "A learned style network"): with
+  // style_dim = 0 (v1) the style code is the per-channel mean and spread of
+  // the encoder's features of the style clip and one modulated block
+  // restyles the content's features; with style_dim > 0 a style encoder of
+  // its own maps the style clip to style_dim values, and `blocks` residual
+  // blocks (dilated convolutions, each modulated by the code) restyle them.
+  int style_dim = 0;
+  int blocks = 4;
   // Loss weights. The generator: reconstruction of C and G(C, C) = C,
   // Gram style loss and content loss in hidden space, adversarial, cycle
   // ||F(G(C,S), C) - C||^2, and the kinematic constraints on generated joint
@@ -59,6 +67,8 @@ struct CyclicConfig {
   // Channels the network sees (a subset of the features): joint positions,
   // root trajectory, foot contacts.
   int net_channels(int joints) const { return 3 * joints + 8; }
+  // Values in a style code.
+  int code_size() const { return style_dim > 0 ? style_dim : 2 * hidden; }
 
   std::string Serialize() const;
   // INVALID_ARGUMENT naming `source` and the line of a malformed or

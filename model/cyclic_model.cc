@@ -94,7 +94,7 @@ absl::StatusOr<StyleCode> CyclicModel::EncodeStyle(const motion::Motion& clip) c
   if (!input.ok()) return input.status();
   try {
     torch::NoGradGuard no_grad;
-    const torch::Tensor s = CyclicNetImpl::stats(impl_->net->encode(input->second)).flatten();
+    const torch::Tensor s = impl_->net->code(input->second).flatten();
     return StyleCode{std::vector<float>(s.data_ptr<float>(), s.data_ptr<float>() + s.numel())};
   } catch (const std::exception& e) {
     return impl_->Internal(e);
@@ -106,7 +106,7 @@ absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& co
                                                         const StyleWeights& weights,
                                                         motion::PostProcessMode post) const {
   const CyclicConfig& config = impl_->config;
-  const int code_size = 2 * config.hidden;
+  const int code_size = config.code_size();
   if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, code_size); !s.ok())
     return s;
   auto input = impl_->Input(content, "content clip");
@@ -133,6 +133,10 @@ absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& co
     for (size_t k = 0; k < codes.size(); ++k) {
       style.select(2, static_cast<int64_t>(k))
           .copy_(torch::from_blob(codes[k].values.data(), {1, code_size}, torch::kFloat32));
+    }
+    if (impl_->adain && config.style_dim > 0) {
+      return absl::InvalidArgumentError(
+          impl_->dir + ": the AdaIN probe needs the statistics style code (style_dim = 0)");
     }
     if (impl_->adain) {
       const torch::Tensor own = CyclicNetImpl::stats(hx);

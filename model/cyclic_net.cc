@@ -1,5 +1,6 @@
 #include "model/cyclic_net.h"
 
+#include <algorithm>
 #include <numeric>
 
 #include "motion/features.h"
@@ -17,7 +18,7 @@ std::vector<int64_t> CyclicChannels(int joints) {
 }
 
 CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels)
-    : hidden(c.hidden), residual(c.residual) {
+    : hidden(c.hidden), style_dim(c.style_dim), residual(c.residual) {
   const int pad = c.kernel / 2;
   enc_drop = register_module("enc_drop", nn::Dropout(c.dropout));
   enc_conv = register_module(
@@ -25,6 +26,29 @@ CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels)
   dec_drop = register_module("dec_drop", nn::Dropout(c.dropout));
   dec_conv = register_module(
       "dec_conv", nn::Conv1d(nn::Conv1dOptions(c.hidden, channels, c.kernel).padding(pad)));
+  torch::NoGradGuard no_grad;
+  if (style_dim > 0) {
+    sty_a = register_module(
+        "sty_a", nn::Conv1d(nn::Conv1dOptions(channels, c.hidden, c.kernel).padding(pad)));
+    sty_b = register_module("sty_b",
+                            nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 5).padding(2)));
+    sty_out = register_module("sty_out", nn::Conv1d(nn::Conv1dOptions(c.hidden, style_dim, 1)));
+    block_mod = register_module("block_mod", nn::ModuleList());
+    block_a = register_module("block_a", nn::ModuleList());
+    block_b = register_module("block_b", nn::ModuleList());
+    for (int b = 0; b < c.blocks; ++b) {
+      const int dilation = 1 << std::min(b, 4);
+      block_mod->push_back(nn::Conv1d(nn::Conv1dOptions(style_dim, 2 * c.hidden, 1)));
+      block_a->push_back(nn::Conv1d(
+          nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(dilation).dilation(dilation)));
+      nn::Conv1d last(nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(1));
+      // Each block starts near the identity: G(C, S) = autoencoder(C).
+      last->weight.mul_(0.1);
+      last->bias.zero_();
+      block_b->push_back(last);
+    }
+    return;
+  }
   style_a = register_module("style_a", nn::Conv1d(nn::Conv1dOptions(2 * c.hidden, c.hidden, 1)));
   style_b = register_module("style_b", nn::Conv1d(nn::Conv1dOptions(c.hidden, 2 * c.hidden, 1)));
   mix_a = register_module("mix_a",
@@ -32,7 +56,6 @@ CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels)
   mix_b = register_module("mix_b",
                           nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(1)));
   // The transform starts as the identity: G(C, S) = autoencoder(C).
-  torch::NoGradGuard no_grad;
   mix_b->weight.mul_(0.1);
   mix_b->bias.zero_();
 }
@@ -51,14 +74,41 @@ torch::Tensor CyclicNetImpl::stats(const torch::Tensor& h) {
   return torch::cat({mean, (var + 1e-5).sqrt()}, 1);
 }
 
+namespace {
+
+// Each channel of `h` (B, H, t) normalized over time. A generous epsilon:
+// ReLU features that barely move over a clip would otherwise be blown up
+// (and with them the gradients).
+torch::Tensor InstanceNormalize(const torch::Tensor& h) {
+  const torch::Tensor mean = h.mean(2, true);
+  const torch::Tensor sd = ((h - mean).pow(2).mean(2, true) + 1e-2).sqrt();
+  return (h - mean) / sd;
+}
+
+}  // namespace
+
+torch::Tensor CyclicNetImpl::code(const torch::Tensor& x) {
+  if (style_dim == 0) return stats(encode(x));
+  const torch::Tensor h =
+      torch::max_pool1d(torch::leaky_relu(sty_a(x), 0.2), 2);
+  return sty_out(torch::leaky_relu(sty_b(h), 0.2).mean(2, /*keepdim=*/true));
+}
+
 torch::Tensor CyclicNetImpl::transform(const torch::Tensor& content, const torch::Tensor& style) {
+  if (style_dim > 0) {
+    torch::Tensor h = content;
+    for (size_t b = 0; b < block_mod->size(); ++b) {
+      const torch::Tensor p = block_mod[b]->as<nn::Conv1d>()->forward(style);
+      const torch::Tensor scale = p.slice(1, 0, hidden), bias = p.slice(1, hidden, 2 * hidden);
+      const torch::Tensor m = torch::leaky_relu((1 + scale) * InstanceNormalize(h) + bias, 0.2);
+      h = h + block_b[b]->as<nn::Conv1d>()->forward(
+                  torch::leaky_relu(block_a[b]->as<nn::Conv1d>()->forward(m), 0.2));
+    }
+    return h;
+  }
   const torch::Tensor p = style_b(torch::leaky_relu(style_a(style), 0.2));
   const torch::Tensor scale = p.slice(1, 0, hidden), bias = p.slice(1, hidden, 2 * hidden);
-  // A generous epsilon: ReLU features that barely move over a clip would
-  // otherwise be blown up (and with them the gradients).
-  const torch::Tensor mean = content.mean(2, true);
-  const torch::Tensor sd = ((content - mean).pow(2).mean(2, true) + 1e-2).sqrt();
-  const torch::Tensor n = (content - mean) / sd;
+  const torch::Tensor n = InstanceNormalize(content);
   return content + mix_b(torch::leaky_relu(mix_a((1 + scale) * n + bias), 0.2));
 }
 
@@ -69,7 +119,7 @@ torch::Tensor CyclicNetImpl::output(const torch::Tensor& x, const torch::Tensor&
 
 torch::Tensor CyclicNetImpl::generate(const torch::Tensor& content, const torch::Tensor& style_clip) {
   const torch::Tensor hc = encode(content);
-  return output(content, hc, transform(hc, stats(encode(style_clip))));
+  return output(content, hc, transform(hc, code(style_clip)));
 }
 
 CyclicCriticImpl::CyclicCriticImpl(const CyclicConfig& c, int channels) {

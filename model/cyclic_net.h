@@ -28,21 +28,30 @@ struct CyclicNetImpl : torch::nn::Module {
   torch::Tensor decode(const torch::Tensor& h);  // (B, H, T/2) -> (B, C, T).
   // (B, H, t) -> (B, 2H, 1): the style code (mean and std over time).
   static torch::Tensor stats(const torch::Tensor& h);
-  // Content hidden features restyled by `style` ((B, 2H, 1), or (B, 2H, t)
-  // for a code per hidden step).
+  // The style code of a clip (B, C, T) -> (B, code_size, 1): stats(encode(x))
+  // or, with a style network (CyclicConfig::style_dim), its style encoder's.
+  torch::Tensor code(const torch::Tensor& x);
+  // Content hidden features restyled by `style` ((B, code_size, 1), or
+  // (B, code_size, t) for a code per hidden step).
   torch::Tensor transform(const torch::Tensor& content, const torch::Tensor& style);
   // The output for restyled hidden features `h` of clip `x` whose own hidden
   // features are `hx`: decode(h), or with `residual` x + decode(h) -
   // decode(hx) (CyclicConfig::residual).
   torch::Tensor output(const torch::Tensor& x, const torch::Tensor& hx, const torch::Tensor& h);
-  // G(C, S) = output(C, encode(C), transform(encode(C), stats(encode(S)))).
+  // G(C, S) = output(C, encode(C), transform(encode(C), code(S))).
   torch::Tensor generate(const torch::Tensor& content, const torch::Tensor& style_clip);
 
   torch::nn::Dropout enc_drop{nullptr}, dec_drop{nullptr};
   torch::nn::Conv1d enc_conv{nullptr}, dec_conv{nullptr};
   torch::nn::Conv1d style_a{nullptr}, style_b{nullptr};  // 1x1: 2H -> H -> 2H.
   torch::nn::Conv1d mix_a{nullptr}, mix_b{nullptr};      // k3: H -> H -> H.
-  int hidden;
+  // The style network (style_dim > 0 only; then style_a..mix_b are unused
+  // and absent): the style encoder (conv k, pool, conv 5, mean over time,
+  // 1x1 to style_dim) and per block a 1x1 modulation (style_dim -> 2H) and
+  // two k3 convolutions, the first dilated 2^block.
+  torch::nn::Conv1d sty_a{nullptr}, sty_b{nullptr}, sty_out{nullptr};
+  torch::nn::ModuleList block_mod{nullptr}, block_a{nullptr}, block_b{nullptr};
+  int hidden, style_dim;
   bool residual;
 };
 TORCH_MODULE(CyclicNet);

@@ -5,6 +5,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "model/clip_classes.h"
+#include "model/config_text.h"
 #include "model/cyclic_net.h"
 #include "model/label_critic_net.h"
 #include "model/package.h"
@@ -45,14 +46,50 @@ struct CyclicTrainer {
   std::unique_ptr<torch::optim::Adam> opt_l;
 
   std::vector<torch::Tensor> EncoderParameters() { return net->enc_conv->parameters(); }
+  // Everything but the encoder: decoder, style transform (and style network).
   std::vector<torch::Tensor> GeneratorParameters() {
     std::vector<torch::Tensor> p;
-    for (auto* m : std::initializer_list<torch::nn::Module*>{
-             net->dec_conv.get(), net->style_a.get(), net->style_b.get(), net->mix_a.get(),
-             net->mix_b.get()}) {
-      for (const torch::Tensor& t : m->parameters()) p.push_back(t);
+    for (const auto& named : net->named_parameters()) {
+      if (named.key().rfind("enc_conv.", 0) != 0) p.push_back(named.value());
     }
     return p;
+  }
+
+  // The style code of clip `x` whose hidden features are `hx`.
+  torch::Tensor CodeOf(const torch::Tensor& x, const torch::Tensor& hx) {
+    return config.style_dim > 0 ? net->code(x) : net->stats(hx);
+  }
+
+  // --init-from: every tensor of the package's network that this network
+  // also has is copied (a style network can start from a v1 autoencoder);
+  // logs how many. INVALID_ARGUMENT when a shared tensor has another shape.
+  absl::Status InitFrom(const std::string& dir, int width) {
+    absl::StatusOr<std::string> text = ReadConfigText(dir);
+    if (!text.ok()) return text.status();
+    absl::StatusOr<CyclicConfig> source = CyclicConfig::Parse(*text, dir + "/config.txt");
+    if (!source.ok()) return source.status();
+    CyclicNet from(*source, width);
+    if (absl::Status s = LoadWeights(from, dir + "/weights.pt"); !s.ok()) return s;
+    torch::NoGradGuard no_grad;
+    const auto theirs = from->named_parameters();
+    int copied = 0, total = 0;
+    for (auto& mine : net->named_parameters()) {
+      ++total;
+      const torch::Tensor* t = theirs.find(mine.key());
+      if (t == nullptr) continue;
+      if (t->sizes() != mine.value().sizes()) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(dir, ": its '", mine.key(), "' has another shape than this network's"));
+      }
+      mine.value().copy_(*t);
+      ++copied;
+    }
+    if (copied == 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("--init-from ", dir, ": no tensor of its network fits this one"));
+    }
+    LogLine(opt.log, absl::StrCat("initialized ", copied, " of ", total, " tensors from ", dir));
+    return absl::OkStatus();
   }
 
   torch::Tensor NetChannels(std::vector<float>* buf) const {
@@ -90,7 +127,7 @@ struct CyclicTrainer {
     const torch::Tensor reconstruction = net->decode(h_c);
     const torch::Tensor rec =
         torch::mse_loss(reconstruction, c) +
-        torch::mse_loss(net->decode(net->transform(h_c, net->stats(h_c))), c);
+        torch::mse_loss(net->decode(net->transform(h_c, CodeOf(c, h_c))), c);
     torch::Tensor total = config.rec_weight * rec;
     r[0] = rec.item<double>();
     torch::Tensor out;  // What the kinematic constraints judge.
@@ -101,7 +138,7 @@ struct CyclicTrainer {
           config.guided ? OtherStyleBatch(content_clips, rng, &style_clips) : Batch(rng);
       const torch::Tensor h_s = net->encode(s).detach();
       const torch::Tensor gm =
-          net->output(c, h_c.detach(), net->transform(h_c.detach(), net->stats(h_s)));
+          net->output(c, h_c.detach(), net->transform(h_c.detach(), CodeOf(s, h_s)));
       const torch::Tensor h_gm = net->encode(gm);
       const torch::Tensor style = torch::mse_loss(Gram(h_gm), Gram(h_s));
       const torch::Tensor content = torch::mse_loss(h_gm, h_c.detach());
@@ -142,7 +179,7 @@ struct CyclicTrainer {
       }
       if (config.use_cycle) {
         const torch::Tensor back =
-            net->output(gm, h_gm, net->transform(h_gm, net->stats(h_c.detach())));
+            net->output(gm, h_gm, net->transform(h_gm, CodeOf(c, h_c.detach())));
         const torch::Tensor cycle = torch::mse_loss(back, c);
         total = total + config.cycle_weight * cycle;
         r[4] = cycle.item<double>();
@@ -182,7 +219,6 @@ struct CyclicTrainer {
 
   absl::Status Run() {
     SetComputeThreads(opt.threads);
-    auto log = [&](const std::string& s) { LogLine(opt.log, s); };
     absl::StatusOr<TrainingSet> loaded =
         LoadTrainingData(opt.data, {config.window, config.hop}, opt.log);
     if (!loaded.ok()) return loaded.status();
@@ -235,8 +271,8 @@ struct CyclicTrainer {
       return WritePackage(iterations, csv);
     };
     if (!opt.init_from.empty()) {
-      if (absl::Status s = LoadWeights(net, opt.init_from + "/weights.pt"); !s.ok()) return s;
-      log("initialized from " + opt.init_from);
+      if (absl::Status s = InitFrom(opt.init_from, width); !s.ok())
+        return absl::Status(s.code(), absl::StrCat("--init-from: ", s.message()));
     }
     TrainingRun run(std::move(spec));
     run.rng().seed(config.seed);

@@ -16,7 +16,8 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
-      "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n\n"
+      "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
+      "         [--style-dim 0 [--blocks 4]]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
       "autoencoder alone for --ae-iters, then the generator with the Gram style\n"
@@ -32,13 +33,19 @@ int TrainCyclicModel(const Argv& argv) {
       "--guided uses the clips' style and content labels (Bandai file names) in\n"
       "the generator stage: each content clip's style clip has another style, and\n"
       "a critic trained on real labelled windows scores the transfer against that\n"
-      "style and the content's content (--class-weight).\n";
+      "style and the content's content (--class-weight).\n"
+      "--style-dim D gives the generator a style network of its own: a style\n"
+      "encoder mapping the style clip to D values and --blocks residual blocks\n"
+      "modulated by them (default 0: the style code is the encoder features'\n"
+      "mean and spread, as in v1). --init-from then copies what fits (e.g. a v1\n"
+      "autoencoder).\n";
   int code = 0;
   const std::vector<std::string> weights = {"style-weight",  "content-weight", "gan-weight",
                                             "cycle-weight",  "smooth-weight",  "bone-weight",
                                             "traj-weight",   "foot-weight",    "class-weight"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
-                "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from"},
+                "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
+                "style-dim", "blocks"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
@@ -62,7 +69,8 @@ int TrainCyclicModel(const Argv& argv) {
                            {"batch", &c.batch, 1}, {"seed", &seed, 0}, {"window", &c.window, 2},
                            {"hop", &c.hop, 1}, {"hidden", &c.hidden, 1},
                            {"kernel", &c.kernel, 1}, {"kc-iters", &c.kc_iters, 0},
-                           {"threads", &opt.threads, 0},
+                           {"threads", &opt.threads, 0}, {"style-dim", &c.style_dim, 0},
+                           {"blocks", &c.blocks, 1},
                            {"checkpoint-every", &opt.checkpoint_every, 1},
                            {"log-every", &opt.log_every, 1}}) {
     absl::StatusOr<int> v = args->GetInt(f.name, *f.value);

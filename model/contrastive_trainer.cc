@@ -88,25 +88,8 @@ struct Trainer {
                                 const torch::Tensor& x_content, const torch::Tensor& y,
                                 const torch::Tensor& y_style, const torch::Tensor& y_content,
                                 const torch::Tensor& fake, LossRecord* r) {
-    namespace F = torch::nn::functional;
-    opt_p->zero_grad();
-    // Each real batch goes through the trunk once and is judged under two label pairs.
-    const torch::Tensor h_x = pair_disc->Trunk(x), h_y = pair_disc->Trunk(y);
-    const torch::Tensor real = (F::softplus(-pair_disc->Verdict(h_x, x_style, x_content)).mean() +
-                                F::softplus(-pair_disc->Verdict(h_y, y_style, y_content)).mean()) /
-                               2;
-    const torch::Tensor as_fake =
-        F::softplus(pair_disc->forward(fake.detach(), y_style, x_content));
-    const torch::Tensor identity = F::softplus(pair_disc->Verdict(h_x, y_style, x_content));
-    // A style window of the content's own content is a right answer, not a copy.
-    const torch::Tensor differs = (y_content != x_content).to(torch::kFloat32);
-    const torch::Tensor copy = F::softplus(pair_disc->Verdict(h_y, y_style, x_content)) * differs;
-    const torch::Tensor d_loss = real + 0.5 * as_fake.mean() + 0.25 * identity.mean() +
-                                 0.25 * copy.sum() / differs.sum().clamp_min(1);
-    d_loss.backward();
-    opt_p->step();
-    r->disc = d_loss.item<double>();
-    const torch::Tensor gan = F::softplus(-pair_disc->forward(fake, y_style, x_content)).mean();
+    const torch::Tensor gan = PairAdversarialStep(pair_disc, *opt_p, x, x_style, x_content, y,
+                                                  y_style, y_content, fake, &r->disc);
     r->gan = gan.item<double>();
     return gan;
   }

@@ -35,6 +35,7 @@ std::string CyclicConfig::Serialize() const {
   if (guided) {
     put("guided", "1");
     num("class_weight", class_weight);
+    if (pair_gan) put("pair_gan", "1");
   }
   num("kc_iters", kc_iters);
   num("kc_lr", kc_lr);
@@ -90,6 +91,7 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "use_kc") return e.Bool(&c.use_kc);
     if (key == "guided") return e.Bool(&c.guided);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
+    if (key == "pair_gan") return e.Bool(&c.pair_gan);
     if (key == "kc_iters") return e.Int(&c.kc_iters, 0, 100000);
     if (key == "kc_lr") return e.Double(&c.kc_lr, 0, 10);
     if (key == "ae_iterations") return e.Int(&c.ae_iterations, 0, 1 << 30);

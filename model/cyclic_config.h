@@ -47,6 +47,11 @@ struct CyclicConfig {
   // style and C's content, weighted by `class_weight`.
   bool guided = false;
   double class_weight = 1;
+  // Guided only: the adversarial term (gan_weight) uses the label-conditional
+  // discriminator of the contrastive family (model/label_critic_net.h),
+  // which also rejects the unchanged content and the style clip under the
+  // transfer's label pair.
+  bool pair_gan = false;
   // Inference-time kinematic optimization of the hidden features: at most
   // kc_iters backtracking gradient steps (the first of RMS size kc_lr per
   // hidden unit), stopping when the loss stops falling.

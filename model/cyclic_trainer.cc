@@ -44,6 +44,8 @@ struct CyclicTrainer {
   ClipClasses classes;
   LabelCritic label_critic{nullptr};
   std::unique_ptr<torch::optim::Adam> opt_l;
+  PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
+  std::unique_ptr<torch::optim::Adam> opt_p;
 
   std::vector<torch::Tensor> EncoderParameters() { return net->enc_conv->parameters(); }
   // Everything but the encoder: decoder, style transform (and style network).
@@ -144,7 +146,16 @@ struct CyclicTrainer {
       const torch::Tensor content = torch::mse_loss(h_gm, h_c.detach());
       total = total + config.style_weight * style + config.content_weight * content;
       r[1] = style.item<double>(), r[2] = content.item<double>();
-      if (config.gan_weight > 0) {
+      if (config.gan_weight > 0 && config.pair_gan) {
+        double d_loss = 0;
+        const torch::Tensor gan = PairAdversarialStep(
+            pair_disc, *opt_p, c, LabelTensor(content_clips, classes.style_of),
+            LabelTensor(content_clips, classes.content_of), s,
+            LabelTensor(style_clips, classes.style_of),
+            LabelTensor(style_clips, classes.content_of), gm, &d_loss);
+        total = total + config.gan_weight * gan;
+        r[9] = d_loss, r[3] = gan.item<double>();
+      } else if (config.gan_weight > 0) {
         opt_d->zero_grad();
         const torch::Tensor real = critic->forward(s), fake = critic->forward(gm.detach());
         const torch::Tensor d_loss =
@@ -243,6 +254,12 @@ struct CyclicTrainer {
                                  static_cast<int>(classes.contents.size()));
       opt_l = std::make_unique<torch::optim::Adam>(label_critic->parameters(),
                                                    torch::optim::AdamOptions(1e-3));
+      if (config.pair_gan) {
+        pair_disc = PairDiscriminator(width, static_cast<int>(classes.styles.size()),
+                                      static_cast<int>(classes.contents.size()));
+        opt_p = std::make_unique<torch::optim::Adam>(
+            pair_disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+      }
     }
     const auto adam = torch::optim::AdamOptions(config.lr).betas({0.5, 0.999});
     opt_e = std::make_unique<torch::optim::Adam>(EncoderParameters(), adam);
@@ -264,6 +281,10 @@ struct CyclicTrainer {
     if (config.guided) {
       files.push_back(Tensors("label_critic.pt", &label_critic));
       files.push_back(Tensors("opt_l.pt", opt_l.get()));
+    }
+    if (config.pair_gan) {
+      files.push_back(Tensors("pair_disc.pt", &pair_disc));
+      files.push_back(Tensors("opt_p.pt", opt_p.get()));
     }
     spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
     spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
@@ -300,8 +321,11 @@ absl::Status TrainCyclic(const CyclicTrainOptions& options) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
   if (options.config.window % 2 != 0) return absl::InvalidArgumentError("window must be even");
+  if (options.config.pair_gan && !options.config.guided) {
+    return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
+  }
   CyclicTrainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
-                  nullptr, {},      {},      nullptr, nullptr};
+                  nullptr, {},      {},      nullptr, nullptr, nullptr, nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

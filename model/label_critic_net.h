@@ -49,6 +49,18 @@ struct PairDiscriminatorImpl : torch::nn::Module {
 };
 TORCH_MODULE(PairDiscriminator);
 
+// One step of label-conditional adversarial training: updates `d` (with
+// `opt`) on real windows x and y under their own label pairs (real), and
+// under the pair (y_style, x_content) the transfer `fake` of x into y's
+// style (fake), the unchanged x (identity) and y itself when its content
+// differs from x's (copy-style); returns the generator's non-saturating loss
+// on `fake` under that pair, and the discriminator's loss in `d_loss`.
+torch::Tensor PairAdversarialStep(PairDiscriminator& d, torch::optim::Optimizer& opt,
+                                  const torch::Tensor& x, const torch::Tensor& x_style,
+                                  const torch::Tensor& x_content, const torch::Tensor& y,
+                                  const torch::Tensor& y_style, const torch::Tensor& y_content,
+                                  const torch::Tensor& fake, double* d_loss);
+
 // The label (kLong, (B,)) of each of `clips`, read from `label_of`.
 torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of);
 

@@ -17,7 +17,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
-      "         [--style-dim 0 [--blocks 4]]\n\n"
+      "         [--style-dim 0 [--blocks 4]] [--pair-gan]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
       "autoencoder alone for --ae-iters, then the generator with the Gram style\n"
@@ -33,7 +33,8 @@ int TrainCyclicModel(const Argv& argv) {
       "--guided uses the clips' style and content labels (Bandai file names) in\n"
       "the generator stage: each content clip's style clip has another style, and\n"
       "a critic trained on real labelled windows scores the transfer against that\n"
-      "style and the content's content (--class-weight).\n"
+      "style and the content's content (--class-weight). --pair-gan (with\n"
+      "--guided) makes the adversarial term (--gan-weight) label-conditional.\n"
       "--style-dim D gives the generator a style network of its own: a style\n"
       "encoder mapping the style clip to D values and --blocks residual blocks\n"
       "modulated by them (default 0: the style code is the encoder features'\n"
@@ -46,7 +47,7 @@ int TrainCyclicModel(const Argv& argv) {
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
                 "style-dim", "blocks"},
-               {"no-cycle", "no-kc", "no-residual", "resume", "guided"}};
+               {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
@@ -105,6 +106,10 @@ int TrainCyclicModel(const Argv& argv) {
   c.guided = args->switches.count("guided") > 0;
   if (args->Has("class-weight") && !c.guided) {
     return Fail("train", absl::InvalidArgumentError("--class-weight needs --guided"));
+  }
+  c.pair_gan = args->switches.count("pair-gan") > 0;
+  if (c.pair_gan && !c.guided) {
+    return Fail("train", absl::InvalidArgumentError("--pair-gan needs --guided"));
   }
   c.use_cycle = !args->switches.count("no-cycle");
   c.use_kc = !args->switches.count("no-kc");

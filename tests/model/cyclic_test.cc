@@ -333,7 +333,7 @@ TEST(CyclicModelTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabelCr
   CyclicTrainOptions o = TinyOptions(Dir("style_net"));
   o.data = testing::LabelledClips();
   o.config.guided = true;
-  o.config.style_dim = 8, o.config.blocks = 2;
+  o.config.style_dim = 8, o.config.blocks = 2, o.config.pair_gan = true;
   o.config.ae_iterations = 0, o.config.iterations = 150;
   o.init_from = ae.out;
   std::vector<std::string> log;
@@ -369,6 +369,12 @@ TEST(CyclicModelTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabelCr
   absl::StatusOr<motion::Motion> out = (*m)->Transfer(content, *code, motion::PostProcessMode::kNone);
   ASSERT_TRUE(out.ok()) << out.status();
   EXPECT_EQ(out->num_frames, content.num_frames);
+
+  // The label-conditional discriminator is checkpointed with the run.
+  EXPECT_TRUE(std::filesystem::exists(o.out + "/checkpoint/pair_disc.pt"));
+  CyclicTrainOptions unguided = TinyOptions(Dir("pair_gan_unguided"));
+  unguided.config.pair_gan = true;
+  EXPECT_EQ(TrainCyclic(unguided).code(), absl::StatusCode::kInvalidArgument);
 
   // A package whose shared tensors have other shapes is refused.
   CyclicTrainOptions wrong = o;
@@ -462,7 +468,7 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   CyclicConfig c = Tiny();
   c.dim = 155;
   c.use_cycle = false;
-  c.style_dim = 32, c.blocks = 3;
+  c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());

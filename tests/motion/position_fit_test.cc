@@ -93,3 +93,59 @@ TEST(PositionFitTest, KeepsBoneLengthsWhenTargetsAreOutOfReach) {
 
 }  // namespace
 }  // namespace stylus::motion
+
+namespace stylus::motion {
+namespace {
+
+// Knees are hinges in captured motion (Bandai: the local rotation's x and z
+// parts vary by ~0.002). A generated pose whose ankle moves off the content's
+// (closer to the hip and sideways) is fitted by bending the knee about its
+// own axis and turning the hip, never by twisting the knee sideways, which
+// would give rotation features dozens of the data's standard deviations off.
+TEST(PositionFitTest, KneesStayHingesWhenTheAnkleMoves) {
+  STYLUS_REQUIRE_BANDAI(data);
+  absl::StatusOr<Motion> m = ReadBvhFile(data + "/dataset-2/dataset-2_walk_normal_001.bvh");
+  ASSERT_TRUE(m.ok()) << m.status();
+  const HumanoidRoles roles = *FindHumanoidRoles(m->skeleton);
+  const FeatureClip truth = *ExtractFeatures(*m, roles);
+  const FeatureLayout layout(m->skeleton.num_joints());
+  const int knee = m->skeleton.children(roles.left_hip)[0];
+  ASSERT_EQ(m->skeleton.children(knee)[0], roles.left_ankle);
+  FeatureClip moved = truth;
+  const double leg = roles.leg_length;
+  for (int f = 0; f < moved.frames; ++f) {
+    float* ankle = moved.row(f) + layout.position(roles.left_ankle);
+    const float* hip = truth.row(f) + layout.position(roles.left_hip);
+    for (int a = 0; a < 3; ++a) ankle[a] = hip[a] + 0.93f * (ankle[a] - hip[a]);
+    ankle[0] += static_cast<float>(0.05 * leg);  // Sideways.
+  }
+  const FeatureClip targets = moved;
+  FitRotationsToPositions(m->skeleton, roles, &moved);
+  double off_axis = 0, ankle_error = 0, bend_change = 0;
+  for (int f = 0; f < moved.frames; ++f) {
+    const float* q = moved.row(f) + layout.rotation(knee);
+    off_axis = std::max({off_axis, std::fabs(double(q[1])), std::fabs(double(q[3]))});
+    const float* before = truth.row(f) + layout.rotation(knee);
+    bend_change = std::max(bend_change, std::fabs(double(q[2]) - before[2]));
+    const float* got = moved.row(f) + layout.position(roles.left_ankle);
+    const float* want = targets.row(f) + layout.position(roles.left_ankle);
+    ankle_error = std::max(ankle_error, std::hypot(double(got[0] - want[0]),
+                                                   double(got[1] - want[1]),
+                                                   double(got[2] - want[2])));
+  }
+  std::printf("knee off-axis %.5f, bend change %.3f, ankle error %.4f leg lengths\n", off_axis,
+              bend_change, ankle_error / leg);
+  EXPECT_LT(off_axis, 0.02);        // The capture's own: ~0.01 at most.
+  EXPECT_GT(bend_change, 0.05);     // The knee did bend to shorten the leg ...
+  EXPECT_LT(ankle_error, 0.03 * leg);  // ... and the ankle reached its target.
+  // The other (untouched) leg comes back as it was.
+  double other = 0;
+  for (int f = 0; f < moved.frames; ++f)
+    for (int a = 0; a < 3; ++a)
+      other = std::max(other, std::fabs(double(moved.row(f)[layout.position(roles.right_ankle) + a]) -
+                                        truth.row(f)[layout.position(roles.right_ankle) + a]));
+  EXPECT_LT(other, 2e-3 * leg);
+}
+
+}  // namespace
+}  // namespace stylus::motion

@@ -47,6 +47,8 @@ struct CyclicConfig {
   // style and C's content, weighted by `class_weight`.
   bool guided = false;
   double class_weight = 1;
+  // Guided only: the content head's share of that verdict, times this.
+  double content_class_weight = 1;
   // Guided only: the adversarial term (gan_weight) uses the label-conditional
   // discriminator of the contrastive family (model/label_critic_net.h),
   // which also rejects the unchanged content and the style clip under the

@@ -184,7 +184,8 @@ struct CyclicTrainer {
         labels.backward();
         opt_l->step();
         r[11] = labels.item<double>();
-        const torch::Tensor cls = LabelLoss(label_critic->forward(gm), target_style, content_label);
+        const torch::Tensor cls = LabelLoss(label_critic->forward(gm), target_style, content_label,
+                                            config.content_class_weight);
         total = total + config.class_weight * cls;
         r[10] = cls.item<double>();
       }

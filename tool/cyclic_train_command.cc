@@ -1,6 +1,7 @@
 // train --family cyclic.
 #include <cstdio>
 
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "model/cyclic_trainer.h"
 #include "tool/cli_support.h"
@@ -17,7 +18,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
-      "         [--style-dim 0 [--blocks 4]] [--pair-gan]\n\n"
+      "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
       "autoencoder alone for --ae-iters, then the generator with the Gram style\n"
@@ -34,7 +35,8 @@ int TrainCyclicModel(const Argv& argv) {
       "the generator stage: each content clip's style clip has another style, and\n"
       "a critic trained on real labelled windows scores the transfer against that\n"
       "style and the content's content (--class-weight). --pair-gan (with\n"
-      "--guided) makes the adversarial term (--gan-weight) label-conditional.\n"
+      "--guided) makes the adversarial term (--gan-weight) label-conditional;\n"
+      "--content-class-weight scales the content half of the critic's verdict.\n"
       "--style-dim D gives the generator a style network of its own: a style\n"
       "encoder mapping the style clip to D values and --blocks residual blocks\n"
       "modulated by them (default 0: the style code is the encoder features'\n"
@@ -43,7 +45,8 @@ int TrainCyclicModel(const Argv& argv) {
   int code = 0;
   const std::vector<std::string> weights = {"style-weight",  "content-weight", "gan-weight",
                                             "cycle-weight",  "smooth-weight",  "bone-weight",
-                                            "traj-weight",   "foot-weight",    "class-weight"};
+                                            "traj-weight",   "foot-weight",    "class-weight",
+                                            "content-class-weight"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
                 "style-dim", "blocks"},
@@ -85,7 +88,8 @@ int TrainCyclicModel(const Argv& argv) {
   c.seed = seed;
   double* weight_fields[] = {&c.style_weight,  &c.content_weight, &c.gan_weight,
                              &c.cycle_weight,  &c.smooth_weight,  &c.bone_weight,
-                             &c.traj_weight,   &c.foot_weight,    &c.class_weight};
+                             &c.traj_weight,   &c.foot_weight,    &c.class_weight,
+                             &c.content_class_weight};
   for (size_t i = 0; i < weights.size(); ++i) {
     absl::StatusOr<double> v = args->GetDouble(weights[i], *weight_fields[i]);
     if (!v.ok() || *v < 0) {
@@ -104,8 +108,10 @@ int TrainCyclicModel(const Argv& argv) {
   }
   c.dropout = *dropout;
   c.guided = args->switches.count("guided") > 0;
-  if (args->Has("class-weight") && !c.guided) {
-    return Fail("train", absl::InvalidArgumentError("--class-weight needs --guided"));
+  for (const char* name : {"class-weight", "content-class-weight"}) {
+    if (args->Has(name) && !c.guided) {
+      return Fail("train", absl::InvalidArgumentError(absl::StrCat("--", name, " needs --guided")));
+    }
   }
   c.pair_gan = args->switches.count("pair-gan") > 0;
   if (c.pair_gan && !c.guided) {

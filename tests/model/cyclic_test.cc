@@ -468,7 +468,7 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   CyclicConfig c = Tiny();
   c.dim = 155;
   c.use_cycle = false;
-  c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true;
+  c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true, c.content_class_weight = 3;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());

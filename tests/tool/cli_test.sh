@@ -62,6 +62,10 @@ check "train --init-from" 0 "initialized from $work/model" -- "$tool" train --da
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/model"
 check "train --guided on unlabelled names" 1 "old.bvh: label-guided training needs labelled clip names" -- \
   "$tool" train --guided --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/guided" --iters 2
+check "train cyclic --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \
+  "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/unguided" --content-class-weight 3
+check "train cyclic --pair-gan without --guided" 1 "--pair-gan needs --guided" -- "$tool" train \
+  --family cyclic --data "$work/old.bvh" --out "$work/unguided" --pair-gan
 check "train cyclic --class-weight without --guided" 1 "--class-weight needs --guided" -- "$tool" train \
   --family cyclic --data "$work/old.bvh" --out "$work/unguided" --class-weight 2
 check "train bad family" 1 "families are 'contrastive' and 'cyclic'" -- "$tool" train --family gan \

@@ -25,6 +25,7 @@ std::string CyclicConfig::Serialize() const {
   num("bone_weight", bone_weight);
   num("traj_weight", traj_weight);
   num("foot_weight", foot_weight);
+  if (keep_weight > 0) num("keep_weight", keep_weight);
   put("residual", residual ? "1" : "0");
   if (style_dim > 0) {
     num("style_dim", style_dim);
@@ -84,7 +85,7 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
                             {"content_weight", &c.content_weight}, {"gan_weight", &c.gan_weight},
                             {"cycle_weight", &c.cycle_weight}, {"smooth_weight", &c.smooth_weight},
                             {"bone_weight", &c.bone_weight}, {"traj_weight", &c.traj_weight},
-                            {"foot_weight", &c.foot_weight}}) {
+                            {"foot_weight", &c.foot_weight}, {"keep_weight", &c.keep_weight}}) {
       if (key == w.name) return e.Double(w.value, 0, 1e6);
     }
     if (key == "use_cycle") return e.Bool(&c.use_cycle);

@@ -39,6 +39,11 @@ struct CyclicConfig {
   double rec_weight = 1, style_weight = 1, content_weight = 1, gan_weight = 0.05;
   double cycle_weight = 1;
   double smooth_weight = 1, bone_weight = 1, traj_weight = 1, foot_weight = 1;
+  // A content-keeping term (0: off): the L1 distance between G(C, S) and C
+  // over the channels that say what is done and where: the legs' joint
+  // positions, the root trajectory and the foot contacts (the contrastive
+  // family's content_weight, in this family's channels).
+  double keep_weight = 0;
   bool use_cycle = true;  // Off: no cycle loss.
   bool use_kc = true;     // Off: no kinematic constraint in training or inference.
   // Label-guided generator stage (docs/cyclic.md, "Label-guided training"):

@@ -40,6 +40,7 @@ struct CyclicTrainer {
   std::unique_ptr<KinematicLoss> kinematic;
   std::unique_ptr<torch::optim::Adam> opt_e, opt_g, opt_d;
   torch::Tensor channels;
+  torch::Tensor keep_mask;  // (1, C, 1): channels of the content-keeping term.
   // Label-guided training only.
   ClipClasses classes;
   LabelCritic label_critic{nullptr};
@@ -55,6 +56,23 @@ struct CyclicTrainer {
       if (named.key().rfind("enc_conv.", 0) != 0) p.push_back(named.value());
     }
     return p;
+  }
+
+  // The legs' joint positions (the hips and everything below them), the
+  // root trajectory and the contacts, in the network's channels.
+  torch::Tensor KeepMask() const {
+    const motion::Skeleton& sk = data.skeleton;
+    const int joints = sk.num_joints();
+    torch::Tensor mask = torch::zeros({1, config.net_channels(joints), 1});
+    std::vector<bool> leg(joints, false);
+    for (int j = 0; j < joints; ++j) {
+      const int p = sk.joint(j).parent;
+      leg[j] = j == data.roles.left_hip || j == data.roles.right_hip || (p >= 0 && leg[p]);
+      if (leg[j])
+        for (int a = 0; a < 3; ++a) mask[0][3 * j + a][0] = 1;
+    }
+    for (int c = 0; c < 8; ++c) mask[0][3 * joints + c][0] = 1;
+    return mask;
   }
 
   // The style code of clip `x` whose hidden features are `hx`.
@@ -145,6 +163,11 @@ struct CyclicTrainer {
       const torch::Tensor style = torch::mse_loss(Gram(h_gm), Gram(h_s));
       const torch::Tensor content = torch::mse_loss(h_gm, h_c.detach());
       total = total + config.style_weight * style + config.content_weight * content;
+      if (config.keep_weight > 0) {
+        const torch::Tensor keep = ((gm - c).abs() * keep_mask).sum() /
+                                   (keep_mask.sum() * gm.size(0) * gm.size(2));
+        total = total + config.keep_weight * keep;
+      }
       r[1] = style.item<double>(), r[2] = content.item<double>();
       if (config.gan_weight > 0 && config.pair_gan) {
         double d_loss = 0;
@@ -240,6 +263,7 @@ struct CyclicTrainer {
     config.commit = opt.commit;
     const int joints = data.skeleton.num_joints();
     channels = torch::tensor(CyclicChannels(joints));
+    keep_mask = KeepMask();
     kinematic = std::make_unique<KinematicLoss>(data.skeleton, data.roles, data.norm,
                                                 data.frame_time);
     torch::manual_seed(config.seed);
@@ -326,7 +350,7 @@ absl::Status TrainCyclic(const CyclicTrainOptions& options) {
     return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
   }
   CyclicTrainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
-                  nullptr, {},      {},      nullptr, nullptr, nullptr, nullptr};
+                  nullptr, {},      {},      {},      nullptr, nullptr, nullptr, nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

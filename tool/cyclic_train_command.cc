@@ -16,6 +16,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--no-cycle] [--no-kc] [--no-residual] [--kc-iters 100]\n"
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
+      "         [--keep-weight 0]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
       "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1]\n\n"
@@ -37,6 +38,8 @@ int TrainCyclicModel(const Argv& argv) {
       "style and the content's content (--class-weight). --pair-gan (with\n"
       "--guided) makes the adversarial term (--gan-weight) label-conditional;\n"
       "--content-class-weight scales the content half of the critic's verdict.\n"
+      "--keep-weight W adds W x the L1 distance between the transfer and the\n"
+      "content over the legs' joint positions, root trajectory and contacts.\n"
       "--style-dim D gives the generator a style network of its own: a style\n"
       "encoder mapping the style clip to D values and --blocks residual blocks\n"
       "modulated by them (default 0: the style code is the encoder features'\n"
@@ -46,7 +49,7 @@ int TrainCyclicModel(const Argv& argv) {
   const std::vector<std::string> weights = {"style-weight",  "content-weight", "gan-weight",
                                             "cycle-weight",  "smooth-weight",  "bone-weight",
                                             "traj-weight",   "foot-weight",    "class-weight",
-                                            "content-class-weight"};
+                                            "content-class-weight", "keep-weight"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
                 "style-dim", "blocks"},
@@ -89,7 +92,7 @@ int TrainCyclicModel(const Argv& argv) {
   double* weight_fields[] = {&c.style_weight,  &c.content_weight, &c.gan_weight,
                              &c.cycle_weight,  &c.smooth_weight,  &c.bone_weight,
                              &c.traj_weight,   &c.foot_weight,    &c.class_weight,
-                             &c.content_class_weight};
+                             &c.content_class_weight, &c.keep_weight};
   for (size_t i = 0; i < weights.size(); ++i) {
     absl::StatusOr<double> v = args->GetDouble(weights[i], *weight_fields[i]);
     if (!v.ok() || *v < 0) {

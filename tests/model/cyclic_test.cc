@@ -387,6 +387,35 @@ TEST(CyclicModelTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabelCr
   EXPECT_NE(s.message().find("'enc_conv.weight' has another shape"), std::string::npos) << s;
 }
 
+// --keep-weight: the same guided style-network run with a heavy
+// content-keeping term moves the legs less.
+TEST(CyclicModelTest, KeepWeightHoldsTheLegsToTheContent) {
+  const auto leg_change = [](double keep) {
+    CyclicTrainOptions o = TinyOptions(Dir(keep > 0 ? "keep_on" : "keep_off"));
+    o.data = testing::LabelledClips();
+    o.config.guided = true;
+    o.config.style_dim = 8, o.config.blocks = 2, o.config.keep_weight = keep;
+    o.config.class_weight = 3;
+    EXPECT_TRUE(TrainCyclic(o).ok());
+    absl::StatusOr<std::unique_ptr<StyleModel>> m = LoadStyleModel(o.out);
+    EXPECT_TRUE(m.ok()) << m.status();
+    const motion::Motion content = motion::ReadBvhFile(o.data[0]).value();
+    const motion::Motion style = motion::ReadBvhFile(o.data[3]).value();
+    const motion::Motion out =
+        (*m)->Transfer(content, *(*m)->EncodeStyle(style), motion::PostProcessMode::kNone).value();
+    const motion::HumanoidRoles roles = *motion::FindHumanoidRoles(content.skeleton);
+    const auto a = motion::GlobalPositions(content), b = motion::GlobalPositions(out);
+    double sum = 0;
+    for (int f = 0; f < content.num_frames; ++f)
+      for (int j : {roles.left_ankle, roles.right_ankle})
+        sum += motion::Norm(a[f][j] - a[f][roles.pelvis] - (b[f][j] - b[f][roles.pelvis]));
+    return sum / (2 * content.num_frames);
+  };
+  const double off = leg_change(0), on = leg_change(100);
+  std::printf("ankle change: keep 0 %.3f, keep 100 %.3f\n", off, on);
+  EXPECT_LT(on, 0.7 * off);
+}
+
 TEST(CyclicModelTest, ResidualOutputKeepsTheContentTheAutoencoderLoses) {
   // Restyled with its own style, a clip should come back as itself: the
   // residual output does so far more closely than the decoder-only one.
@@ -469,6 +498,7 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   c.dim = 155;
   c.use_cycle = false;
   c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true, c.content_class_weight = 3;
+  c.keep_weight = 2;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());

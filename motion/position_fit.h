@@ -18,7 +18,12 @@ namespace stylus::motion {
 // so that its children's bones point at the children's target positions
 // (joints with several children, such as the pelvis and chest, take the
 // rotation that best aligns all of them, weighted by bone length); leaf
-// joints keep their rotation. The rotation channels then hold the fitted
+// joints keep their rotation. Hinges (a joint with one child, alone under a
+// parent that is no hinge, whose starting rotations all turn about one axis
+// of the parent's frame through the clip: knees in captured motion) keep
+// that axis: the parent is fitted as a two-bone chain, the hinge angle set
+// by the end joint's target distance and the chain pointed at the end's
+// target, then turned about that line towards the hinge's own target. The rotation channels then hold the fitted
 // rotations (each frame in the previous frame's hemisphere) and the position
 // channels of the pelvis's descendants the positions forward kinematics gives
 // with the skeleton's offsets. Other channels are untouched.

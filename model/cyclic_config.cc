@@ -42,6 +42,10 @@ std::string CyclicConfig::Serialize() const {
   num("kc_iters", kc_iters);
   num("kc_lr", kc_lr);
   num("ae_iterations", ae_iterations);
+  if (average_from > 0) {
+    num("average_from", average_from);
+    num("average_every", average_every);
+  }
   num("batch", batch);
   num("lr", lr);
   num("iterations", iterations);
@@ -98,6 +102,8 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "kc_iters") return e.Int(&c.kc_iters, 0, 100000);
     if (key == "kc_lr") return e.Double(&c.kc_lr, 0, 10);
     if (key == "ae_iterations") return e.Int(&c.ae_iterations, 0, 1 << 30);
+    if (key == "average_from") return e.Int(&c.average_from, 0, 1 << 30);
+    if (key == "average_every") return e.Int(&c.average_every, 1, 1 << 30);
     if (std::optional<absl::Status> s = ParseTrainingKey(
             e, {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data,
                 &c.commit}))

@@ -64,6 +64,11 @@ struct CyclicConfig {
   // hidden unit), stopping when the loss stops falling.
   int kc_iters = 100;
   double kc_lr = 0.02;
+  // Weight averaging (model/weight_average.h): from iteration
+  // `average_from` on (0: off), every `average_every` iterations, the
+  // network's weights are folded into a running mean, which is what the
+  // package holds.
+  int average_from = 0, average_every = 50;
   // Optimization: the autoencoder alone for ae_iterations, then everything.
   int ae_iterations = 2000;
   int batch = 16;

@@ -12,6 +12,7 @@
 #include "model/runtime.h"
 #include "model/torch_files.h"
 #include "model/training_set.h"
+#include "model/weight_average.h"
 #include "model/weights_io.h"
 #include "motion/files.h"
 
@@ -36,6 +37,7 @@ struct CyclicTrainer {
   CyclicConfig config;
   TrainingSet data;
   CyclicNet net{nullptr};
+  CyclicNet average{nullptr};  // With config.average_from: the running mean of net.
   CyclicCritic critic{nullptr};
   std::unique_ptr<KinematicLoss> kinematic;
   std::unique_ptr<torch::optim::Adam> opt_e, opt_g, opt_d;
@@ -247,7 +249,12 @@ struct CyclicTrainer {
     if (absl::Status s = motion::WriteFileAtomically(opt.out + "/config.txt", c.Serialize());
         !s.ok())
       return s;
-    if (absl::Status s = SaveTorchFileAtomically(Tensors("weights.pt", &net), opt.out); !s.ok())
+    // The running mean once it holds a sample, else the current weights.
+    CyclicNet* weights =
+        AveragedSamples(iterations, config.average_from, config.average_every) > 0 ? &average
+                                                                                    : &net;
+    if (absl::Status s = SaveTorchFileAtomically(Tensors("weights.pt", weights), opt.out);
+        !s.ok())
       return s;
     return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
   }
@@ -266,8 +273,11 @@ struct CyclicTrainer {
     keep_mask = KeepMask();
     kinematic = std::make_unique<KinematicLoss>(data.skeleton, data.roles, data.norm,
                                                 data.frame_time);
-    torch::manual_seed(config.seed);
     const int width = config.net_channels(joints);
+    // Built before the seed is set, so averaging draws nothing from the
+    // generator and a run trains the same weights with it as without.
+    if (config.average_from > 0) average = CyclicNet(config, width);
+    torch::manual_seed(config.seed);
     net = CyclicNet(config, width);
     critic = CyclicCritic(config, width);
     if (config.guided) {
@@ -311,6 +321,7 @@ struct CyclicTrainer {
       files.push_back(Tensors("pair_disc.pt", &pair_disc));
       files.push_back(Tensors("opt_p.pt", opt_p.get()));
     }
+    if (config.average_from > 0) files.push_back(Tensors("average.pt", &average));
     spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
     spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
     spec.write_package = [this](int iterations, const std::string& csv) {
@@ -333,7 +344,15 @@ struct CyclicTrainer {
     }
     net->train();
     critic->train();
-    return run.Run([&](int iteration) { return Step(iteration, &run.rng()); });
+    return run.Run([&](int iteration) {
+      std::vector<double> losses = Step(iteration, &run.rng());
+      const int done = iteration + 1;
+      if (IsAveragedIteration(done, config.average_from, config.average_every)) {
+        FoldIntoAverage(*net, average.get(),
+                        AveragedSamples(done, config.average_from, config.average_every));
+      }
+      return losses;
+    });
   }
 };
 
@@ -346,11 +365,16 @@ absl::Status TrainCyclic(const CyclicTrainOptions& options) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
   if (options.config.window % 2 != 0) return absl::InvalidArgumentError("window must be even");
+  if (options.config.average_from > options.config.iterations) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("weight averaging from iteration ", options.config.average_from,
+                     " would start after the last iteration (", options.config.iterations, ")"));
+  }
   if (options.config.pair_gan && !options.config.guided) {
     return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
   }
   CyclicTrainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
-                  nullptr, {},      {},      {},      nullptr, nullptr, nullptr, nullptr};
+                  nullptr, nullptr, {},      {},      {},      nullptr, nullptr, nullptr, nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -19,7 +19,8 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--keep-weight 0]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
-      "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1]\n\n"
+      "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1]\n"
+      "         [--average-from K [--average-every 50]]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
       "autoencoder alone for --ae-iters, then the generator with the Gram style\n"
@@ -44,7 +45,9 @@ int TrainCyclicModel(const Argv& argv) {
       "encoder mapping the style clip to D values and --blocks residual blocks\n"
       "modulated by them (default 0: the style code is the encoder features'\n"
       "mean and spread, as in v1). --init-from then copies what fits (e.g. a v1\n"
-      "autoencoder).\n";
+      "autoencoder).\n"
+      "--average-from K: the package holds the mean of the network's weights\n"
+      "sampled every --average-every iterations from iteration K on.\n";
   int code = 0;
   const std::vector<std::string> weights = {"style-weight",  "content-weight", "gan-weight",
                                             "cycle-weight",  "smooth-weight",  "bone-weight",
@@ -52,7 +55,7 @@ int TrainCyclicModel(const Argv& argv) {
                                             "content-class-weight", "keep-weight"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
-                "style-dim", "blocks"},
+                "style-dim", "blocks", "average-from", "average-every"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
@@ -77,7 +80,8 @@ int TrainCyclicModel(const Argv& argv) {
                            {"hop", &c.hop, 1}, {"hidden", &c.hidden, 1},
                            {"kernel", &c.kernel, 1}, {"kc-iters", &c.kc_iters, 0},
                            {"threads", &opt.threads, 0}, {"style-dim", &c.style_dim, 0},
-                           {"blocks", &c.blocks, 1},
+                           {"blocks", &c.blocks, 1}, {"average-from", &c.average_from, 0},
+                           {"average-every", &c.average_every, 1},
                            {"checkpoint-every", &opt.checkpoint_every, 1},
                            {"log-every", &opt.log_every, 1}}) {
     absl::StatusOr<int> v = args->GetInt(f.name, *f.value);
@@ -89,6 +93,10 @@ int TrainCyclicModel(const Argv& argv) {
     *f.value = *v;
   }
   c.seed = seed;
+  if (c.average_from > c.iterations) {
+    return Fail("train", absl::InvalidArgumentError(
+                             "--average-from must be an iteration between 0 and --iters"));
+  }
   double* weight_fields[] = {&c.style_weight,  &c.content_weight, &c.gan_weight,
                              &c.cycle_weight,  &c.smooth_weight,  &c.bone_weight,
                              &c.traj_weight,   &c.foot_weight,    &c.class_weight,

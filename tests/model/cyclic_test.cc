@@ -12,6 +12,7 @@
 #include "model/cyclic_net.h"
 #include "model/cyclic_trainer.h"
 #include "model/package.h"
+#include "model/weights_io.h"
 #include "motion/bvh.h"
 #include "motion/features.h"
 #include "motion/kinematics.h"
@@ -498,7 +499,7 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   c.dim = 155;
   c.use_cycle = false;
   c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true, c.content_class_weight = 3;
-  c.keep_weight = 2;
+  c.keep_weight = 2, c.average_from = 100, c.average_every = 25;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());
@@ -508,6 +509,48 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
             absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\nbogus = 1\n", "cfg.txt").status().message(),
             "cfg.txt:2: unknown key 'bogus'");
+}
+
+}  // namespace
+}  // namespace stylus::model
+
+namespace stylus::model {
+namespace {
+
+// --average-from for this family: the package holds the mean of the weights
+// at iterations 100, 150 and 200 (a plain run stopped and resumed at each).
+TEST(CyclicModelTest, WeightAveragingPackagesTheMeanOfTheSampledWeights) {
+  const int width = Tiny().net_channels(Clip(0).skeleton.num_joints());
+  const auto weights_of = [&](const std::string& dir, const CyclicConfig& config) {
+    CyclicNet net(config, width);
+    EXPECT_TRUE(LoadWeights(net, dir + "/weights.pt").ok()) << dir;
+    return net;
+  };
+  CyclicTrainOptions plain = TinyOptions(Dir("average_plain"));
+  std::vector<CyclicNet> sampled;
+  for (int iterations : {100, 150, 200}) {
+    CyclicTrainOptions o = plain;
+    o.config.iterations = iterations;
+    o.resume = iterations > 100;
+    ASSERT_TRUE(TrainCyclic(o).ok());
+    sampled.push_back(weights_of(plain.out, o.config));
+  }
+  CyclicTrainOptions averaged = TinyOptions(Dir("average_run"));
+  averaged.config.average_from = 100, averaged.config.average_every = 50;
+  ASSERT_TRUE(TrainCyclic(averaged).ok());
+  const CyclicNet mean = weights_of(averaged.out, averaged.config);
+  double moved = 0;
+  const auto params = [](const CyclicNet& n) { return n->parameters(); };
+  for (size_t i = 0; i < params(mean).size(); ++i) {
+    const torch::Tensor expected =
+        (params(sampled[0])[i] + params(sampled[1])[i] + params(sampled[2])[i]) / 3;
+    EXPECT_TRUE(torch::allclose(params(mean)[i], expected, 1e-3, 1e-5)) << i;
+    moved = std::max(moved, (params(sampled[2])[i] - expected).abs().max().item<double>());
+  }
+  EXPECT_GT(moved, 1e-3);  // The mean is not simply the last weights.
+  CyclicTrainOptions late = TinyOptions(Dir("average_late"));
+  late.config.average_from = 500;
+  EXPECT_EQ(TrainCyclic(late).code(), absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

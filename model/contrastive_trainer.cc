@@ -28,7 +28,7 @@ struct Trainer {
   ContrastiveConfig config;
   TrainingSet data;
   ContrastiveNet net{nullptr};
-  ContrastiveNet average{nullptr};  // With config.average_from: the running mean of net.
+  WeightAverage<ContrastiveNet> average;  // With config.average_from.
   Discriminator disc{nullptr};
   std::unique_ptr<torch::optim::Adam> opt_g, opt_d;
   // Label-guided training only.
@@ -216,11 +216,8 @@ struct Trainer {
     if (absl::Status s = WritePackageFiles(opt.out, c, data.norm, data.skeleton, data.frame_time);
         !s.ok())
       return s;
-    // The running mean once it holds a sample, else the current weights.
-    ContrastiveNet* weights =
-        AveragedSamples(iterations, config.average_from, config.average_every) > 0 ? &average
-                                                                                    : &net;
-    if (absl::Status s = SaveTorchFileAtomically(Tensors("weights.pt", weights), opt.out);
+    if (absl::Status s = SaveTorchFileAtomically(
+            Tensors("weights.pt", average.ForPackage(iterations, &net)), opt.out);
         !s.ok())
       return s;
     return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
@@ -230,12 +227,9 @@ struct Trainer {
     const motion::Skeleton& sk = data.skeleton;
     const motion::FeatureLayout layout(sk.num_joints());
     torch::Tensor mask = torch::zeros({1, config.dim, 1});
-    std::vector<bool> kept(sk.num_joints(), false);  // The legs, or the whole body.
+    const std::vector<bool> leg = motion::LegJoints(sk, data.roles);
     for (int j = 0; j < sk.num_joints(); ++j) {
-      const int p = sk.joint(j).parent;
-      kept[j] = config.content_body || j == data.roles.left_hip || j == data.roles.right_hip ||
-                (p >= 0 && kept[p]);
-      if (!kept[j]) continue;
+      if (!config.content_body && !leg[j]) continue;  // The legs, or the whole body.
       for (int c = 0; c < 3; ++c) mask[0][layout.position(j) + c][0] = 1;
       for (int c = 0; c < 4; ++c) mask[0][layout.rotation(j) + c][0] = 1;
     }
@@ -259,9 +253,9 @@ struct Trainer {
       classes = *std::move(c);
       if (config.content_balance > 0) LogBalance();
     }
-    // Built before the seed is set, so averaging draws nothing from the
-    // generator and a run trains the same weights with it as without.
-    if (config.average_from > 0) average = ContrastiveNet(config);
+    if (config.average_from > 0)  // Before the seed (see WeightAverage).
+      average = WeightAverage<ContrastiveNet>(config.average_from, config.average_every,
+                                              ContrastiveNet(config));
     torch::manual_seed(config.seed);
     net = ContrastiveNet(config);
     if (!opt.init_from.empty() && !opt.resume) {
@@ -328,7 +322,7 @@ struct Trainer {
       files.push_back(Tensors("pair_disc.pt", &pair_disc));
       files.push_back(Tensors("opt_p.pt", opt_p.get()));
     }
-    if (config.average_from > 0) files.push_back(Tensors("average.pt", &average));
+    if (average.on()) files.push_back(Tensors("average.pt", average.mean()));
     spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
     spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
     spec.write_package = [this](int iterations, const std::string& csv) {
@@ -348,11 +342,7 @@ struct Trainer {
     }
     return run.Run([this](int iteration) {
       const LossRecord r = config.guided ? GuidedStep() : Step();
-      const int done = iteration + 1;
-      if (IsAveragedIteration(done, config.average_from, config.average_every)) {
-        FoldIntoAverage(*net, average.get(),
-                        AveragedSamples(done, config.average_from, config.average_every));
-      }
+      average.Update(iteration + 1, net);
       std::vector<double> v = {r.rec, r.gan, r.nce, r.tri, r.disc};
       if (config.guided) v.insert(v.end(), {r.cls, r.cyc, r.critic});
       v.push_back(r.total);
@@ -366,18 +356,16 @@ struct Trainer {
 absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
   if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
-  if (options.config.average_from > options.config.iterations) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("weight averaging from iteration ", options.config.average_from,
-                     " would start after the last iteration (", options.config.iterations, ")"));
-  }
+  if (absl::Status s = CheckAveraging(options.config.average_from, options.config.iterations);
+      !s.ok())
+    return s;
   if (options.config.content_balance > 0 && !options.config.guided) {
     return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
   }
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
-  Trainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
+  Trainer t{options, options.config, {}, nullptr, {},      nullptr, nullptr, nullptr,
             {},      nullptr,        nullptr, nullptr, nullptr, {}, nullptr};
   try {
     return t.Run();

@@ -70,6 +70,10 @@ absl::StatusOr<std::unique_ptr<CyclicModel>> CyclicModel::Load(const std::string
                                                    " feature channels, norm.txt has ",
                                                    data->norm.dim()));
   }
+  if (options.adain && config->style_dim > 0) {
+    return absl::InvalidArgumentError(
+        dir + ": the AdaIN probe needs the statistics style code (style_dim = 0)");
+  }
   auto impl = std::make_unique<Impl>();
   impl->dir = dir;
   impl->config = *config;
@@ -133,10 +137,6 @@ absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& co
     for (size_t k = 0; k < codes.size(); ++k) {
       style.select(2, static_cast<int64_t>(k))
           .copy_(torch::from_blob(codes[k].values.data(), {1, code_size}, torch::kFloat32));
-    }
-    if (impl_->adain && config.style_dim > 0) {
-      return absl::InvalidArgumentError(
-          impl_->dir + ": the AdaIN probe needs the statistics style code (style_dim = 0)");
     }
     if (impl_->adain) {
       const torch::Tensor own = CyclicNetImpl::stats(hx);

@@ -37,7 +37,7 @@ struct CyclicTrainer {
   CyclicConfig config;
   TrainingSet data;
   CyclicNet net{nullptr};
-  CyclicNet average{nullptr};  // With config.average_from: the running mean of net.
+  WeightAverage<CyclicNet> average;  // With config.average_from.
   CyclicCritic critic{nullptr};
   std::unique_ptr<KinematicLoss> kinematic;
   std::unique_ptr<torch::optim::Adam> opt_e, opt_g, opt_d;
@@ -66,13 +66,10 @@ struct CyclicTrainer {
     const motion::Skeleton& sk = data.skeleton;
     const int joints = sk.num_joints();
     torch::Tensor mask = torch::zeros({1, config.net_channels(joints), 1});
-    std::vector<bool> leg(joints, false);
-    for (int j = 0; j < joints; ++j) {
-      const int p = sk.joint(j).parent;
-      leg[j] = j == data.roles.left_hip || j == data.roles.right_hip || (p >= 0 && leg[p]);
+    const std::vector<bool> leg = motion::LegJoints(sk, data.roles);
+    for (int j = 0; j < joints; ++j)
       if (leg[j])
         for (int a = 0; a < 3; ++a) mask[0][3 * j + a][0] = 1;
-    }
     for (int c = 0; c < 8; ++c) mask[0][3 * joints + c][0] = 1;
     return mask;
   }
@@ -108,7 +105,7 @@ struct CyclicTrainer {
     }
     if (copied == 0) {
       return absl::InvalidArgumentError(
-          absl::StrCat("--init-from ", dir, ": no tensor of its network fits this one"));
+          absl::StrCat(dir, ": no tensor of its network is in this one"));
     }
     LogLine(opt.log, absl::StrCat("initialized ", copied, " of ", total, " tensors from ", dir));
     return absl::OkStatus();
@@ -230,10 +227,11 @@ struct CyclicTrainer {
     opt_g->zero_grad();
     opt_e->zero_grad();
     total.backward();
-    torch::nn::utils::clip_grad_norm_(GeneratorParameters(), kMaxGradNorm);
+    // The optimizers' own parameter lists (built once).
+    torch::nn::utils::clip_grad_norm_(opt_g->param_groups()[0].params(), kMaxGradNorm);
     opt_g->step();
     if (autoencoder_only) {
-      torch::nn::utils::clip_grad_norm_(EncoderParameters(), kMaxGradNorm);
+      torch::nn::utils::clip_grad_norm_(opt_e->param_groups()[0].params(), kMaxGradNorm);
       opt_e->step();
     }
     r[12] = total.item<double>();
@@ -249,11 +247,8 @@ struct CyclicTrainer {
     if (absl::Status s = motion::WriteFileAtomically(opt.out + "/config.txt", c.Serialize());
         !s.ok())
       return s;
-    // The running mean once it holds a sample, else the current weights.
-    CyclicNet* weights =
-        AveragedSamples(iterations, config.average_from, config.average_every) > 0 ? &average
-                                                                                    : &net;
-    if (absl::Status s = SaveTorchFileAtomically(Tensors("weights.pt", weights), opt.out);
+    if (absl::Status s = SaveTorchFileAtomically(
+            Tensors("weights.pt", average.ForPackage(iterations, &net)), opt.out);
         !s.ok())
       return s;
     return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
@@ -274,9 +269,9 @@ struct CyclicTrainer {
     kinematic = std::make_unique<KinematicLoss>(data.skeleton, data.roles, data.norm,
                                                 data.frame_time);
     const int width = config.net_channels(joints);
-    // Built before the seed is set, so averaging draws nothing from the
-    // generator and a run trains the same weights with it as without.
-    if (config.average_from > 0) average = CyclicNet(config, width);
+    if (config.average_from > 0)  // Before the seed (see WeightAverage).
+      average = WeightAverage<CyclicNet>(config.average_from, config.average_every,
+                                         CyclicNet(config, width));
     torch::manual_seed(config.seed);
     net = CyclicNet(config, width);
     critic = CyclicCritic(config, width);
@@ -321,7 +316,7 @@ struct CyclicTrainer {
       files.push_back(Tensors("pair_disc.pt", &pair_disc));
       files.push_back(Tensors("opt_p.pt", opt_p.get()));
     }
-    if (config.average_from > 0) files.push_back(Tensors("average.pt", &average));
+    if (average.on()) files.push_back(Tensors("average.pt", average.mean()));
     spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
     spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
     spec.write_package = [this](int iterations, const std::string& csv) {
@@ -346,11 +341,7 @@ struct CyclicTrainer {
     critic->train();
     return run.Run([&](int iteration) {
       std::vector<double> losses = Step(iteration, &run.rng());
-      const int done = iteration + 1;
-      if (IsAveragedIteration(done, config.average_from, config.average_every)) {
-        FoldIntoAverage(*net, average.get(),
-                        AveragedSamples(done, config.average_from, config.average_every));
-      }
+      average.Update(iteration + 1, net);
       return losses;
     });
   }
@@ -365,15 +356,13 @@ absl::Status TrainCyclic(const CyclicTrainOptions& options) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
   if (options.config.window % 2 != 0) return absl::InvalidArgumentError("window must be even");
-  if (options.config.average_from > options.config.iterations) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("weight averaging from iteration ", options.config.average_from,
-                     " would start after the last iteration (", options.config.iterations, ")"));
-  }
+  if (absl::Status s = CheckAveraging(options.config.average_from, options.config.iterations);
+      !s.ok())
+    return s;
   if (options.config.pair_gan && !options.config.guided) {
     return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
   }
-  CyclicTrainer t{options, options.config, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
+  CyclicTrainer t{options, options.config, {}, nullptr, {},      nullptr, nullptr, nullptr,
                   nullptr, nullptr, {},      {},      {},      nullptr, nullptr, nullptr, nullptr};
   try {
     return t.Run();

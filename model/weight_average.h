@@ -10,6 +10,9 @@
 
 #include <vector>
 
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+
 namespace stylus::model {
 
 // How many samples a run averaging every `every` iterations from iteration
@@ -41,6 +44,45 @@ inline void FoldIntoAverage(const torch::nn::Module& net, torch::nn::Module* ave
   fold(net.parameters(), average->parameters());
   fold(net.buffers(), average->buffers());
 }
+
+// INVALID_ARGUMENT when averaging from iteration `from` would start after
+// the run's last (`iterations`).
+inline absl::Status CheckAveraging(int from, int iterations) {
+  if (from <= iterations) return absl::OkStatus();
+  return absl::InvalidArgumentError(absl::StrCat("weight averaging from iteration ", from,
+                                                 " would start after the last iteration (",
+                                                 iterations, ")"));
+}
+
+// A trainer's running mean of its network `Net` (a module holder).
+// Default-constructed it is off. Build it before the run seeds torch's
+// generator: the mean's own initial weights then draw nothing from it, and
+// a run trains the same weights with averaging as without.
+template <typename Net>
+class WeightAverage {
+ public:
+  WeightAverage() = default;
+  // From iteration `from` (> 0) on, every `every`; `mean` is a network of
+  // the trained one's shape.
+  WeightAverage(int from, int every, Net mean) : from_(from), every_(every), mean_(mean) {}
+
+  bool on() const { return from_ > 0; }
+  // After iteration `done` (1-based) of `live`.
+  void Update(int done, const Net& live) {
+    if (IsAveragedIteration(done, from_, every_))
+      FoldIntoAverage(*live, mean_.get(), AveragedSamples(done, from_, every_));
+  }
+  // What the package holds after `done` iterations: the mean once it holds
+  // a sample, else `live`.
+  Net* ForPackage(int done, Net* live) {
+    return AveragedSamples(done, from_, every_) > 0 ? &mean_ : live;
+  }
+  Net* mean() { return &mean_; }  // For the checkpoint.
+
+ private:
+  int from_ = 0, every_ = 1;
+  Net mean_{nullptr};
+};
 
 }  // namespace stylus::model
 

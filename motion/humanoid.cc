@@ -91,4 +91,13 @@ absl::StatusOr<HumanoidRoles> FindHumanoidRoles(const Skeleton& sk) {
   return r;
 }
 
+std::vector<bool> LegJoints(const Skeleton& skeleton, const HumanoidRoles& roles) {
+  std::vector<bool> leg(skeleton.num_joints(), false);
+  for (int j = 0; j < skeleton.num_joints(); ++j) {  // Parents come first.
+    const int p = skeleton.joint(j).parent;
+    leg[j] = j == roles.left_hip || j == roles.right_hip || (p >= 0 && leg[p]);
+  }
+  return leg;
+}
+
 }  // namespace stylus::motion

@@ -5,6 +5,8 @@
 #ifndef STYLUS_MOTION_HUMANOID_H_
 #define STYLUS_MOTION_HUMANOID_H_
 
+#include <vector>
+
 #include "absl/status/statusor.h"
 #include "motion/skeleton.h"
 
@@ -22,6 +24,10 @@ struct HumanoidRoles {
 
 // Finds the roles by name; INVALID_ARGUMENT names the role it could not find.
 absl::StatusOr<HumanoidRoles> FindHumanoidRoles(const Skeleton& skeleton);
+
+// Per joint of `skeleton`: whether it is one of the hips or below one (the
+// legs, down to the toes).
+std::vector<bool> LegJoints(const Skeleton& skeleton, const HumanoidRoles& roles);
 
 }  // namespace stylus::motion
 

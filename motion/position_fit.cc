@@ -64,10 +64,23 @@ std::array<double, 4> TopEigenvector(std::array<std::array<double, 4>, 4> a) {
   return {v[0][best], v[1][best], v[2][best], v[3][best]};
 }
 
-// The least-squares rotation taking each `first` (weighted by its length)
-// onto its unit `second` (Horn's quaternion method), in `reference`'s
-// hemisphere.
-Quat BestRotation(const std::vector<std::pair<Vec3, Vec3>>& pairs, const Quat& reference) {
+// The rotation `global` of a joint at `origin` that points its children's
+// offsets at their targets: for one child the smallest turn from the current
+// rotation (its twist is kept); for several, the least-squares rotation over
+// all of them, weighted by bone length (Horn's quaternion method).
+Quat AlignChildren(const Quat& global, const Vec3& origin, const std::vector<int>& children,
+                   const Skeleton& skeleton, const float* row, const FeatureLayout& layout) {
+  std::vector<std::pair<Vec3, Vec3>> pairs;  // (weighted offset, unit target)
+  for (int c : children) {
+    const Vec3& offset = skeleton.joint(c).offset;
+    const Vec3 target = Get3(row + layout.position(c)) - origin;
+    if (Norm(offset) < kTiny || Norm(target) < kTiny) continue;
+    pairs.push_back({offset, Normalized(target)});
+  }
+  if (pairs.empty()) return global;
+  if (pairs.size() == 1) {
+    return Normalized(RotationBetween(Rotate(global, pairs[0].first), pairs[0].second) * global);
+  }
   double s[3][3] = {};
   for (const auto& [a, b] : pairs) {
     const double av[3] = {a.x, a.y, a.z}, bv[3] = {b.x, b.y, b.z};
@@ -83,27 +96,7 @@ Quat BestRotation(const std::vector<std::pair<Vec3, Vec3>>& pairs, const Quat& r
       {xy - yx, zx + xz, yz + zy, -xx - yy + zz},
   }};
   const std::array<double, 4> e = TopEigenvector(n);
-  return SameHemisphere(Normalized(Quat{e[0], e[1], e[2], e[3]}), reference);
-}
-
-// The rotation `global` of a joint at `origin` that points its children's
-// offsets at their targets: for one child the smallest turn from the current
-// rotation (its twist is kept); for several, the least-squares rotation over
-// all of them, weighted by bone length.
-Quat AlignChildren(const Quat& global, const Vec3& origin, const std::vector<int>& children,
-                   const Skeleton& skeleton, const float* row, const FeatureLayout& layout) {
-  std::vector<std::pair<Vec3, Vec3>> pairs;  // (weighted offset, unit target)
-  for (int c : children) {
-    const Vec3& offset = skeleton.joint(c).offset;
-    const Vec3 target = Get3(row + layout.position(c)) - origin;
-    if (Norm(offset) < kTiny || Norm(target) < kTiny) continue;
-    pairs.push_back({offset, Normalized(target)});
-  }
-  if (pairs.empty()) return global;
-  if (pairs.size() == 1) {
-    return Normalized(RotationBetween(Rotate(global, pairs[0].first), pairs[0].second) * global);
-  }
-  return BestRotation(pairs, global);
+  return SameHemisphere(Normalized(Quat{e[0], e[1], e[2], e[3]}), global);
 }
 
 // A joint that turns about one axis of its parent's frame through the clip
@@ -169,10 +162,9 @@ void FitRotationsToPositions(const Skeleton& skeleton, const HumanoidRoles& role
     below[j] = p >= 0 && below[p];
   }
   // Hinges (knees): a joint with one child, alone under its parent (itself
-  // no hinge), that turns about one axis in the rotations the features
-  // start with. Its
-  // parent is then fitted as a two-bone chain and the hinge keeps its axis,
-  // so a generated pose never twists a knee sideways.
+  // no hinge), that turns about one axis in the rotations the features start
+  // with. Its parent is then fitted as a two-bone chain and the hinge keeps
+  // its axis, so a generated pose never twists a knee sideways.
   std::vector<Hinge> hinge(joints);
   for (int j = roles.pelvis + 1; j < joints; ++j) {
     const int p = skeleton.joint(j).parent;

@@ -23,10 +23,11 @@ namespace stylus::motion {
 // of the parent's frame through the clip: knees in captured motion) keep
 // that axis: the parent is fitted as a two-bone chain, the hinge angle set
 // by the end joint's target distance and the chain pointed at the end's
-// target, then turned about that line towards the hinge's own target. The rotation channels then hold the fitted
-// rotations (each frame in the previous frame's hemisphere) and the position
-// channels of the pelvis's descendants the positions forward kinematics gives
-// with the skeleton's offsets. Other channels are untouched.
+// target, then turned about that line towards the hinge's own target. The
+// rotation channels then hold the fitted rotations (each frame in the
+// previous frame's hemisphere) and the position channels of the pelvis's
+// descendants the positions forward kinematics gives with the skeleton's
+// offsets. Other channels are untouched.
 void FitRotationsToPositions(const Skeleton& skeleton, const HumanoidRoles& roles,
                              FeatureClip* features);
 

@@ -93,10 +93,6 @@ int TrainCyclicModel(const Argv& argv) {
     *f.value = *v;
   }
   c.seed = seed;
-  if (c.average_from > c.iterations) {
-    return Fail("train", absl::InvalidArgumentError(
-                             "--average-from must be an iteration between 0 and --iters"));
-  }
   double* weight_fields[] = {&c.style_weight,  &c.content_weight, &c.gan_weight,
                              &c.cycle_weight,  &c.smooth_weight,  &c.bone_weight,
                              &c.traj_weight,   &c.foot_weight,    &c.class_weight,

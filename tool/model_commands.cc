@@ -146,9 +146,8 @@ int Train(const Argv& argv) {
   }
   absl::StatusOr<int> average_from = args->GetInt("average-from", 0),
                       average_every = args->GetInt("average-every", c.average_every);
-  if (!average_from.ok() || *average_from < 0 || *average_from > c.iterations) {
-    return Fail("train", absl::InvalidArgumentError(
-                             "--average-from must be an iteration between 0 and --iters"));
+  if (!average_from.ok() || *average_from < 0) {
+    return Fail("train", absl::InvalidArgumentError("--average-from must be a number >= 0"));
   }
   if (!average_every.ok() || *average_every < 1) {
     return Fail("train", absl::InvalidArgumentError("--average-every must be a number >= 1"));

@@ -371,6 +371,10 @@ TEST(CyclicModelTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabelCr
   ASSERT_TRUE(out.ok()) << out.status();
   EXPECT_EQ(out->num_frames, content.num_frames);
 
+  // The AdaIN probe needs v1's statistics code.
+  EXPECT_EQ(CyclicModel::Load(o.out, CyclicOptions{0, true}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+
   // The label-conditional discriminator is checkpointed with the run.
   EXPECT_TRUE(std::filesystem::exists(o.out + "/checkpoint/pair_disc.pt"));
   CyclicTrainOptions unguided = TinyOptions(Dir("pair_gan_unguided"));

@@ -54,7 +54,7 @@ check "train --content-balance without --guided" 1 "--content-balance needs --gu
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-balance 0.5
 check "train --content-balance above 1" 1 "--content-balance must be in \\[0, 1\\]" -- \
   "$tool" train --guided --data "$work/old.bvh" --out "$work/unguided" --content-balance 2
-check "train --average-from past --iters" 1 "--average-from must be an iteration between 0 and --iters" -- \
+check "train --average-from past --iters" 1 "weight averaging from iteration 20 would start after the last iteration \\(10\\)" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --iters 10 --average-from 20
 check "train --init-from a missing package" 1 "--init-from: .*nowhere/norm.txt: cannot open" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/nowhere"

@@ -35,6 +35,13 @@ struct ContrastiveConfig {
   // but keeps its temporal spread, so the style code shifts and rescales the
   // content's movement instead of replacing its amplitude.
   bool keep_amplitude = false;
+  // With `replicate_pad`, every convolution of the encoders and the
+  // generator pads a window with copies of its first and last frame instead
+  // of zeros. Zeros are the data's mean pose, so with them each window's
+  // generated motion starts and ends by moving from and to that pose: a hand
+  // held up dips at every window's edge, once per hop, which reads as a wave
+  // (docs/contrastive.md, session 9).
+  bool replicate_pad = false;
   // With `centred_style`, the style encoder sees each window minus its
   // temporal mean per channel: how the motion moves, not where the body's
   // mean pose is, so the mean pose (what is being done) must come through the

@@ -6,9 +6,12 @@ namespace {
 namespace nn = torch::nn;
 namespace F = torch::nn::functional;
 
-nn::Conv1d Conv(int in, int out, int kernel, int stride = 1) {
+// `replicate`: pad with copies of the end frames rather than zeros.
+nn::Conv1d Conv(int in, int out, int kernel, int stride = 1, bool replicate = false) {
   const int pad = stride == 1 ? kernel / 2 : (kernel - stride) / 2;
-  return nn::Conv1d(nn::Conv1dOptions(in, out, kernel).stride(stride).padding(pad));
+  auto options = nn::Conv1dOptions(in, out, kernel).stride(stride).padding(pad);
+  if (replicate) options.padding_mode(torch::kReplicate);
+  return nn::Conv1d(options);
 }
 
 torch::Tensor LeakyRelu(const torch::Tensor& x) {
@@ -26,9 +29,9 @@ torch::Tensor AdaIn(const torch::Tensor& x, const torch::Tensor& scale, const to
 
 }  // namespace
 
-ResBlockImpl::ResBlockImpl(int channels, int kernel, bool instance_norm) {
-  conv1 = register_module("conv1", Conv(channels, channels, kernel));
-  conv2 = register_module("conv2", Conv(channels, channels, kernel));
+ResBlockImpl::ResBlockImpl(int channels, int kernel, bool instance_norm, bool replicate) {
+  conv1 = register_module("conv1", Conv(channels, channels, kernel, 1, replicate));
+  conv2 = register_module("conv2", Conv(channels, channels, kernel, 1, replicate));
   if (instance_norm) {
     norm1 = register_module("norm1", nn::InstanceNorm1d(nn::InstanceNorm1dOptions(channels)));
     norm2 = register_module("norm2", nn::InstanceNorm1d(nn::InstanceNorm1dOptions(channels)));
@@ -44,11 +47,13 @@ torch::Tensor ResBlockImpl::forward(const torch::Tensor& x) {
 }
 
 EncoderImpl::EncoderImpl(const ContrastiveConfig& c, bool instance_norm) {
-  conv1 = register_module("conv1", Conv(c.dim, c.channels, 7));
-  conv2 = register_module("conv2", Conv(c.channels, c.channels, 4, 2));
-  conv3 = register_module("conv3", Conv(c.channels, c.channels, 7));
+  const bool r = c.replicate_pad;
+  conv1 = register_module("conv1", Conv(c.dim, c.channels, 7, 1, r));
+  conv2 = register_module("conv2", Conv(c.channels, c.channels, 4, 2, r));
+  conv3 = register_module("conv3", Conv(c.channels, c.channels, 7, 1, r));
   blocks = register_module("blocks", nn::ModuleList());
-  for (int i = 0; i < 3; ++i) blocks->push_back(ResBlock(c.channels, c.res_kernel, instance_norm));
+  for (int i = 0; i < 3; ++i)
+    blocks->push_back(ResBlock(c.channels, c.res_kernel, instance_norm, r));
 }
 
 torch::Tensor EncoderImpl::forward(torch::Tensor x) {
@@ -59,9 +64,10 @@ torch::Tensor EncoderImpl::forward(torch::Tensor x) {
   return x;
 }
 
-AdaInBlockImpl::AdaInBlockImpl(int c, int kernel, bool keep) : channels(c), keep_amplitude(keep) {
-  conv1 = register_module("conv1", Conv(c, c, kernel));
-  conv2 = register_module("conv2", Conv(c, c, kernel));
+AdaInBlockImpl::AdaInBlockImpl(int c, int kernel, bool keep, bool replicate)
+    : channels(c), keep_amplitude(keep) {
+  conv1 = register_module("conv1", Conv(c, c, kernel, 1, replicate));
+  conv2 = register_module("conv2", Conv(c, c, kernel, 1, replicate));
 }
 
 torch::Tensor AdaInBlockImpl::forward(const torch::Tensor& x, const torch::Tensor& p) {
@@ -78,9 +84,9 @@ GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) 
                                        nn::Linear(c.channels, 4 * 4 * c.channels)));
   blocks = register_module("blocks", nn::ModuleList());
   for (int i = 0; i < 4; ++i)
-    blocks->push_back(AdaInBlock(c.channels, c.res_kernel, c.keep_amplitude));
-  up_conv = register_module("up_conv", Conv(c.channels, c.channels, 7));
-  out_conv = register_module("out_conv", Conv(c.channels, c.dim, 7));
+    blocks->push_back(AdaInBlock(c.channels, c.res_kernel, c.keep_amplitude, c.replicate_pad));
+  up_conv = register_module("up_conv", Conv(c.channels, c.channels, 7, 1, c.replicate_pad));
+  out_conv = register_module("out_conv", Conv(c.channels, c.dim, 7, 1, c.replicate_pad));
 }
 
 torch::Tensor GeneratorImpl::forward(const torch::Tensor& content, const torch::Tensor& style) {

@@ -11,9 +11,10 @@ namespace stylus::model {
 
 // conv -> norm -> LeakyReLU -> conv -> norm, plus the input. With `instance_norm`
 // the norms are InstanceNorm (content encoder: strips per-clip statistics);
-// without, plain (style encoder: keeps them).
+// without, plain (style encoder: keeps them). `replicate`: the convolutions
+// pad with copies of the end frames (ContrastiveConfig::replicate_pad).
 struct ResBlockImpl : torch::nn::Module {
-  ResBlockImpl(int channels, int kernel, bool instance_norm);
+  ResBlockImpl(int channels, int kernel, bool instance_norm, bool replicate);
   torch::Tensor forward(const torch::Tensor& x);
   torch::nn::Conv1d conv1{nullptr}, conv2{nullptr};
   torch::nn::InstanceNorm1d norm1{nullptr}, norm2{nullptr};
@@ -31,7 +32,7 @@ TORCH_MODULE(Encoder);
 
 // Residual block whose two normalizations are AdaIN with given scale and bias.
 struct AdaInBlockImpl : torch::nn::Module {
-  AdaInBlockImpl(int channels, int kernel, bool keep_amplitude);
+  AdaInBlockImpl(int channels, int kernel, bool keep_amplitude, bool replicate);
   // params: (B, 4C): scale1, bias1, scale2, bias2.
   torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& params);
   torch::nn::Conv1d conv1{nullptr}, conv2{nullptr};

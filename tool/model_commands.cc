@@ -26,7 +26,8 @@ int Train(const Argv& argv) {
       "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
-      "         [--keep-amplitude] [--centred-style] [--content-weight W] [--threads N]\n"
+      "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--content-weight W]\n"
+      "         [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]] [--keep-path]\n"
       "         [--content-body] [--average-from K [--average-every 50]]\n"
@@ -41,7 +42,10 @@ int Train(const Argv& argv) {
       "(docs/contrastive.md). --local-style gives the style encoder a 3-frame\n"
       "receptive field. --keep-amplitude makes the generator's AdaIN keep each\n"
       "channel's temporal spread (it still removes the mean). --centred-style\n"
-      "feeds the style encoder each window minus its mean pose. --content-weight W\n"
+      "feeds the style encoder each window minus its mean pose. --replicate-pad\n"
+      "pads every convolution with copies of the window's end frames instead of\n"
+      "zeros (the mean pose), so a window's edges do not move towards that pose.\n"
+      "--content-weight W\n"
       "adds W x the L1 distance between the transfer and its content input over\n"
       "the root trajectory, foot contacts and legs (default 0: off); with\n"
       "--content-body over the whole body.\n"
@@ -73,7 +77,8 @@ int Train(const Argv& argv) {
                     "class-weight", "cycle-weight", "content-class-weight", "content-balance",
                     "init-from", "average-from", "average-every"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
-                    "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body"}},
+                    "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
+                    "replicate-pad"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -111,6 +116,7 @@ int Train(const Argv& argv) {
   c.local_style = args->switches.count("local-style") > 0;
   c.keep_amplitude = args->switches.count("keep-amplitude") > 0;
   c.centred_style = args->switches.count("centred-style") > 0;
+  c.replicate_pad = args->switches.count("replicate-pad") > 0;
   absl::StatusOr<double> content_weight = args->GetDouble("content-weight", 0);
   if (!content_weight.ok() || *content_weight < 0) {
     return Fail("train", absl::InvalidArgumentError("--content-weight must be a number >= 0"));

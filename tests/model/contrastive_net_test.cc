@@ -38,6 +38,31 @@ TEST(ContrastiveNetTest, StyleChangesTheOutputContentCodeIgnoresScale) {
   EXPECT_GT((a - b).abs().max().item<float>(), 1e-3);
 }
 
+// A window of a character held still: with zero padding the generated window
+// drifts at its ends (towards the zeros, the data's mean pose); with
+// replicate_pad it stays still. The same weights in both nets.
+TEST(ContrastiveNetTest, ReplicatePaddingKeepsAStillWindowStill) {
+  ContrastiveConfig c = Tiny();
+  torch::manual_seed(3);
+  ContrastiveNet zeros(c);
+  c.replicate_pad = true;
+  ContrastiveNet replicate(c);
+  {
+    torch::NoGradGuard no_grad;
+    const auto from = zeros->named_parameters();
+    for (auto& p : replicate->named_parameters()) p.value().copy_(from[p.key()]);
+  }
+  const torch::Tensor still = torch::randn({1, c.dim, 1}).expand({1, c.dim, c.window}) + 2;
+  const torch::Tensor style = replicate->style(torch::randn({1, c.dim, c.window}));
+  auto spread = [](const torch::Tensor& y) {  // Largest change over time, any channel.
+    return (y.amax(2) - y.amin(2)).max().item<float>();
+  };
+  const float kept = spread(replicate->decode(replicate->content(still), style));
+  const float drifted = spread(zeros->decode(zeros->content(still), style));
+  EXPECT_LT(kept, 1e-4);
+  EXPECT_GT(drifted, 100 * kept + 1e-3);
+}
+
 TEST(ContrastiveNetTest, ReconstructionLossIsMeanAbsoluteError) {
   const torch::Tensor a = torch::zeros({1, 2, 2}),
                       b = torch::tensor({1.f, -1.f, 2.f, 0.f}).reshape({1, 2, 2});

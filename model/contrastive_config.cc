@@ -27,6 +27,7 @@ std::string ContrastiveConfig::Serialize() const {
   put("local_style", local_style ? "1" : "0");
   put("keep_amplitude", keep_amplitude ? "1" : "0");
   if (replicate_pad) put("replicate_pad", "1");
+  if (random_starts) put("random_starts", "1");
   if (centred_style) put("centred_style", "1");
   if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
   if (content_body) put("content_body", "1");
@@ -105,6 +106,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "centred_style") return e.Bool(&c.centred_style);
     if (key == "keep_amplitude") return e.Bool(&c.keep_amplitude);
     if (key == "replicate_pad") return e.Bool(&c.replicate_pad);
+    if (key == "random_starts") return e.Bool(&c.random_starts);
     if (std::optional<absl::Status> s = ParseTrainingKey(
             e,
             {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data, &c.commit}))

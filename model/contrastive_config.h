@@ -69,6 +69,10 @@ struct ContrastiveConfig {
   // (0: uniformly over windows; 1: every class alike). Bandai's dataset-1
   // actions have 2-15 clips each against dataset-2's 70.
   double content_balance = 0.0;
+  // Training: content windows start anywhere in their clip, not only on the
+  // hop grid, so every clip's last frames are trained on too
+  // (TrainingSet::random_starts).
+  bool random_starts = false;
   // Weight averaging (model/weight_average.h): from iteration
   // `average_from` on (0: off), every `average_every` iterations, the
   // generator's weights are folded into a running mean, which is what the

@@ -44,7 +44,11 @@ void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::
     const Window& w = windows[i];
     const motion::FeatureClip& clip = clips[w.clip];
     if (clip_of) clip_of->push_back(w.clip);
-    CopyWindow(clip, w.start, length, out->data() + static_cast<size_t>(b) * d * length);
+    const int start =
+        random_starts
+            ? static_cast<int>((*rng)() % static_cast<uint64_t>(clip.frames - length + 1))
+            : w.start;
+    CopyWindow(clip, start, length, out->data() + static_cast<size_t>(b) * d * length);
   }
 }
 

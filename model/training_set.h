@@ -28,6 +28,11 @@ struct TrainingSet {
   std::vector<Window> windows;
   // Cumulative sampling weights of `windows` (empty: uniform); see BalanceWindows.
   std::vector<double> window_cdf;
+  // With `random_starts`, SampleBatch keeps its draw of a window's clip but
+  // starts the window anywhere in that clip. The hop grid alone never shows
+  // a clip's last frames when its length is off the grid (a 78-frame raise
+  // of a hand: windows at 0 and 24, so the hand is never seen coming down).
+  bool random_starts = false;
   int dim() const { return norm.dim(); }
 
   // Reweights SampleBatch so that a class with n windows (class_of_clip[c]
@@ -37,7 +42,7 @@ struct TrainingSet {
   std::vector<double> BalanceWindows(const std::vector<int>& class_of_clip, double power);
 
   // Copies `count` windows of `length` frames, chosen by `rng` (uniformly
-  // unless BalanceWindows reweighted them), into
+  // unless BalanceWindows reweighted them; see also random_starts), into
   // `out` as (count, dim, length), channels first; `clips` (if not null) gets
   // the clip index of each.
   void SampleBatch(int count, int length, std::mt19937_64* rng, std::vector<float>* out,

@@ -26,7 +26,8 @@ int Train(const Argv& argv) {
       "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
-      "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--content-weight W]\n"
+      "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--random-starts]\n"
+      "         [--content-weight W]\n"
       "         [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]] [--keep-path]\n"
@@ -45,6 +46,8 @@ int Train(const Argv& argv) {
       "feeds the style encoder each window minus its mean pose. --replicate-pad\n"
       "pads every convolution with copies of the window's end frames instead of\n"
       "zeros (the mean pose), so a window's edges do not move towards that pose.\n"
+      "--random-starts starts each content window anywhere in its clip instead\n"
+      "of on the hop grid, so the clips' last frames are trained on too.\n"
       "--content-weight W\n"
       "adds W x the L1 distance between the transfer and its content input over\n"
       "the root trajectory, foot contacts and legs (default 0: off); with\n"
@@ -78,7 +81,7 @@ int Train(const Argv& argv) {
                     "init-from", "average-from", "average-every"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
-                    "replicate-pad"}},
+                    "replicate-pad", "random-starts"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -117,6 +120,7 @@ int Train(const Argv& argv) {
   c.keep_amplitude = args->switches.count("keep-amplitude") > 0;
   c.centred_style = args->switches.count("centred-style") > 0;
   c.replicate_pad = args->switches.count("replicate-pad") > 0;
+  c.random_starts = args->switches.count("random-starts") > 0;
   absl::StatusOr<double> content_weight = args->GetDouble("content-weight", 0);
   if (!content_weight.ok() || *content_weight < 0) {
     return Fail("train", absl::InvalidArgumentError("--content-weight must be a number >= 0"));

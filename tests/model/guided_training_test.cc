@@ -19,6 +19,7 @@
 #include "model/weights_io.h"
 #include "motion/bvh.h"
 #include "motion/metrics.h"
+#include "motion/windowing.h"
 #include "tests/model/synth_clips.h"
 
 namespace stylus::model {
@@ -117,6 +118,42 @@ TEST(ClipClassesTest, ContentBalanceDrawsEveryActionAlike) {
   data->BalanceWindows(c->content_of, 0.0);
   drawn(&share);
   EXPECT_NEAR(share[2], 0.5, 0.03);
+}
+
+// A 78-frame clip on a 32-frame grid with hop 24 has windows at 0 and 24, so
+// frames 56-77 are never drawn; with random_starts every frame is.
+TEST(TrainingSetTest, RandomStartsReachTheClipsLastFrames) {
+  TrainingSet set;
+  set.norm.mean = {0}, set.norm.std = {1};
+  motion::FeatureClip clip;
+  clip.frames = 78, clip.dim = 1;
+  for (int f = 0; f < clip.frames; ++f) clip.values.push_back(static_cast<float>(f));
+  set.clips = {clip};
+  const absl::StatusOr<std::vector<int>> grid_starts = motion::WindowStarts(clip.frames, {32, 24});
+  ASSERT_TRUE(grid_starts.ok());
+  for (int s : *grid_starts) set.windows.push_back({0, s});
+  ASSERT_EQ(set.windows.size(), 2u);
+  const auto frames_seen = [&] {
+    std::mt19937_64 rng(3);
+    std::vector<float> buf;
+    std::set<int> seen, starts;
+    for (int i = 0; i < 100; ++i) {
+      set.SampleBatch(8, 32, &rng, &buf);
+      for (int b = 0; b < 8; ++b) {
+        starts.insert(static_cast<int>(buf[b * 32]));
+        for (int t = 0; t < 32; ++t) seen.insert(static_cast<int>(buf[b * 32 + t]));
+      }
+    }
+    return std::make_pair(seen, starts);
+  };
+  const auto [grid, drawn_starts] = frames_seen();
+  EXPECT_EQ(*grid.rbegin(), 55);
+  EXPECT_EQ(drawn_starts, (std::set<int>{0, 24}));
+  set.random_starts = true;
+  const auto [anywhere, any_starts] = frames_seen();
+  EXPECT_EQ(anywhere.size(), 78u);  // Every frame, the last one included.
+  EXPECT_EQ(*any_starts.rbegin(), 46);
+  EXPECT_GT(any_starts.size(), 40u);
 }
 
 TEST(GuidedTrainingTest, CriticLearnsTheLabelsAndTransfersFollowIt) {

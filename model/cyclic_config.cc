@@ -31,6 +31,8 @@ std::string CyclicConfig::Serialize() const {
     num("style_dim", style_dim);
     num("blocks", blocks);
   }
+  if (random_starts) put("random_starts", "1");
+  if (keep_path) put("keep_path", "1");
   put("use_cycle", use_cycle ? "1" : "0");
   put("use_kc", use_kc ? "1" : "0");
   if (guided) {
@@ -93,6 +95,8 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
       if (key == w.name) return e.Double(w.value, 0, 1e6);
     }
     if (key == "use_cycle") return e.Bool(&c.use_cycle);
+    if (key == "random_starts") return e.Bool(&c.random_starts);
+    if (key == "keep_path") return e.Bool(&c.keep_path);
     if (key == "residual") return e.Bool(&c.residual);
     if (key == "use_kc") return e.Bool(&c.use_kc);
     if (key == "guided") return e.Bool(&c.guided);

@@ -59,6 +59,13 @@ struct CyclicConfig {
   // which also rejects the unchanged content and the style clip under the
   // transfer's label pair.
   bool pair_gan = false;
+  // Training: windows start anywhere in their clip, not only on the hop grid
+  // (TrainingSet::random_starts), so the clips' last frames are trained on.
+  bool random_starts = false;
+  // Inference: the output's root trajectory and foot contacts are the
+  // content's (the style restyles the body along the content's path, as the
+  // contrastive family's keep_path).
+  bool keep_path = false;
   // Inference-time kinematic optimization of the hidden features: at most
   // kc_iters backtracking gradient steps (the first of RMS size kc_lr per
   // hidden unit), stopping when the loss stops falling.

@@ -158,8 +158,10 @@ absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& co
     const std::vector<int64_t> channels = CyclicChannels(content.skeleton.num_joints());
     const float* yp = y.data_ptr<float>();
     const int width = static_cast<int>(channels.size());
+    // keep_path: the last 8 channels (root trajectory, contacts) stay the content's.
+    const int generated = config.keep_path ? width - 8 : width;
     for (int f = 0; f < frames; ++f) {
-      for (int i = 0; i < width; ++i) {
+      for (int i = 0; i < generated; ++i) {
         const int64_t c = channels[i];
         out.row(f)[c] = yp[f * width + i] * impl_->data.norm.std[c] + impl_->data.norm.mean[c];
       }

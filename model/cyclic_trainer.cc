@@ -260,6 +260,7 @@ struct CyclicTrainer {
         LoadTrainingData(opt.data, {config.window, config.hop}, opt.log);
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
+    data.random_starts = config.random_starts;
     config.dim = data.dim();
     config.data = absl::StrJoin(opt.data, ";");
     config.commit = opt.commit;

@@ -16,7 +16,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--no-cycle] [--no-kc] [--no-residual] [--kc-iters 100]\n"
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
-      "         [--keep-weight 0]\n"
+      "         [--keep-weight 0] [--random-starts] [--keep-path]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
       "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1]\n"
@@ -41,6 +41,10 @@ int TrainCyclicModel(const Argv& argv) {
       "--content-class-weight scales the content half of the critic's verdict.\n"
       "--keep-weight W adds W x the L1 distance between the transfer and the\n"
       "content over the legs' joint positions, root trajectory and contacts.\n"
+      "--random-starts starts each training window anywhere in its clip instead\n"
+      "of on the hop grid, so the clips' last frames are trained on too.\n"
+      "--keep-path makes the package's transfers keep the content's root\n"
+      "trajectory and foot contacts (keep_path in config.txt).\n"
       "--style-dim D gives the generator a style network of its own: a style\n"
       "encoder mapping the style clip to D values and --blocks residual blocks\n"
       "modulated by them (default 0: the style code is the encoder features'\n"
@@ -56,7 +60,8 @@ int TrainCyclicModel(const Argv& argv) {
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
                 "style-dim", "blocks", "average-from", "average-every"},
-               {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan"}};
+               {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan",
+                "random-starts", "keep-path"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
@@ -121,6 +126,8 @@ int TrainCyclicModel(const Argv& argv) {
     }
   }
   c.pair_gan = args->switches.count("pair-gan") > 0;
+  c.random_starts = args->switches.count("random-starts") > 0;
+  c.keep_path = args->switches.count("keep-path") > 0;
   if (c.pair_gan && !c.guided) {
     return Fail("train", absl::InvalidArgumentError("--pair-gan needs --guided"));
   }

@@ -233,6 +233,26 @@ TEST(CyclicModelTest, CycleLossFallsAndThePackageServesTransfers) {
                  ta0),
             1e-2);  // Degrees and units: float rounding of a per-step vs one code.
 
+  // keep_path: the output walks the content's path. The pelvis path
+  // (TrajectoryError) then differs from the content's only by the generated
+  // pelvis offset from the root; the generated trajectory drifts far more.
+  {
+    const std::string kept = Dir("keep_path");
+    for (const char* f : {"config.txt", "norm.txt", "skeleton.bvh", "weights.pt"})
+      fs::copy_file(o.out + "/" + f, kept + "/" + f, fs::copy_options::overwrite_existing);
+    std::ofstream(kept + "/config.txt", std::ios::app) << "keep_path = 1\n";
+    auto keep = CyclicModel::Load(kept, CyclicOptions{0});
+    ASSERT_TRUE(keep.ok()) << keep.status();
+    const motion::HumanoidRoles roles = *motion::FindHumanoidRoles(content.skeleton);
+    const motion::Motion on_path =
+        *(*keep)->Transfer(content, sa, motion::PostProcessMode::kNone);
+    const double kept_error = motion::TrajectoryError(on_path, content, roles);
+    const double own_error = motion::TrajectoryError(ta0, content, roles);
+    std::printf("trajectory error: generated %.4f, keep_path %.6f\n", own_error, kept_error);
+    EXPECT_LT(kept_error, 0.2);
+    EXPECT_GT(own_error, 20 * kept_error);
+  }
+
   // The AdaIN probe: another style changes the output.
   auto probe = CyclicModel::Load(o.out, CyclicOptions{0, true});
   ASSERT_TRUE(probe.ok());
@@ -504,9 +524,12 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   c.use_cycle = false;
   c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true, c.content_class_weight = 3;
   c.keep_weight = 2, c.average_from = 100, c.average_every = 25;
+  c.random_starts = true, c.keep_path = true;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());
+  EXPECT_TRUE(back->random_starts);
+  EXPECT_TRUE(back->keep_path);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\nkernel = 4\n", "cfg.txt").status().message(),
             "cfg.txt:2: kernel must be odd");
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\nfamily = contrastive\n", "cfg.txt").status().code(),

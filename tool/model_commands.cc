@@ -27,7 +27,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--random-starts]\n"
-      "         [--content-weight W]\n"
+      "         [--content-weight W] [--smooth-sigma S]\n"
       "         [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]] [--keep-path]\n"
@@ -46,6 +46,8 @@ int Train(const Argv& argv) {
       "feeds the style encoder each window minus its mean pose. --replicate-pad\n"
       "pads every convolution with copies of the window's end frames instead of\n"
       "zeros (the mean pose), so a window's edges do not move towards that pose.\n"
+      "--smooth-sigma S stores the inference smoothing of generated windows\n"
+      "(smooth_sigma in config.txt; the shipped default model uses 3; 0: off).\n"
       "--random-starts starts each content window anywhere in its clip instead\n"
       "of on the hop grid, so the clips' last frames are trained on too.\n"
       "--content-weight W\n"
@@ -77,8 +79,8 @@ int Train(const Argv& argv) {
       ParseOrExit("train", argv,
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
-                    "class-weight", "cycle-weight", "content-class-weight", "content-balance",
-                    "init-from", "average-from", "average-every"},
+                    "smooth-sigma", "class-weight", "cycle-weight", "content-class-weight",
+                    "content-balance", "init-from", "average-from", "average-every"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
                     "replicate-pad", "random-starts"}},
@@ -126,6 +128,11 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--content-weight must be a number >= 0"));
   }
   c.content_weight = *content_weight;
+  absl::StatusOr<double> smooth_sigma = args->GetDouble("smooth-sigma", 0);
+  if (!smooth_sigma.ok() || *smooth_sigma < 0 || *smooth_sigma > 100) {
+    return Fail("train", absl::InvalidArgumentError("--smooth-sigma must be a number in [0, 100]"));
+  }
+  c.smooth_sigma = *smooth_sigma;
   c.guided = args->switches.count("guided") > 0;
   c.keep_path = args->switches.count("keep-path") > 0;
   c.pair_gan = args->switches.count("pair-gan") > 0;

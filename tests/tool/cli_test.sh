@@ -59,7 +59,11 @@ check "train --average-from past --iters" 1 "weight averaging from iteration 20 
 check "train --init-from a missing package" 1 "--init-from: .*nowhere/norm.txt: cannot open" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/nowhere"
 check "train --init-from" 0 "initialized from $work/model" -- "$tool" train --data "$work/old.bvh" \
-  --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/model"
+  --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/model" \
+  --smooth-sigma 3
+check "train --smooth-sigma in the package" 0 "^smooth_sigma = 3$" -- cat "$work/tuned/config.txt"
+check "train --smooth-sigma negative" 1 "--smooth-sigma must be a number in \\[0, 100\\]" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --smooth-sigma -1
 check "train --guided on unlabelled names" 1 "old.bvh: label-guided training needs labelled clip names" -- \
   "$tool" train --guided --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/guided" --iters 2
 check "train cyclic --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \

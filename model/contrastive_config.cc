@@ -35,6 +35,7 @@ std::string ContrastiveConfig::Serialize() const {
     put("guided", "1");
     put("class_weight", absl::StrCat(class_weight));
     put("cycle_weight", absl::StrCat(cycle_weight));
+    if (self_rec_weight > 0) put("self_rec_weight", absl::StrCat(self_rec_weight));
     if (content_class_weight != 1) put("content_class_weight", absl::StrCat(content_class_weight));
     if (content_balance > 0) put("content_balance", absl::StrCat(content_balance));
     if (pair_gan) put("pair_gan", "1");
@@ -92,6 +93,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "residual") return e.Bool(&c.residual);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
+    if (key == "self_rec_weight") return e.Double(&c.self_rec_weight, 0, 1e6);
     if (key == "content_class_weight") return e.Double(&c.content_class_weight, 0, 1e6);
     if (key == "content_body") return e.Bool(&c.content_body);
     if (key == "content_balance") return e.Double(&c.content_balance, 0, 1);

@@ -61,6 +61,12 @@ struct ContrastiveConfig {
   // L1 error of restyling the transfer back with the content's own style.
   bool guided = false;
   double class_weight = 1.0, cycle_weight = 1.0;
+  // Guided only: the guided reconstruction takes its style code from another
+  // clip of the same style, so the generator is never asked to give a clip
+  // back exactly. This adds `self_rec_weight` x the L1 error of restyling
+  // each content window with the code of another window of its own clip
+  // (0: off; docs/contrastive.md, session 9).
+  double self_rec_weight = 0;
   // Guided only: the content head's share of the critic's verdict on a
   // transfer, times this (1: style and content weigh alike).
   double content_class_weight = 1.0;

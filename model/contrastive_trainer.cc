@@ -188,6 +188,13 @@ struct Trainer {
         LabelLoss(judged, target_style, x_content, config.content_class_weight);
     r.cls = cls.item<double>();
     total = total + config.class_weight * cls;
+    if (config.self_rec_weight > 0) {
+      data.SampleFromClips(clips, config.window, rng, &buf);  // Another window of each clip.
+      const torch::Tensor self_rec =
+          ReconstructionLoss(net->decode(c_x, net->style(ToTensor(&buf))), x);
+      r.self_rec = self_rec.item<double>();
+      total = total + config.self_rec_weight * self_rec;
+    }
     const torch::Tensor c_g = net->content(x_g);
     const torch::Tensor cyc = ReconstructionLoss(net->decode(c_g, s_same), x);
     r.cyc = cyc.item<double>();
@@ -298,6 +305,8 @@ struct Trainer {
     spec.out = opt.out;
     spec.loss_names = {"rec", "gan", "nce", "tri", "disc"};
     if (config.guided) spec.loss_names.insert(spec.loss_names.end(), {"cls", "cyc", "critic"});
+    const bool self_rec = config.guided && config.self_rec_weight > 0;
+    if (self_rec) spec.loss_names.push_back("self_rec");
     spec.loss_names.push_back("total");
     spec.config_text = config.Serialize();
     spec.iterations = config.iterations;
@@ -309,6 +318,7 @@ struct Trainer {
         const std::vector<double>& v = row.values;
         LossRecord r{row.iteration, v[0], v[1], v[2], v[3], v[4], v.back()};
         if (config.guided) r.cls = v[5], r.cyc = v[6], r.critic = v[7];
+        if (config.guided && config.self_rec_weight > 0) r.self_rec = v[8];
         opt.on_record(r);
       };
     }
@@ -341,11 +351,12 @@ struct Trainer {
       });
       if (!s.ok()) return s;
     }
-    return run.Run([this](int iteration) {
+    return run.Run([this, self_rec](int iteration) {
       const LossRecord r = config.guided ? GuidedStep() : Step();
       average.Update(iteration + 1, net);
       std::vector<double> v = {r.rec, r.gan, r.nce, r.tri, r.disc};
       if (config.guided) v.insert(v.end(), {r.cls, r.cyc, r.critic});
+      if (self_rec) v.push_back(r.self_rec);
       v.push_back(r.total);
       return v;
     });

@@ -17,8 +17,9 @@ struct LossRecord {
   int iteration = 0;
   double rec = 0, gan = 0, nce = 0, tri = 0, disc = 0, total = 0;
   // Label-guided training only: the transfers' classification loss, the
-  // cycle loss and the critic's own loss on real windows.
-  double cls = 0, cyc = 0, critic = 0;
+  // cycle loss and the critic's own loss on real windows; with
+  // self_rec_weight, the error of restyling a window with its own clip's code.
+  double cls = 0, cyc = 0, critic = 0, self_rec = 0;
 };
 
 struct TrainOptions {

@@ -30,7 +30,8 @@ int Train(const Argv& argv) {
       "         [--content-weight W] [--smooth-sigma S]\n"
       "         [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
-      "          [--content-class-weight 1] [--content-balance 0]] [--keep-path]\n"
+      "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]]\n"
+      "         [--keep-path]\n"
       "         [--content-body] [--average-from K [--average-every 50]]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
@@ -61,6 +62,8 @@ int Train(const Argv& argv) {
       "against the target style and the content input's content (--class-weight),\n"
       "plus a cycle back to the content's own style (--cycle-weight);\n"
       "--content-class-weight scales the content half of that verdict.\n"
+      "--self-rec-weight W adds W x the error of restyling each content window\n"
+      "with a style code from another window of its own clip (guided only).\n"
       "--content-balance P (0..1) draws a content class with n windows in\n"
       "proportion to n^(1-P): 1 draws every action alike, 0 (default) every window.\n"
       "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
@@ -79,7 +82,8 @@ int Train(const Argv& argv) {
       ParseOrExit("train", argv,
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
-                    "smooth-sigma", "class-weight", "cycle-weight", "content-class-weight",
+                    "smooth-sigma", "class-weight", "cycle-weight", "self-rec-weight",
+                    "content-class-weight",
                     "content-balance", "init-from", "average-from", "average-every"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
@@ -145,6 +149,7 @@ int Train(const Argv& argv) {
   }
   for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
                              {"cycle-weight", &c.cycle_weight},
+                             {"self-rec-weight", &c.self_rec_weight},
                              {"content-class-weight", &c.content_class_weight},
                              {"content-balance", &c.content_balance}}) {
     if (!args->Has(name)) continue;

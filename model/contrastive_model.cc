@@ -119,7 +119,7 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
     if (config.residual) y = y - impl_->net->decode(content, own_style);
     // Channels [0, path) pose the body; [path, dim) are the root trajectory
     // and foot contacts (motion/features.h).
-    const int64_t path = config.dim - 8;
+    const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
     if (config.smooth_sigma > 0) {
       y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config.smooth_sigma));
     }

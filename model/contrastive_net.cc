@@ -117,7 +117,8 @@ ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c)
   if (c.local_style) {
     const auto lrelu = nn::LeakyReLUOptions().negative_slope(0.2);
     local_style = register_module(
-        "local_style", nn::Sequential(Conv(c.dim, c.channels, 3), nn::LeakyReLU(lrelu),
+        "local_style", nn::Sequential(Conv(c.dim, c.channels, 3, 1, c.replicate_pad),
+                                      nn::LeakyReLU(lrelu),
                                       Conv(c.channels, c.channels, 1), nn::LeakyReLU(lrelu),
                                       Conv(c.channels, c.channels, 1)));
   } else {

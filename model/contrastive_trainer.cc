@@ -240,7 +240,8 @@ struct Trainer {
       for (int c = 0; c < 3; ++c) mask[0][layout.position(j) + c][0] = 1;
       for (int c = 0; c < 4; ++c) mask[0][layout.rotation(j) + c][0] = 1;
     }
-    for (int c = 0; c < 8; ++c) mask[0][layout.trajectory() + c][0] = 1;
+    for (int c = 0; c < motion::FeatureLayout::kPathChannels; ++c)
+      mask[0][layout.trajectory() + c][0] = 1;
     return mask;
   }
 
@@ -314,11 +315,11 @@ struct Trainer {
     spec.checkpoint_every = opt.checkpoint_every;
     spec.log = opt.log;
     if (opt.on_record) {
-      spec.on_record = [this](const LossRow& row) {
+      spec.on_record = [this, self_rec](const LossRow& row) {
         const std::vector<double>& v = row.values;
         LossRecord r{row.iteration, v[0], v[1], v[2], v[3], v[4], v.back()};
         if (config.guided) r.cls = v[5], r.cyc = v[6], r.critic = v[7];
-        if (config.guided && config.self_rec_weight > 0) r.self_rec = v[8];
+        if (self_rec) r.self_rec = v[8];
         opt.on_record(r);
       };
     }
@@ -373,6 +374,10 @@ absl::Status TrainContrastive(const TrainOptions& options) {
     return s;
   if (options.config.content_balance > 0 && !options.config.guided) {
     return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
+  }
+  if (options.config.self_rec_weight > 0 && !options.config.guided) {
+    return absl::InvalidArgumentError(
+        "the self-reconstruction term needs label-guided training (--guided)");
   }
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");

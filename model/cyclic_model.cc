@@ -158,8 +158,9 @@ absl::StatusOr<motion::Motion> CyclicModel::Interpolate(const motion::Motion& co
     const std::vector<int64_t> channels = CyclicChannels(content.skeleton.num_joints());
     const float* yp = y.data_ptr<float>();
     const int width = static_cast<int>(channels.size());
-    // keep_path: the last 8 channels (root trajectory, contacts) stay the content's.
-    const int generated = config.keep_path ? width - 8 : width;
+    // keep_path: the path channels (root trajectory, contacts) stay the content's.
+    const int generated =
+        config.keep_path ? width - motion::FeatureLayout::kPathChannels : width;
     for (int f = 0; f < frames; ++f) {
       for (int i = 0; i < generated; ++i) {
         const int64_t c = channels[i];

@@ -13,7 +13,8 @@ std::vector<int64_t> CyclicChannels(int joints) {
   const motion::FeatureLayout layout(joints);
   std::vector<int64_t> channels(3 * joints);
   std::iota(channels.begin(), channels.end(), 0);
-  for (int c = 0; c < 8; ++c) channels.push_back(layout.trajectory() + c);
+  for (int c = 0; c < motion::FeatureLayout::kPathChannels; ++c)
+    channels.push_back(layout.trajectory() + c);
   return channels;
 }
 

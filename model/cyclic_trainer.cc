@@ -70,7 +70,7 @@ struct CyclicTrainer {
     for (int j = 0; j < joints; ++j)
       if (leg[j])
         for (int a = 0; a < 3; ++a) mask[0][3 * j + a][0] = 1;
-    for (int c = 0; c < 8; ++c) mask[0][3 * joints + c][0] = 1;
+    for (int c = 0; c < motion::FeatureLayout::kPathChannels; ++c) mask[0][3 * joints + c][0] = 1;
     return mask;
   }
 

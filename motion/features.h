@@ -29,12 +29,16 @@ namespace stylus::motion {
 struct FeatureLayout {
   int num_joints = 0;
 
+  // The root trajectory (4) and foot contacts (4): the last channels, the
+  // ones that say where the character goes rather than how it poses.
+  static constexpr int kPathChannels = 8;
+
   explicit FeatureLayout(int joints) : num_joints(joints) {}
   int position(int joint) const { return 3 * joint; }
   int rotation(int joint) const { return 3 * num_joints + 4 * joint; }
   int trajectory() const { return 7 * num_joints; }
   int contacts() const { return 7 * num_joints + 4; }
-  int dim() const { return 7 * num_joints + 8; }
+  int dim() const { return 7 * num_joints + kPathChannels; }
   // One name per channel, e.g. "Hips.py", "Hips.qw", "root.vx", "contact.Toes_L".
   std::vector<std::string> ChannelNames(const Skeleton& skeleton, const HumanoidRoles& roles) const;
 };

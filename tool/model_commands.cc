@@ -27,8 +27,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--random-starts]\n"
-      "         [--content-weight W] [--smooth-sigma S]\n"
-      "         [--threads N]\n"
+      "         [--content-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]]\n"
       "         [--keep-path]\n"
@@ -51,10 +50,9 @@ int Train(const Argv& argv) {
       "(smooth_sigma in config.txt; the shipped default model uses 3; 0: off).\n"
       "--random-starts starts each content window anywhere in its clip instead\n"
       "of on the hop grid, so the clips' last frames are trained on too.\n"
-      "--content-weight W\n"
-      "adds W x the L1 distance between the transfer and its content input over\n"
-      "the root trajectory, foot contacts and legs (default 0: off); with\n"
-      "--content-body over the whole body.\n"
+      "--content-weight W adds W x the L1 distance between the transfer and its\n"
+      "content input over the root trajectory, foot contacts and legs (default 0:\n"
+      "off); with --content-body over the whole body.\n"
       "--guided trains with the clips' style and content labels (from the Bandai\n"
       "file names): the reconstruction takes its style code from a clip of the\n"
       "same style doing something else, the transfer from a clip of another\n"
@@ -83,8 +81,8 @@ int Train(const Argv& argv) {
                   {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
                     "smooth-sigma", "class-weight", "cycle-weight", "self-rec-weight",
-                    "content-class-weight",
-                    "content-balance", "init-from", "average-from", "average-every"},
+                    "content-class-weight", "content-balance", "init-from", "average-from",
+                    "average-every"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
                     "replicate-pad", "random-starts"}},

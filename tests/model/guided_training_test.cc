@@ -222,7 +222,8 @@ TEST(GuidedTrainingTest, SelfReconstructionTermGivesAClipBackCloser) {
   const motion::Motion clip = *motion::ReadBvhFile(LabelledClips()[0]);
   std::map<double, double> gap;
   for (double weight : {0.0, 10.0}) {
-    TrainOptions o = GuidedOptions(testing::FreshDir(weight > 0 ? "self_rec" : "no_self_rec"), 200);
+    TrainOptions o =
+        GuidedOptions(testing::FreshDir(weight > 0 ? "self_rec" : "no_self_rec"), 200);
     o.config.alpha = 0;
     o.config.self_rec_weight = weight;
     std::vector<LossRecord> curve;
@@ -246,6 +247,11 @@ TEST(GuidedTrainingTest, SelfReconstructionTermGivesAClipBackCloser) {
   }
   std::printf("self-transfer max joint gap: without %.2f, with %.2f\n", gap[0.0], gap[10.0]);
   EXPECT_LT(gap[10.0], 0.8 * gap[0.0]);
+  // It is a label-guided term: refused without --guided.
+  TrainOptions unguided = GuidedOptions(testing::FreshDir("self_rec_unguided"), 10);
+  unguided.config.guided = false;
+  unguided.config.self_rec_weight = 1;
+  EXPECT_EQ(TrainContrastive(unguided).code(), absl::StatusCode::kInvalidArgument);
 }
 
 TEST(GuidedTrainingTest, ResumesWithItsCritic) {

@@ -52,6 +52,8 @@ check "train --content-class-weight without --guided" 1 "--content-class-weight 
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-class-weight 3
 check "train --content-balance without --guided" 1 "--content-balance needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-balance 0.5
+check "train --self-rec-weight without --guided" 1 "--self-rec-weight needs --guided" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --self-rec-weight 1
 check "train --content-balance above 1" 1 "--content-balance must be in \\[0, 1\\]" -- \
   "$tool" train --guided --data "$work/old.bvh" --out "$work/unguided" --content-balance 2
 check "train --average-from past --iters" 1 "weight averaging from iteration 20 would start after the last iteration \\(10\\)" -- \

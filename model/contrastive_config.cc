@@ -27,6 +27,7 @@ std::string ContrastiveConfig::Serialize() const {
   put("local_style", local_style ? "1" : "0");
   put("keep_amplitude", keep_amplitude ? "1" : "0");
   if (replicate_pad) put("replicate_pad", "1");
+  if (full_rate_content) put("full_rate_content", "1");
   if (random_starts) put("random_starts", "1");
   if (centred_style) put("centred_style", "1");
   if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
@@ -108,6 +109,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "centred_style") return e.Bool(&c.centred_style);
     if (key == "keep_amplitude") return e.Bool(&c.keep_amplitude);
     if (key == "replicate_pad") return e.Bool(&c.replicate_pad);
+    if (key == "full_rate_content") return e.Bool(&c.full_rate_content);
     if (key == "random_starts") return e.Bool(&c.random_starts);
     if (std::optional<absl::Status> s = ParseTrainingKey(
             e,

@@ -42,6 +42,12 @@ struct ContrastiveConfig {
   // held up dips at every window's edge, once per hop, which reads as a wave
   // (docs/contrastive.md, session 9).
   bool replicate_pad = false;
+  // With `full_rate_content`, the content encoder's second convolution keeps
+  // stride 1 and the generator does not upsample: the content code has one
+  // column per frame instead of one per two frames (the paper's T/2). The
+  // weights have the same shapes either way, so a half-rate package can be
+  // fine-tuned into a full-rate one (docs/contrastive.md, session 10).
+  bool full_rate_content = false;
   // With `centred_style`, the style encoder sees each window minus its
   // temporal mean per channel: how the motion moves, not where the body's
   // mean pose is, so the mean pose (what is being done) must come through the
@@ -111,6 +117,7 @@ struct ContrastiveConfig {
   // G(Ec(x), style) - G(Ec(x), Es(x)), the change the style makes in the
   // generator's output (smoothed by smooth_sigma), so what the generator
   // fails to reproduce of the content is not lost (docs/contrastive.md).
+  // Training with it (`train --residual`) trains the transfers in this form.
   bool residual = false;
   // Optimization.
   int batch = 16;

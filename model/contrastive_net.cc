@@ -46,10 +46,15 @@ torch::Tensor ResBlockImpl::forward(const torch::Tensor& x) {
   return x + y;
 }
 
-EncoderImpl::EncoderImpl(const ContrastiveConfig& c, bool instance_norm) {
+EncoderImpl::EncoderImpl(const ContrastiveConfig& c, bool instance_norm, bool full)
+    : full_rate(full), replicate(c.replicate_pad) {
   const bool r = c.replicate_pad;
   conv1 = register_module("conv1", Conv(c.dim, c.channels, 7, 1, r));
-  conv2 = register_module("conv2", Conv(c.channels, c.channels, 4, 2, r));
+  // Kernel 4 either way (the same weights); at stride 1 its padding is
+  // uneven, 1 frame before and 2 after, applied in forward().
+  conv2 = register_module(
+      "conv2", full ? nn::Conv1d(nn::Conv1dOptions(c.channels, c.channels, 4).padding(0))
+                    : Conv(c.channels, c.channels, 4, 2, r));
   conv3 = register_module("conv3", Conv(c.channels, c.channels, 7, 1, r));
   blocks = register_module("blocks", nn::ModuleList());
   for (int i = 0; i < 3; ++i)
@@ -58,6 +63,11 @@ EncoderImpl::EncoderImpl(const ContrastiveConfig& c, bool instance_norm) {
 
 torch::Tensor EncoderImpl::forward(torch::Tensor x) {
   x = LeakyRelu(conv1->forward(x));
+  if (full_rate) {
+    auto pad = F::PadFuncOptions({1, 2});
+    if (replicate) pad.mode(torch::kReplicate);
+    x = F::pad(x, pad);
+  }
   x = LeakyRelu(conv2->forward(x));
   x = LeakyRelu(conv3->forward(x));
   for (const auto& b : *blocks) x = b->as<ResBlock>()->forward(x);
@@ -77,7 +87,8 @@ torch::Tensor AdaInBlockImpl::forward(const torch::Tensor& x, const torch::Tenso
   return x + y;
 }
 
-GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) {
+GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c)
+    : channels(c.channels), upsample(!c.full_rate_content) {
   mlp = register_module("mlp",
                         nn::Sequential(nn::Linear(c.channels, c.channels),
                                        nn::LeakyReLU(nn::LeakyReLUOptions().negative_slope(0.2)),
@@ -94,8 +105,11 @@ torch::Tensor GeneratorImpl::forward(const torch::Tensor& content, const torch::
   torch::Tensor x = content;
   for (size_t i = 0; i < blocks->size(); ++i)
     x = blocks[i]->as<AdaInBlock>()->forward(x, params[i]);
-  x = F::interpolate(
-      x, F::InterpolateFuncOptions().scale_factor(std::vector<double>{2.0}).mode(torch::kNearest));
+  if (upsample) {
+    x = F::interpolate(x, F::InterpolateFuncOptions()
+                              .scale_factor(std::vector<double>{2.0})
+                              .mode(torch::kNearest));
+  }
   x = LeakyRelu(up_conv->forward(x));
   return out_conv->forward(x);
 }
@@ -113,7 +127,8 @@ torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) {
 
 ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c)
     : centred_style(c.centred_style) {
-  content_encoder = register_module("content_encoder", Encoder(c, /*instance_norm=*/true));
+  content_encoder = register_module(
+      "content_encoder", Encoder(c, /*instance_norm=*/true, /*full_rate=*/c.full_rate_content));
   if (c.local_style) {
     const auto lrelu = nn::LeakyReLUOptions().negative_slope(0.2);
     local_style = register_module(

@@ -21,12 +21,14 @@ struct ResBlockImpl : torch::nn::Module {
 };
 TORCH_MODULE(ResBlock);
 
-// 3 Conv1d layers (the second with stride 2: T -> T/2), then 3 residual blocks.
+// 3 Conv1d layers (the second with stride 2: T -> T/2; with `full_rate`
+// stride 1, T frames kept), then 3 residual blocks.
 struct EncoderImpl : torch::nn::Module {
-  EncoderImpl(const ContrastiveConfig& c, bool instance_norm);
+  EncoderImpl(const ContrastiveConfig& c, bool instance_norm, bool full_rate = false);
   torch::Tensor forward(torch::Tensor x);
   torch::nn::Conv1d conv1{nullptr}, conv2{nullptr}, conv3{nullptr};
   torch::nn::ModuleList blocks;
+  bool full_rate = false, replicate = false;
 };
 TORCH_MODULE(Encoder);
 
@@ -42,7 +44,8 @@ struct AdaInBlockImpl : torch::nn::Module {
 TORCH_MODULE(AdaInBlock);
 
 // 4 AdaIN residual blocks on the content code, AdaIN parameters from an MLP on
-// the style code, then upsampling back to T frames and an output conv to d.
+// the style code, then upsampling back to T frames (not with
+// full_rate_content: the code is at T already) and an output conv to d.
 struct GeneratorImpl : torch::nn::Module {
   explicit GeneratorImpl(const ContrastiveConfig& c);
   torch::Tensor forward(const torch::Tensor& content, const torch::Tensor& style);
@@ -50,6 +53,7 @@ struct GeneratorImpl : torch::nn::Module {
   torch::nn::ModuleList blocks;
   torch::nn::Conv1d up_conv{nullptr}, out_conv{nullptr};
   int channels;
+  bool upsample = true;
 };
 TORCH_MODULE(Generator);
 

@@ -65,6 +65,16 @@ struct Trainer {
            (content_mask.sum() * transfer.size(0) * transfer.size(2));
   }
 
+  // The transfer of content windows `x` (content codes `c`) to style code
+  // `s`. With config.residual (the form inference then uses): x plus the
+  // change the style makes in the generator's output, G(c, s) - G(c, s_own),
+  // where s_own is Es(x); otherwise G(c, s).
+  torch::Tensor Transfer(const torch::Tensor& x, const torch::Tensor& c, const torch::Tensor& s,
+                         const torch::Tensor& s_own) {
+    const torch::Tensor g = net->decode(c, s);
+    return config.residual ? x + g - net->decode(c, s_own) : g;  // s_own unused without.
+  }
+
   // One discriminator step on `real` vs the detached `fake`; returns the
   // generator's adversarial loss on `fake` (both recorded in `r`).
   torch::Tensor Adversarial(const torch::Tensor& real, const torch::Tensor& fake, LossRecord* r) {
@@ -102,7 +112,8 @@ struct Trainer {
     const torch::Tensor rec = (ReconstructionLoss(net->decode(c_t, s_t), x_t) +
                                ReconstructionLoss(net->decode(c_s, s_s), x_s)) /
                               2;
-    const torch::Tensor x_g = net->decode(c_t, s_s);
+    const torch::Tensor x_g =
+        Transfer(x_t, c_t, s_s, config.residual ? net->style(x_t) : torch::Tensor());
     LossRecord r;
     torch::Tensor total = rec;
     if (config.alpha > 0) total = total + config.alpha * Adversarial(x_s, x_g, &r);
@@ -173,7 +184,8 @@ struct Trainer {
     const torch::Tensor c_x = net->content(x);
     const torch::Tensor s_same = net->style(y_same), s_other = net->style(y_other);
     const torch::Tensor rec = ReconstructionLoss(net->decode(c_x, s_same), x);
-    const torch::Tensor x_g = net->decode(c_x, s_other);
+    const torch::Tensor s_x = net->style(x);
+    const torch::Tensor x_g = Transfer(x, c_x, s_other, s_x);
     torch::Tensor total = rec;
     if (config.alpha > 0) {
       const torch::Tensor adv = config.pair_gan
@@ -205,7 +217,7 @@ struct Trainer {
       total = total + config.beta * nce;
     }
     if (config.use_tri && config.gamma > 0) {
-      const torch::Tensor tri = TripletLoss(net->style(x_g), s_other, net->style(x), config.margin);
+      const torch::Tensor tri = TripletLoss(net->style(x_g), s_other, s_x, config.margin);
       r.tri = tri.item<double>();
       total = total + config.gamma * tri;
     }

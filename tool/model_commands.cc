@@ -27,6 +27,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--random-starts]\n"
+      "         [--residual] [--full-rate-content]\n"
       "         [--content-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]]\n"
@@ -67,6 +68,11 @@ int Train(const Argv& argv) {
       "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
       "(style, content) label pair; it also rejects the unchanged content and the\n"
       "style clip itself under the transfer's labels.\n"
+      "--full-rate-content keeps one content code column per frame (no stride-2\n"
+      "convolution, no upsampling in the generator) instead of one per two.\n"
+      "--residual trains each transfer as the content window plus the change the\n"
+      "style makes in the generator's output, G(Ec(x), s) - G(Ec(x), Es(x)), and\n"
+      "the package transfers in that form (residual in config.txt).\n"
       "--keep-path makes the package's transfers keep the content's root\n"
       "trajectory and foot contacts (stored as keep_path in config.txt).\n"
       "--average-from K: the package holds the mean of the generator's weights\n"
@@ -85,7 +91,7 @@ int Train(const Argv& argv) {
                     "average-every"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
-                    "replicate-pad", "random-starts"}},
+                    "replicate-pad", "random-starts", "residual", "full-rate-content"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -125,6 +131,8 @@ int Train(const Argv& argv) {
   c.centred_style = args->switches.count("centred-style") > 0;
   c.replicate_pad = args->switches.count("replicate-pad") > 0;
   c.random_starts = args->switches.count("random-starts") > 0;
+  c.residual = args->switches.count("residual") > 0;
+  c.full_rate_content = args->switches.count("full-rate-content") > 0;
   absl::StatusOr<double> content_weight = args->GetDouble("content-weight", 0);
   if (!content_weight.ok() || *content_weight < 0) {
     return Fail("train", absl::InvalidArgumentError("--content-weight must be a number >= 0"));

@@ -28,6 +28,40 @@ TEST(ContrastiveNetTest, Shapes) {
   EXPECT_EQ(disc->forward(x).sizes(), (std::vector<int64_t>{3}));
 }
 
+// full_rate_content: one content column per frame, the output still a
+// window, and the half-rate net's weights load into it unchanged (the
+// fine-tuning path); the two differ only in the encoder's stride and the
+// generator's upsampling, so with the same weights their outputs differ.
+TEST(ContrastiveNetTest, FullRateContentKeepsEveryFrameWithTheSameWeights) {
+  ContrastiveConfig c = Tiny();
+  torch::manual_seed(4);
+  ContrastiveNet half(c);
+  c.full_rate_content = true;
+  ContrastiveNet full(c);
+  const auto from = half->named_parameters();
+  ASSERT_EQ(from.size(), full->named_parameters().size());
+  {
+    torch::NoGradGuard no_grad;
+    for (auto& p : full->named_parameters()) {
+      ASSERT_EQ(p.value().sizes(), from[p.key()].sizes()) << p.key();
+      p.value().copy_(from[p.key()]);
+    }
+  }
+  const torch::Tensor x = torch::randn({3, c.dim, c.window});
+  const torch::Tensor content = full->content(x), style = full->style(x);
+  EXPECT_EQ(content.sizes(), (std::vector<int64_t>{3, c.channels, c.window}));
+  EXPECT_EQ(full->decode(content, style).sizes(), x.sizes());
+  // The style encoder is not full rate: same weights, same code.
+  EXPECT_TRUE(torch::allclose(style, half->style(x)));
+  const torch::Tensor y_half = half->decode(half->content(x), half->style(x));
+  EXPECT_GT((full->decode(content, style) - y_half).abs().max().item<float>(), 1e-3);
+  // A change in one frame reaches the code's column for that frame.
+  torch::Tensor bumped = x.clone();
+  bumped.select(2, 9).add_(5);
+  const torch::Tensor moved = (full->content(bumped) - content).abs().amax(1)[0];
+  EXPECT_GT(moved[9].item<float>(), 1e-3);
+}
+
 TEST(ContrastiveNetTest, StyleChangesTheOutputContentCodeIgnoresScale) {
   torch::manual_seed(1);
   ContrastiveNet net(Tiny());

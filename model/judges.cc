@@ -133,7 +133,12 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
           do c = static_cast<int>(rng() % classes);
           while (windows_of[c].empty());
           const auto& w = train->windows[windows_of[c][rng() % windows_of[c].size()]];
-          x[b] = WindowTensor(train->clips[w.clip], {w.start}, kWindow)[0];
+          const motion::FeatureClip& clip = train->clips[w.clip];
+          const int start =
+              o.random_starts && clip.frames >= kWindow
+                  ? static_cast<int>(rng() % static_cast<uint64_t>(clip.frames - kWindow + 1))
+                  : w.start;
+          x[b] = WindowTensor(clip, {start}, kWindow)[0];
           y[b] = c;
         }
         // Small Gaussian noise: the judges must not hinge on exact values.
@@ -171,8 +176,8 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
   const std::string labels = absl::StrCat(
       "styles = ", absl::StrJoin(styles, ","), "\ncontents = ", absl::StrJoin(contents, ","),
       absl::StrFormat("\nheld_out_style_accuracy = %.4f\nheld_out_content_accuracy = "
-                      "%.4f\nheld_out_clips = %d\n",
-                      acc.style, acc.content, acc.clips));
+                      "%.4f\nheld_out_clips = %d\nrandom_starts = %d\n",
+                      acc.style, acc.content, acc.clips, o.random_starts ? 1 : 0));
   if (absl::Status s = motion::WriteFileAtomically(o.out + "/labels.txt", labels); !s.ok())
     return s;
   return acc;

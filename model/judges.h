@@ -22,6 +22,11 @@ struct JudgeTrainOptions {
   int batch = 32;
   double lr = 1e-3;
   uint64_t seed = 1;
+  // With `random_starts`, each drawn window starts anywhere in its clip
+  // instead of on the hop grid, so the judges also learn the clips' last
+  // frames, which evaluation's end-aligned window shows them (a 78-frame
+  // clip's grid windows stop at frame 56).
+  bool random_starts = false;
   std::function<void(const std::string&)> log;  // Default: stderr.
 };
 

@@ -21,16 +21,20 @@ int TrainJudges(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool train-judges --data DIR... --out models/judges/VERSION\n"
       "         [--iters 3000] [--batch 32] [--dae-iters 3000] [--dae-only] [--seed S]\n"
-      "         [--threads N]\n\n"
+      "         [--random-starts] [--threads N]\n\n"
       "Trains, on the labelled training split of DIR, a style classifier and a\n"
       "content classifier (class-balanced batches) and reports their clip-level\n"
       "accuracy on the held-out split; then the feature judge, a denoising\n"
       "autoencoder (no labels) whose hidden layer `eval` reads for FMD, KID,\n"
       "diversity and the content and style distances, and reports its held-out\n"
-      "denoising error. --dae-only adds the feature judge to existing judges.\n";
+      "denoising error. --dae-only adds the feature judge to existing judges.\n"
+      "--random-starts draws the classifiers' training windows anywhere in their\n"
+      "clips instead of on the hop grid (the grid never reaches a clip's last\n"
+      "frames, which evaluation shows them).\n";
   int code = 0;
   auto args = ParseOrExit("train-judges", argv,
-                          {{"data", "out", "iters", "batch", "seed", "threads", "dae-iters"}, {"dae-only"}},
+                          {{"data", "out", "iters", "batch", "seed", "threads", "dae-iters"},
+                           {"dae-only", "random-starts"}},
                           kHelp, &code);
   if (!args) return code;
   model::JudgeTrainOptions o;
@@ -49,6 +53,7 @@ int TrainJudges(const Argv& argv) {
     if (!s.ok()) return Fail("train-judges", s);
   }
   o.iterations = *iters, o.batch = *batch, o.seed = *seed;
+  o.random_starts = args->switches.count("random-starts") > 0;
   model::SetComputeThreads(*threads);
   if (!args->switches.count("dae-only")) {
     absl::StatusOr<model::JudgeAccuracy> acc = model::TrainJudges(o);

@@ -3,6 +3,9 @@
 #include "model/evaluation.h"
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -123,6 +126,36 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
             static_cast<long>(report->verdicts.size() + 1));
   EXPECT_NE(csv.find(",identity (output = content),"), std::string::npos);
   EXPECT_NE(csv.find(",\"model, post-processing full\","), std::string::npos);  // Quoted.
+}
+
+// --random-starts: the same seed draws other windows (so other weights),
+// the judges still learn the tiny set's labels, and labels.txt says how
+// they were trained.
+TEST(EvaluationTest, JudgesTrainedOnRandomStartsRecordIt) {
+  const std::string data = TinyDataset();
+  std::map<bool, std::string> weights;
+  for (bool random : {false, true}) {
+    JudgeTrainOptions jo;
+    jo.data = {data};
+    jo.out = ::testing::TempDir() + (random ? "/judges_random" : "/judges_grid");
+    jo.iterations = 400;
+    jo.batch = 8;
+    jo.random_starts = random;
+    jo.log = [](const std::string&) {};
+    absl::StatusOr<JudgeAccuracy> acc = TrainJudges(jo);
+    ASSERT_TRUE(acc.ok()) << acc.status();
+    std::printf("random starts %d: held-out style %.2f content %.2f\n", random, acc->style,
+                acc->content);
+    EXPECT_GE(acc->content, 0.75);
+    std::ifstream labels(jo.out + "/labels.txt");
+    const std::string text((std::istreambuf_iterator<char>(labels)), {});
+    EXPECT_NE(text.find(random ? "random_starts = 1" : "random_starts = 0"), std::string::npos)
+        << text;
+    std::ifstream w(jo.out + "/content.pt", std::ios::binary);
+    weights[random] = std::string((std::istreambuf_iterator<char>(w)), {});
+    ASSERT_TRUE(Judges::Load(jo.out).ok());
+  }
+  EXPECT_NE(weights[false], weights[true]);
 }
 
 TEST(FeatureMetricsTest, DistancesAreZeroForIdenticalSetsAndGrowWithAShift) {

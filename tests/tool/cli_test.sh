@@ -62,8 +62,13 @@ check "train --init-from a missing package" 1 "--init-from: .*nowhere/norm.txt: 
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/nowhere"
 check "train --init-from" 0 "initialized from $work/model" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/model" \
-  --smooth-sigma 3
+  --smooth-sigma 3 --residual --full-rate-content
 check "train --smooth-sigma in the package" 0 "^smooth_sigma = 3$" -- cat "$work/tuned/config.txt"
+check "train --residual in the package" 0 "^residual = 1$" -- cat "$work/tuned/config.txt"
+check "train --full-rate-content (from a half-rate package)" 0 "^full_rate_content = 1$" -- \
+  cat "$work/tuned/config.txt"
+check "the full-rate residual package transfers" 0 "wrote .*tuned_out.bvh" -- "$tool" transfer --model "$work/tuned" \
+  --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/tuned_out.bvh" --threads 1
 check "train --smooth-sigma negative" 1 "--smooth-sigma must be a number in \\[0, 100\\]" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --smooth-sigma -1
 check "train --guided on unlabelled names" 1 "old.bvh: label-guided training needs labelled clip names" -- \

@@ -15,6 +15,20 @@ ContrastiveConfig Tiny() {
   return c;
 }
 
+// A net of config `c` holding `from`'s weights (every parameter the same
+// shape: the options compared below change no weight's shape).
+ContrastiveNet WithWeightsOf(const ContrastiveNet& from, const ContrastiveConfig& c) {
+  ContrastiveNet net(c);
+  const auto source = from->named_parameters();
+  EXPECT_EQ(source.size(), net->named_parameters().size());
+  torch::NoGradGuard no_grad;
+  for (auto& p : net->named_parameters()) {
+    EXPECT_EQ(p.value().sizes(), source[p.key()].sizes()) << p.key();
+    p.value().copy_(source[p.key()]);
+  }
+  return net;
+}
+
 TEST(ContrastiveNetTest, Shapes) {
   torch::manual_seed(0);
   const ContrastiveConfig c = Tiny();
@@ -37,16 +51,7 @@ TEST(ContrastiveNetTest, FullRateContentKeepsEveryFrameWithTheSameWeights) {
   torch::manual_seed(4);
   ContrastiveNet half(c);
   c.full_rate_content = true;
-  ContrastiveNet full(c);
-  const auto from = half->named_parameters();
-  ASSERT_EQ(from.size(), full->named_parameters().size());
-  {
-    torch::NoGradGuard no_grad;
-    for (auto& p : full->named_parameters()) {
-      ASSERT_EQ(p.value().sizes(), from[p.key()].sizes()) << p.key();
-      p.value().copy_(from[p.key()]);
-    }
-  }
+  ContrastiveNet full = WithWeightsOf(half, c);
   const torch::Tensor x = torch::randn({3, c.dim, c.window});
   const torch::Tensor content = full->content(x), style = full->style(x);
   EXPECT_EQ(content.sizes(), (std::vector<int64_t>{3, c.channels, c.window}));
@@ -80,12 +85,7 @@ TEST(ContrastiveNetTest, ReplicatePaddingKeepsAStillWindowStill) {
   torch::manual_seed(3);
   ContrastiveNet zeros(c);
   c.replicate_pad = true;
-  ContrastiveNet replicate(c);
-  {
-    torch::NoGradGuard no_grad;
-    const auto from = zeros->named_parameters();
-    for (auto& p : replicate->named_parameters()) p.value().copy_(from[p.key()]);
-  }
+  ContrastiveNet replicate = WithWeightsOf(zeros, c);
   const torch::Tensor still = torch::randn({1, c.dim, 1}).expand({1, c.dim, c.window}) + 2;
   const torch::Tensor style = replicate->style(torch::randn({1, c.dim, c.window}));
   auto spread = [](const torch::Tensor& y) {  // Largest change over time, any channel.

@@ -19,6 +19,12 @@ namespace {
 
 std::string FileName(const std::string& p) { return std::filesystem::path(p).filename().string(); }
 
+// One set of judges' labels for one output, and whether each is the pair's.
+struct Verdict {
+  std::string style, content;
+  bool style_right = false, content_right = false;
+};
+
 }  // namespace
 
 absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::string>& dirs,
@@ -51,9 +57,11 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
                                     const FeatureJudge* features,
                                     const std::vector<motion::Motion>& reference,
                                     const std::vector<EvalPair>& pairs,
-                                    const std::function<void(int, int)>& progress) {
+                                    const std::function<void(int, int)>& progress,
+                                    const Judges* second_judges) {
   if (models.empty()) return absl::InvalidArgumentError("no model to evaluate");
   EvalReport report;
+  report.second_judges = second_judges != nullptr;
   for (const EvalModel& m : models) {
     report.rows.push_back({m.name + ", no post-processing"});
     if (m.postprocess) report.rows.push_back({m.name + ", post-processing full"});
@@ -75,12 +83,15 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
                content_label = motion::ParseClipName(p.content_path);
     if (!style_label || !content_label)
       return absl::InvalidArgumentError("pair without labels: " + p.content_path);
-    const auto& styles = judges.styles();
-    const auto& contents = judges.contents();
-    const int want_style = static_cast<int>(
-        std::find(styles.begin(), styles.end(), style_label->style) - styles.begin());
-    const int want_content = static_cast<int>(
-        std::find(contents.begin(), contents.end(), content_label->content) - contents.begin());
+    // Whether `j` judges `out` as the pair's style and content.
+    auto verdict = [&](const Judges& j, const motion::Motion& out) -> absl::StatusOr<Verdict> {
+      absl::StatusOr<int> s = j.ClassifyStyle(out);
+      if (!s.ok()) return s.status();
+      absl::StatusOr<int> c = j.ClassifyContent(out);
+      if (!c.ok()) return c.status();
+      return Verdict{j.styles()[*s], j.contents()[*c], j.styles()[*s] == style_label->style,
+                     j.contents()[*c] == content_label->content};
+    };
     std::vector<motion::Motion> outputs;
     for (const EvalModel& m : models) {
       absl::StatusOr<StyleCode> code = m.model->EncodeStyle(*style);
@@ -108,14 +119,20 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     }
     for (size_t r = 0; r < n_rows; ++r) {
       const motion::Motion& out = outputs[r];
-      absl::StatusOr<int> s = judges.ClassifyStyle(out);
-      if (!s.ok()) return s.status();
-      absl::StatusOr<int> c = judges.ClassifyContent(out);
-      if (!c.ok()) return c.status();
+      absl::StatusOr<Verdict> v = verdict(judges, out);
+      if (!v.ok()) return v.status();
       EvalRow& row = report.rows[r];
-      report.verdicts.push_back({static_cast<int>(pair), static_cast<int>(r), styles[*s], contents[*c]});
-      row.style_accuracy += *s == want_style;
-      row.content_accuracy += *c == want_content;
+      report.verdicts.push_back({static_cast<int>(pair), static_cast<int>(r), v->style, v->content});
+      row.style_accuracy += v->style_right;
+      row.content_accuracy += v->content_right;
+      if (second_judges) {
+        absl::StatusOr<Verdict> w = verdict(*second_judges, out);
+        if (!w.ok()) return w.status();
+        row.second_style_accuracy += w->style_right;
+        row.second_content_accuracy += w->content_right;
+        row.content_by_both += v->content_right && w->content_right;
+        row.content_by_either += v->content_right || w->content_right;
+      }
       // Copy-style has another length: its feet are measured against itself.
       const motion::Motion& planted = r + 1 == n_rows ? *style : *content;
       row.foot_skating += motion::FootSkating(out, planted, roles);
@@ -154,6 +171,10 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     EvalRow& row = report.rows[r];
     row.style_accuracy /= row.pairs;
     row.content_accuracy /= row.pairs;
+    row.second_style_accuracy /= row.pairs;
+    row.second_content_accuracy /= row.pairs;
+    row.content_by_both /= row.pairs;
+    row.content_by_either /= row.pairs;
     row.foot_skating /= row.pairs;
     row.foot_height_error /= row.pairs;
     row.bone_length_error /= row.pairs;
@@ -219,6 +240,17 @@ std::string EvalReport::Markdown() const {
                           "distances to the style and the content clip (low D_S: the output's "
                           "style is the style clip's).\n",
                           reference_clips, real_diversity);
+  }
+  if (second_judges) {
+    s +=
+        "\nSecond judges (the same outputs):\n\n"
+        "| output | style accuracy | content accuracy | content kept by both judges | by either |\n"
+        "| --- | --- | --- | --- | --- |\n";
+    for (const EvalRow& r : rows) {
+      absl::StrAppendFormat(&s, "| %s | %.3f | %.3f | %.3f | %.3f |\n", r.name,
+                            r.second_style_accuracy, r.second_content_accuracy, r.content_by_both,
+                            r.content_by_either);
+    }
   }
   s +=
       "\nKinematics (means over pairs; feet measured where the content clip's feet are "

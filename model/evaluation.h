@@ -47,6 +47,10 @@ struct EvalRow {
   // D_content) (low: the output's style is the style clip's) and D_C = 1 - D_S.
   double d_s = 0, d_c = 0;
   double trajectory_error = 0;  // Mean pelvis path distance to the content's (units).
+  // With second judges: their accuracies, and the share of pairs whose
+  // content both sets / either set recognized.
+  double second_style_accuracy = 0, second_content_accuracy = 0;
+  double content_by_both = 0, content_by_either = 0;
   int pairs = 0;
 };
 
@@ -72,7 +76,8 @@ struct EvalReport {
   int identity_row = -1;
   double real_diversity = 0;  // Of the reference clips (with a feature judge).
   int reference_clips = 0;
-  std::vector<EvalVerdict> verdicts;  // Every row's verdict on every pair.
+  bool second_judges = false;  // The rows' second_* and content_by_* are set.
+  std::vector<EvalVerdict> verdicts;  // Every row's verdict on every pair (first judges).
   std::string Markdown() const;
   // One line per pair and row: content_bvh, style_bvh, output, wanted and
   // judged style and content (where a transfer goes wrong, and into what).
@@ -81,12 +86,16 @@ struct EvalReport {
 
 // Runs every model over every pair. With `features` (may be null), FMD and KID
 // compare each row's outputs with `reference` (real clips, e.g. all of the
-// dataset). `progress(done, total)` may be empty.
+// dataset). `progress(done, total)` may be empty. With `second_judges`
+// (may be null), every output is also judged by them: on transfers, judges
+// trained alike disagree far more often than on real clips, so a verdict
+// near their boundary is worth a second opinion (docs/contrastive.md).
 absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const Judges& judges,
                                     const FeatureJudge* features,
                                     const std::vector<motion::Motion>& reference,
                                     const std::vector<EvalPair>& pairs,
-                                    const std::function<void(int, int)>& progress = {});
+                                    const std::function<void(int, int)>& progress = {},
+                                    const Judges* second_judges = nullptr);
 
 }  // namespace stylus::model
 

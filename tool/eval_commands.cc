@@ -77,7 +77,7 @@ int Eval(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool eval --model DIR --judges DIR --data DIR... --out report.md\n"
       "         [--ablation LABEL=DIR]... [--pairs-per-content 3] [--threads N]\n"
-      "         [--verdicts verdicts.csv]\n\n"
+      "         [--verdicts verdicts.csv] [--second-judges DIR]\n\n"
       "Transfers deterministic held-out pairs (content clip x style clip of another\n"
       "content and another style) and reports, as Markdown: style and content\n"
       "recognition accuracy (by the judges); FMD and KID against every clip of\n"
@@ -89,11 +89,14 @@ int Eval(const Argv& argv) {
       "run N inference-time kinematic optimization steps (:kc=0: none) and in\n"
       ":adain for the AdaIN probe (docs/cyclic.md).\n"
       "--verdicts writes, per pair and output, the judged style and content\n"
-      "next to the wanted ones (CSV).\n";
+      "next to the wanted ones (CSV).\n"
+      "--second-judges DIR judges every output a second time (e.g. judges trained\n"
+      "with --random-starts) and adds their accuracies and the share of pairs\n"
+      "whose content both sets, or either, recognized.\n";
   int code = 0;
   auto args = ParseOrExit("eval", argv,
                           {{"model", "judges", "data", "out", "pairs-per-content", "threads",
-                            "ablation", "verdicts"},
+                            "ablation", "verdicts", "second-judges"},
                            {}},
                           kHelp, &code);
   if (!args) return code;
@@ -111,6 +114,12 @@ int Eval(const Argv& argv) {
   if (!m.ok()) return Fail("eval", m.status());
   auto judges = model::Judges::Load(args->Get("judges"));
   if (!judges.ok()) return Fail("eval", judges.status());
+  std::unique_ptr<model::Judges> second;
+  if (args->Has("second-judges")) {
+    auto j = model::Judges::Load(args->Get("second-judges"));
+    if (!j.ok()) return Fail("eval", j.status());
+    second = *std::move(j);
+  }
   std::vector<model::EvalModel> models = {{"model", m->get(), true}};
   std::vector<std::unique_ptr<model::StyleModel>> ablations;
   for (const std::string& spec : args->All("ablation")) {
@@ -144,12 +153,14 @@ int Eval(const Argv& argv) {
                                 [](int done, int total) {
     if (done % 20 == 0 || done == total)
       std::fprintf(stderr, "\revaluated %d/%d pairs", done, total);
-  });
+  }, second.get());
   std::fprintf(stderr, "\n");
   if (!report.ok()) return Fail("eval", report.status());
-  const std::string text =
-      absl::StrFormat("# Evaluation of %s\n\nJudges: %s. Held-out pairs: %d.\n\n%s",
-                      args->Get("model"), args->Get("judges"), pairs->size(), report->Markdown());
+  const std::string second_name =
+      second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
+  const std::string text = absl::StrFormat(
+      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d.\n\n%s", args->Get("model"),
+      args->Get("judges"), second_name, pairs->size(), report->Markdown());
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
   if (args->Has("verdicts")) {

@@ -126,6 +126,24 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
             static_cast<long>(report->verdicts.size() + 1));
   EXPECT_NE(csv.find(",identity (output = content),"), std::string::npos);
   EXPECT_NE(csv.find(",\"model, post-processing full\","), std::string::npos);  // Quoted.
+
+  // Second judges: the same judges a second time agree with themselves on
+  // every pair, so both, either and each accuracy are the first's.
+  EXPECT_FALSE(report->second_judges);
+  EXPECT_EQ(report->Markdown().find("Second judges"), std::string::npos);
+  absl::StatusOr<EvalReport> twice =
+      Evaluate({{"model", model->get(), true}}, **judges, nullptr, {}, *pairs, {}, judges->get());
+  ASSERT_TRUE(twice.ok()) << twice.status();
+  ASSERT_TRUE(twice->second_judges);
+  for (size_t r = 0; r < twice->rows.size(); ++r) {
+    const EvalRow& row = twice->rows[r];
+    EXPECT_DOUBLE_EQ(row.content_accuracy, report->rows[r == 0 || r == 1 ? r : r + 1].content_accuracy);
+    EXPECT_DOUBLE_EQ(row.second_style_accuracy, row.style_accuracy) << row.name;
+    EXPECT_DOUBLE_EQ(row.second_content_accuracy, row.content_accuracy) << row.name;
+    EXPECT_DOUBLE_EQ(row.content_by_both, row.content_accuracy) << row.name;
+    EXPECT_DOUBLE_EQ(row.content_by_either, row.content_accuracy) << row.name;
+  }
+  EXPECT_NE(twice->Markdown().find("Second judges"), std::string::npos);
 }
 
 // --random-starts: the same seed draws other windows (so other weights),

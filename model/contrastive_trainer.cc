@@ -67,12 +67,13 @@ struct Trainer {
 
   // The transfer of content windows `x` (content codes `c`) to style code
   // `s`. With config.residual (the form inference then uses): x plus the
-  // change the style makes in the generator's output, G(c, s) - G(c, s_own),
-  // where s_own is Es(x); otherwise G(c, s).
+  // change the style makes in the generator's output, G(c, s) - G(c, Es(x));
+  // `own`, if given, is Es(x) already computed. Otherwise G(c, s).
   torch::Tensor Transfer(const torch::Tensor& x, const torch::Tensor& c, const torch::Tensor& s,
-                         const torch::Tensor& s_own) {
+                         const torch::Tensor* own = nullptr) {
     const torch::Tensor g = net->decode(c, s);
-    return config.residual ? x + g - net->decode(c, s_own) : g;  // s_own unused without.
+    if (!config.residual) return g;
+    return x + g - net->decode(c, own ? *own : net->style(x));
   }
 
   // One discriminator step on `real` vs the detached `fake`; returns the
@@ -112,8 +113,7 @@ struct Trainer {
     const torch::Tensor rec = (ReconstructionLoss(net->decode(c_t, s_t), x_t) +
                                ReconstructionLoss(net->decode(c_s, s_s), x_s)) /
                               2;
-    const torch::Tensor x_g =
-        Transfer(x_t, c_t, s_s, config.residual ? net->style(x_t) : torch::Tensor());
+    const torch::Tensor x_g = Transfer(x_t, c_t, s_s);
     LossRecord r;
     torch::Tensor total = rec;
     if (config.alpha > 0) total = total + config.alpha * Adversarial(x_s, x_g, &r);
@@ -185,7 +185,7 @@ struct Trainer {
     const torch::Tensor s_same = net->style(y_same), s_other = net->style(y_other);
     const torch::Tensor rec = ReconstructionLoss(net->decode(c_x, s_same), x);
     const torch::Tensor s_x = net->style(x);
-    const torch::Tensor x_g = Transfer(x, c_x, s_other, s_x);
+    const torch::Tensor x_g = Transfer(x, c_x, s_other, &s_x);
     torch::Tensor total = rec;
     if (config.alpha > 0) {
       const torch::Tensor adv = config.pair_gan

@@ -131,7 +131,6 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
         row.second_style_accuracy += w->style_right;
         row.second_content_accuracy += w->content_right;
         row.content_by_both += v->content_right && w->content_right;
-        row.content_by_either += v->content_right || w->content_right;
       }
       // Copy-style has another length: its feet are measured against itself.
       const motion::Motion& planted = r + 1 == n_rows ? *style : *content;
@@ -174,7 +173,6 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     row.second_style_accuracy /= row.pairs;
     row.second_content_accuracy /= row.pairs;
     row.content_by_both /= row.pairs;
-    row.content_by_either /= row.pairs;
     row.foot_skating /= row.pairs;
     row.foot_height_error /= row.pairs;
     row.bone_length_error /= row.pairs;
@@ -249,7 +247,7 @@ std::string EvalReport::Markdown() const {
     for (const EvalRow& r : rows) {
       absl::StrAppendFormat(&s, "| %s | %.3f | %.3f | %.3f | %.3f |\n", r.name,
                             r.second_style_accuracy, r.second_content_accuracy, r.content_by_both,
-                            r.content_by_either);
+                            r.ContentByEither());
     }
   }
   s +=

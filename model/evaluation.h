@@ -48,9 +48,11 @@ struct EvalRow {
   double d_s = 0, d_c = 0;
   double trajectory_error = 0;  // Mean pelvis path distance to the content's (units).
   // With second judges: their accuracies, and the share of pairs whose
-  // content both sets / either set recognized.
-  double second_style_accuracy = 0, second_content_accuracy = 0;
-  double content_by_both = 0, content_by_either = 0;
+  // content both sets recognized (either set: the two accuracies minus it).
+  double second_style_accuracy = 0, second_content_accuracy = 0, content_by_both = 0;
+  double ContentByEither() const {
+    return content_accuracy + second_content_accuracy - content_by_both;
+  }
   int pairs = 0;
 };
 

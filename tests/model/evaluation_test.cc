@@ -141,7 +141,7 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
     EXPECT_DOUBLE_EQ(row.second_style_accuracy, row.style_accuracy) << row.name;
     EXPECT_DOUBLE_EQ(row.second_content_accuracy, row.content_accuracy) << row.name;
     EXPECT_DOUBLE_EQ(row.content_by_both, row.content_accuracy) << row.name;
-    EXPECT_DOUBLE_EQ(row.content_by_either, row.content_accuracy) << row.name;
+    EXPECT_DOUBLE_EQ(row.ContentByEither(), row.content_accuracy) << row.name;
   }
   EXPECT_NE(twice->Markdown().find("Second judges"), std::string::npos);
 }

@@ -76,6 +76,9 @@ struct ContrastiveConfig {
   // Guided only: the content head's share of the critic's verdict on a
   // transfer, times this (1: style and content weigh alike).
   double content_class_weight = 1.0;
+  // Guided only: how many label critics judge each transfer (their mean
+  // verdict; model/label_critic_ensemble.h). 1: one critic, as before.
+  int critics = 1;
   // Guided only: content windows are drawn so that a content class with n
   // training windows comes up in proportion to n^(1 - content_balance)
   // (0: uniformly over windows; 1: every class alike). Bandai's dataset-1

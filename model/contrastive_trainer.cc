@@ -10,6 +10,7 @@
 #include "absl/strings/str_join.h"
 #include "model/clip_classes.h"
 #include "model/contrastive_net.h"
+#include "model/label_critic_ensemble.h"
 #include "model/label_critic_net.h"
 #include "model/package.h"
 #include "model/runtime.h"
@@ -33,8 +34,7 @@ struct Trainer {
   std::unique_ptr<torch::optim::Adam> opt_g, opt_d;
   // Label-guided training only.
   ClipClasses classes;
-  LabelCritic critic{nullptr};
-  std::unique_ptr<torch::optim::Adam> opt_c;
+  LabelCriticEnsemble critics;
   PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
   std::unique_ptr<torch::optim::Adam> opt_p;
   torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
@@ -172,14 +172,7 @@ struct Trainer {
                         other_content = LabelTensor(other, classes.content_of);
     LossRecord r;
     // The critic learns the labels of real windows, never of transfers.
-    opt_c->zero_grad();
-    const torch::Tensor critic_loss =
-        (LabelLoss(critic->forward(x), x_style, x_content) +
-         LabelLoss(critic->forward(y_other), target_style, other_content)) /
-        2;
-    critic_loss.backward();
-    opt_c->step();
-    r.critic = critic_loss.item<double>();
+    r.critic = critics.Learn({{x, x_style, x_content}, {y_other, target_style, other_content}});
 
     const torch::Tensor c_x = net->content(x);
     const torch::Tensor s_same = net->style(y_same), s_other = net->style(y_other);
@@ -195,9 +188,8 @@ struct Trainer {
       total = total + config.alpha * adv;
     }
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x);
-    const LabelLogits judged = critic->forward(x_g);
     const torch::Tensor cls =
-        LabelLoss(judged, target_style, x_content, config.content_class_weight);
+        critics.Verdict(x_g, target_style, x_content, config.content_class_weight);
     r.cls = cls.item<double>();
     total = total + config.class_weight * cls;
     if (config.self_rec_weight > 0) {
@@ -299,10 +291,9 @@ struct Trainer {
     }
     disc = Discriminator(config);
     if (config.guided) {
-      critic = LabelCritic(config.dim, static_cast<int>(classes.styles.size()),
-                           static_cast<int>(classes.contents.size()));
-      opt_c = std::make_unique<torch::optim::Adam>(critic->parameters(),
-                                                   torch::optim::AdamOptions(1e-3));
+      critics = LabelCriticEnsemble(config.critics, config.dim,
+                                    static_cast<int>(classes.styles.size()),
+                                    static_cast<int>(classes.contents.size()));
     }
     if (config.pair_gan) {
       pair_disc = PairDiscriminator(config.dim, static_cast<int>(classes.styles.size()),
@@ -339,8 +330,7 @@ struct Trainer {
                                     Tensors("opt_g.pt", opt_g.get()),
                                     Tensors("opt_d.pt", opt_d.get())};
     if (config.guided) {
-      files.push_back(Tensors("critic.pt", &critic));
-      files.push_back(Tensors("opt_c.pt", opt_c.get()));
+      critics.AddFiles("critic", "opt_c", &files);
     }
     if (config.pair_gan) {
       files.push_back(Tensors("pair_disc.pt", &pair_disc));
@@ -395,7 +385,7 @@ absl::Status TrainContrastive(const TrainOptions& options) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
   Trainer t{options, options.config, {}, nullptr, {},      nullptr, nullptr, nullptr,
-            {},      nullptr,        nullptr, nullptr, nullptr, {}, nullptr};
+            {},      {},             nullptr, nullptr, {},      nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -40,6 +40,7 @@ std::string CyclicConfig::Serialize() const {
     num("class_weight", class_weight);
     if (pair_gan) put("pair_gan", "1");
     if (content_class_weight != 1) num("content_class_weight", content_class_weight);
+    if (critics != 1) num("critics", critics);
   }
   num("kc_iters", kc_iters);
   num("kc_lr", kc_lr);
@@ -103,6 +104,7 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "pair_gan") return e.Bool(&c.pair_gan);
     if (key == "content_class_weight") return e.Double(&c.content_class_weight, 0, 1e6);
+    if (key == "critics") return e.Int(&c.critics, 1, 64);
     if (key == "kc_iters") return e.Int(&c.kc_iters, 0, 100000);
     if (key == "kc_lr") return e.Double(&c.kc_lr, 0, 10);
     if (key == "ae_iterations") return e.Int(&c.ae_iterations, 0, 1 << 30);

@@ -54,6 +54,9 @@ struct CyclicConfig {
   double class_weight = 1;
   // Guided only: the content head's share of that verdict, times this.
   double content_class_weight = 1;
+  // Guided only: how many label critics judge each transfer (their mean
+  // verdict; model/label_critic_ensemble.h).
+  int critics = 1;
   // Guided only: the adversarial term (gan_weight) uses the label-conditional
   // discriminator of the contrastive family (model/label_critic_net.h),
   // which also rejects the unchanged content and the style clip under the

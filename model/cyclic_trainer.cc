@@ -7,6 +7,7 @@
 #include "model/clip_classes.h"
 #include "model/config_text.h"
 #include "model/cyclic_net.h"
+#include "model/label_critic_ensemble.h"
 #include "model/label_critic_net.h"
 #include "model/package.h"
 #include "model/runtime.h"
@@ -45,8 +46,7 @@ struct CyclicTrainer {
   torch::Tensor keep_mask;  // (1, C, 1): channels of the content-keeping term.
   // Label-guided training only.
   ClipClasses classes;
-  LabelCritic label_critic{nullptr};
-  std::unique_ptr<torch::optim::Adam> opt_l;
+  LabelCriticEnsemble label_critics;
   PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
   std::unique_ptr<torch::optim::Adam> opt_p;
 
@@ -196,18 +196,11 @@ struct CyclicTrainer {
         const torch::Tensor target_style = LabelTensor(style_clips, classes.style_of);
         const torch::Tensor content_label = LabelTensor(content_clips, classes.content_of);
         // The label critic learns real windows' labels, never transfers'.
-        opt_l->zero_grad();
-        const torch::Tensor labels =
-            (LabelLoss(label_critic->forward(c), LabelTensor(content_clips, classes.style_of),
-                       content_label) +
-             LabelLoss(label_critic->forward(s), target_style,
-                       LabelTensor(style_clips, classes.content_of))) /
-            2;
-        labels.backward();
-        opt_l->step();
-        r[11] = labels.item<double>();
-        const torch::Tensor cls = LabelLoss(label_critic->forward(gm), target_style, content_label,
-                                            config.content_class_weight);
+        r[11] = label_critics.Learn(
+            {{c, LabelTensor(content_clips, classes.style_of), content_label},
+             {s, target_style, LabelTensor(style_clips, classes.content_of)}});
+        const torch::Tensor cls =
+            label_critics.Verdict(gm, target_style, content_label, config.content_class_weight);
         total = total + config.class_weight * cls;
         r[10] = cls.item<double>();
       }
@@ -281,10 +274,9 @@ struct CyclicTrainer {
           ClipClasses::ForTraining(data, config.window, opt.log);
       if (!labelled.ok()) return labelled.status();
       classes = *std::move(labelled);
-      label_critic = LabelCritic(width, static_cast<int>(classes.styles.size()),
-                                 static_cast<int>(classes.contents.size()));
-      opt_l = std::make_unique<torch::optim::Adam>(label_critic->parameters(),
-                                                   torch::optim::AdamOptions(1e-3));
+      label_critics = LabelCriticEnsemble(config.critics, width,
+                                          static_cast<int>(classes.styles.size()),
+                                          static_cast<int>(classes.contents.size()));
       if (config.pair_gan) {
         pair_disc = PairDiscriminator(width, static_cast<int>(classes.styles.size()),
                                       static_cast<int>(classes.contents.size()));
@@ -310,8 +302,7 @@ struct CyclicTrainer {
         Tensors("net.pt", &net), Tensors("critic.pt", &critic), Tensors("opt_e.pt", opt_e.get()),
         Tensors("opt_g.pt", opt_g.get()), Tensors("opt_d.pt", opt_d.get())};
     if (config.guided) {
-      files.push_back(Tensors("label_critic.pt", &label_critic));
-      files.push_back(Tensors("opt_l.pt", opt_l.get()));
+      label_critics.AddFiles("label_critic", "opt_l", &files);
     }
     if (config.pair_gan) {
       files.push_back(Tensors("pair_disc.pt", &pair_disc));
@@ -364,7 +355,7 @@ absl::Status TrainCyclic(const CyclicTrainOptions& options) {
     return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
   }
   CyclicTrainer t{options, options.config, {}, nullptr, {},      nullptr, nullptr, nullptr,
-                  nullptr, nullptr, {},      {},      {},      nullptr, nullptr, nullptr, nullptr};
+                  nullptr, nullptr, {},      {},      {},      {},      nullptr, nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

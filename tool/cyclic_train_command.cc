@@ -19,7 +19,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--keep-weight 0] [--random-starts] [--keep-path]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
-      "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1]\n"
+      "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1] [--critics 1]\n"
       "         [--average-from K [--average-every 50]]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
@@ -38,7 +38,9 @@ int TrainCyclicModel(const Argv& argv) {
       "a critic trained on real labelled windows scores the transfer against that\n"
       "style and the content's content (--class-weight). --pair-gan (with\n"
       "--guided) makes the adversarial term (--gan-weight) label-conditional;\n"
-      "--content-class-weight scales the content half of the critic's verdict.\n"
+      "--content-class-weight scales the content half of the critic's verdict;\n"
+      "--critics K trains K such critics from different random starts and takes\n"
+      "their mean verdict.\n"
       "--keep-weight W adds W x the L1 distance between the transfer and the\n"
       "content over the legs' joint positions, root trajectory and contacts.\n"
       "--random-starts starts each training window anywhere in its clip instead\n"
@@ -120,7 +122,7 @@ int TrainCyclicModel(const Argv& argv) {
   }
   c.dropout = *dropout;
   c.guided = args->switches.count("guided") > 0;
-  for (const char* name : {"class-weight", "content-class-weight"}) {
+  for (const char* name : {"class-weight", "content-class-weight", "critics"}) {
     if (args->Has(name) && !c.guided) {
       return Fail("train", absl::InvalidArgumentError(absl::StrCat("--", name, " needs --guided")));
     }

@@ -30,7 +30,8 @@ int Train(const Argv& argv) {
       "         [--residual] [--full-rate-content]\n"
       "         [--content-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
-      "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]]\n"
+      "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]\n"
+      "          [--critics 1]]\n"
       "         [--keep-path]\n"
       "         [--content-body] [--average-from K [--average-every 50]]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
@@ -60,7 +61,9 @@ int Train(const Argv& argv) {
       "style, and a critic trained on real labelled windows scores each transfer\n"
       "against the target style and the content input's content (--class-weight),\n"
       "plus a cycle back to the content's own style (--cycle-weight);\n"
-      "--content-class-weight scales the content half of that verdict.\n"
+      "--content-class-weight scales the content half of that verdict; --critics K\n"
+      "trains K such critics from different random starts and judges each transfer\n"
+      "by their mean verdict, so it must be recognized by all of them.\n"
       "--self-rec-weight W adds W x the error of restyling each content window\n"
       "with a style code from another window of its own clip (guided only).\n"
       "--content-balance P (0..1) draws a content class with n windows in\n"
@@ -88,7 +91,7 @@ int Train(const Argv& argv) {
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
                     "smooth-sigma", "class-weight", "cycle-weight", "self-rec-weight",
                     "content-class-weight", "content-balance", "init-from", "average-from",
-                    "average-every"},
+                    "average-every", "critics"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
                     "replicate-pad", "random-starts", "residual", "full-rate-content"}},
@@ -181,6 +184,14 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--average-every must be a number >= 1"));
   }
   c.average_from = *average_from, c.average_every = *average_every;
+  absl::StatusOr<int> critics = args->GetInt("critics", c.critics);
+  if (!critics.ok() || *critics < 1 || *critics > 64) {
+    return Fail("train", absl::InvalidArgumentError("--critics must be a number in [1, 64]"));
+  }
+  if (*critics != 1 && !c.guided) {
+    return Fail("train", absl::InvalidArgumentError("--critics needs --guided"));
+  }
+  c.critics = *critics;
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

@@ -15,7 +15,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   c.content_class_weight = 2.5, c.content_body = true, c.content_balance = 0.5;
   c.pair_gan = true, c.keep_path = true, c.smooth_sigma = 1.5, c.style_strength = 0.7;
   c.residual = true, c.replicate_pad = true, c.random_starts = true;
-  c.full_rate_content = true;
+  c.full_rate_content = true, c.critics = 3;
   c.batch = 8, c.lr = 3e-4, c.iterations = 123, c.seed = 99, c.trained_iterations = 77;
   c.data = "../shared/data/bandai", c.commit = "abc123";
   absl::StatusOr<ContrastiveConfig> back = ContrastiveConfig::Parse(c.Serialize(), "config.txt");
@@ -33,6 +33,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_TRUE(back->full_rate_content);
   EXPECT_TRUE(back->random_starts);
   EXPECT_DOUBLE_EQ(back->content_class_weight, 2.5);
+  EXPECT_EQ(back->critics, 3);
   EXPECT_DOUBLE_EQ(back->content_balance, 0.5);
   EXPECT_TRUE(back->content_body);
 }

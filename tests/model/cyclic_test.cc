@@ -298,9 +298,11 @@ TEST(CyclicModelTest, CycleLossFallsAndThePackageServesTransfers) {
 TEST(CyclicModelTest, GuidedGeneratorStageLearnsFromTheLabelCritic) {
   // --guided: the label critic learns real windows' labels and the
   // generator's classification loss on transfers falls.
+  // Two critics (--critics 2): both learn and both are checkpointed.
   CyclicTrainOptions o = TinyOptions(Dir("guided"));
   o.data = testing::LabelledClips();
   o.config.guided = true;
+  o.config.critics = 2;
   std::vector<LossRow> rows;
   o.on_record = [&](const LossRow& r) { rows.push_back(r); };
   ASSERT_TRUE(TrainCyclic(o).ok());
@@ -316,6 +318,9 @@ TEST(CyclicModelTest, GuidedGeneratorStageLearnsFromTheLabelCritic) {
               generator.back().values[cls]);
   EXPECT_LT(generator.back().values[labels], 0.5 * generator.front().values[labels]);
   EXPECT_LT(generator.back().values[cls], 0.8 * generator.front().values[cls]);
+  for (const char* f : {"label_critic.pt", "opt_l.pt", "label_critic2.pt", "opt_l2.pt"}) {
+    EXPECT_TRUE(std::filesystem::exists(o.out + "/checkpoint/" + f)) << f;
+  }
   absl::StatusOr<std::unique_ptr<StyleModel>> m = LoadStyleModel(o.out);
   ASSERT_TRUE(m.ok()) << m.status();
   // Unlabelled names are refused, naming the file.
@@ -524,12 +529,15 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   c.use_cycle = false;
   c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true, c.content_class_weight = 3;
   c.keep_weight = 2, c.average_from = 100, c.average_every = 25;
-  c.random_starts = true, c.keep_path = true;
+  c.random_starts = true, c.keep_path = true, c.critics = 2;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());
   EXPECT_TRUE(back->random_starts);
   EXPECT_TRUE(back->keep_path);
+  EXPECT_EQ(back->critics, 2);
+  EXPECT_EQ(CyclicConfig::Parse("dim = 5\ncritics = 0\n", "cfg.txt").status().code(),
+            absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\nkernel = 4\n", "cfg.txt").status().message(),
             "cfg.txt:2: kernel must be odd");
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\nfamily = contrastive\n", "cfg.txt").status().code(),

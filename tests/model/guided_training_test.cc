@@ -14,6 +14,7 @@
 #include "model/contrastive_model.h"
 #include "model/contrastive_net.h"
 #include "model/contrastive_trainer.h"
+#include "model/label_critic_ensemble.h"
 #include "model/label_critic_net.h"
 #include "model/training_set.h"
 #include "model/weight_average.h"
@@ -308,6 +309,83 @@ TEST(GuidedTrainingTest, ResumesWithItsCritic) {
   od.config.guided = false;
   od.resume = true;
   EXPECT_EQ(TrainContrastive(od).code(), absl::StatusCode::kFailedPrecondition);
+}
+
+// --critics K: each critic starts from its own random weights, all learn the
+// labels of real windows, and the verdict on a window is their mean loss,
+// differentiable in the window.
+TEST(LabelCriticEnsembleTest, MembersStartApartLearnAndAverageTheirVerdicts) {
+  torch::manual_seed(7);
+  LabelCriticEnsemble critics(3, 4, 2, 2);
+  ASSERT_EQ(critics.size(), 3);
+  const torch::Tensor t = torch::arange(16, torch::kFloat32);
+  auto windows = [&](double freq) {
+    return torch::sin(t * freq).view({1, 1, 16}).expand({8, 4, 16}) +
+           0.1 * torch::randn({8, 4, 16});
+  };
+  const torch::Tensor zeros = torch::zeros({8}, torch::kLong),
+                      ones = torch::ones({8}, torch::kLong);
+  {
+    torch::NoGradGuard no_grad;
+    const torch::Tensor probe = windows(0.2);
+    const double apart =
+        (critics.member(0)->forward(probe).content - critics.member(1)->forward(probe).content)
+            .abs()
+            .max()
+            .item<double>();
+    EXPECT_GT(apart, 1e-3);
+  }
+  // Slow sines are style 0 / content 0, fast ones style 1 / content 1.
+  auto learn = [&] { return critics.Learn({{windows(0.2), zeros, zeros}, {windows(1.1), ones, ones}}); };
+  const double first = learn();
+  double last = first;
+  for (int i = 0; i < 100; ++i) last = learn();
+  std::printf("ensemble label loss %.4f -> %.4f\n", first, last);
+  EXPECT_LT(last, 0.2 * first);
+
+  const torch::Tensor x = windows(1.1).requires_grad_();
+  const torch::Tensor verdict = critics.Verdict(x, ones, zeros, 2.0);
+  double mean = 0;
+  for (int i = 0; i < 3; ++i) {
+    mean += LabelLoss(critics.member(i)->forward(x), ones, zeros, 2.0).item<double>() / 3;
+  }
+  EXPECT_NEAR(verdict.item<double>(), mean, 1e-5 * mean);
+  verdict.backward();
+  EXPECT_GT(x.grad().abs().sum().item<double>(), 0);
+
+  std::vector<TorchFile> files;
+  critics.AddFiles("critic", "opt_c", &files);
+  std::vector<std::string> names;
+  for (const TorchFile& f : files) names.push_back(f.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"critic.pt", "opt_c.pt", "critic2.pt", "opt_c2.pt",
+                                             "critic3.pt", "opt_c3.pt"}));
+}
+
+TEST(GuidedTrainingTest, CriticEnsembleTrainsAndResumes) {
+  auto options = [](const std::string& out, int iterations) {
+    TrainOptions o = GuidedOptions(out, iterations);
+    o.config.critics = 3;
+    return o;
+  };
+  std::vector<LossRecord> a, c;
+  TrainOptions oa = options(testing::FreshDir("critics_a"), 80);
+  oa.on_record = [&](const LossRecord& r) { a.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(oa).ok());
+  ASSERT_TRUE(fs::exists(oa.out + "/checkpoint/critic3.pt"));
+  ASSERT_TRUE(fs::exists(oa.out + "/checkpoint/opt_c3.pt"));
+  EXPECT_LT(a.back().critic, 0.5 * a.front().critic);
+  TrainOptions ob = options(testing::FreshDir("critics_b"), 40);
+  ASSERT_TRUE(TrainContrastive(ob).ok());
+  TrainOptions oc = options(ob.out, 80);
+  oc.resume = true;
+  oc.on_record = [&](const LossRecord& r) { c.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(oc).ok());
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_NEAR(c.back().critic, a.back().critic, 1e-4 * std::fabs(a.back().critic));
+  EXPECT_NEAR(c.back().total, a.back().total, 1e-4 * std::fabs(a.back().total));
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(oa.out);
+  ASSERT_TRUE(m.ok()) << m.status();
+  EXPECT_EQ((*m)->package().config.critics, 3);
 }
 
 TEST(PairDiscriminatorTest, JudgesTheLabelPairNotOnlyTheWindow) {

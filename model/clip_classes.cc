@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "model/training_run.h"
 #include "motion/dataset.h"
 
@@ -84,6 +85,14 @@ int ClipClasses::OtherStyle(int clip, std::mt19937_64* rng) const {
   const int style = others[(*rng)() % others.size()];
   return PickPreferring(
       clips_of_style[style], [&](int i) { return content_of[i] != content_of[clip]; }, rng);
+}
+
+std::string BalanceContents(const ClipClasses& classes, double power, TrainingSet* data) {
+  const std::vector<double> share = data->BalanceWindows(classes.content_of, power);
+  const auto [lo, hi] = std::minmax_element(share.begin(), share.end());
+  return absl::StrFormat("content balance %g: %s drawn %.1f%% of the time, %s %.1f%%", power,
+                         classes.contents[lo - share.begin()], 100 * *lo,
+                         classes.contents[hi - share.begin()], 100 * *hi);
 }
 
 }  // namespace stylus::model

@@ -38,6 +38,11 @@ struct ClipClasses {
   int OtherStyle(int clip, std::mt19937_64* rng) const;
 };
 
+// Reweights `data`'s window draws so that a content class with n windows
+// comes up in proportion to n^(1 - power) (TrainingSet::BalanceWindows) and
+// returns a log line naming the classes drawn least and most often.
+std::string BalanceContents(const ClipClasses& classes, double power, TrainingSet* data);
+
 }  // namespace stylus::model
 
 #endif  // STYLUS_MODEL_CLIP_CLASSES_H_

@@ -139,17 +139,6 @@ struct Trainer {
     return r;
   }
 
-  // Reweights the content windows by content class and logs the classes
-  // drawn least and most often.
-  void LogBalance() {
-    const std::vector<double> share = data.BalanceWindows(classes.content_of, config.content_balance);
-    const auto [lo, hi] = std::minmax_element(share.begin(), share.end());
-    LogLine(opt.log, absl::StrFormat(
-                         "content balance %g: %s drawn %.1f%% of the time, %s %.1f%%",
-                         config.content_balance, classes.contents[lo - share.begin()], 100 * *lo,
-                         classes.contents[hi - share.begin()], 100 * *hi));
-  }
-
   // Label-guided step (docs/contrastive.md): content windows x; for each, a
   // window of a clip of the same style doing something else (the
   // reconstruction's style) and one of a clip of another style (the
@@ -264,7 +253,9 @@ struct Trainer {
       absl::StatusOr<ClipClasses> c = ClipClasses::ForTraining(data, config.window, opt.log);
       if (!c.ok()) return c.status();
       classes = *std::move(c);
-      if (config.content_balance > 0) LogBalance();
+      if (config.content_balance > 0) {
+        LogLine(opt.log, BalanceContents(classes, config.content_balance, &data));
+      }
     }
     if (config.average_from > 0)  // Before the seed (see WeightAverage).
       average = WeightAverage<ContrastiveNet>(config.average_from, config.average_every,
@@ -377,9 +368,15 @@ absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.config.content_balance > 0 && !options.config.guided) {
     return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
   }
+  if (options.config.critics != 1 && !options.config.guided) {
+    return absl::InvalidArgumentError("several label critics need label-guided training (--guided)");
+  }
   if (options.config.self_rec_weight > 0 && !options.config.guided) {
     return absl::InvalidArgumentError(
         "the self-reconstruction term needs label-guided training (--guided)");
+  }
+  if (options.config.critics < 1 || options.config.critics > 64) {
+    return absl::InvalidArgumentError("the number of label critics must be in [1, 64]");
   }
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");

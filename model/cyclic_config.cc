@@ -41,6 +41,7 @@ std::string CyclicConfig::Serialize() const {
     if (pair_gan) put("pair_gan", "1");
     if (content_class_weight != 1) num("content_class_weight", content_class_weight);
     if (critics != 1) num("critics", critics);
+    if (content_balance > 0) num("content_balance", content_balance);
   }
   num("kc_iters", kc_iters);
   num("kc_lr", kc_lr);
@@ -105,6 +106,7 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "pair_gan") return e.Bool(&c.pair_gan);
     if (key == "content_class_weight") return e.Double(&c.content_class_weight, 0, 1e6);
     if (key == "critics") return e.Int(&c.critics, 1, 64);
+    if (key == "content_balance") return e.Double(&c.content_balance, 0, 1);
     if (key == "kc_iters") return e.Int(&c.kc_iters, 0, 100000);
     if (key == "kc_lr") return e.Double(&c.kc_lr, 0, 10);
     if (key == "ae_iterations") return e.Int(&c.ae_iterations, 0, 1 << 30);

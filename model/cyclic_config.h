@@ -57,6 +57,10 @@ struct CyclicConfig {
   // Guided only: how many label critics judge each transfer (their mean
   // verdict; model/label_critic_ensemble.h).
   int critics = 1;
+  // Guided only: content windows are drawn so that a content class with n
+  // windows comes up in proportion to n^(1 - content_balance) (as for the
+  // other family: 0 every window alike, 1 every action alike).
+  double content_balance = 0;
   // Guided only: the adversarial term (gan_weight) uses the label-conditional
   // discriminator of the contrastive family (model/label_critic_net.h),
   // which also rejects the unchanged content and the style clip under the

@@ -274,6 +274,9 @@ struct CyclicTrainer {
           ClipClasses::ForTraining(data, config.window, opt.log);
       if (!labelled.ok()) return labelled.status();
       classes = *std::move(labelled);
+      if (config.content_balance > 0) {
+        LogLine(opt.log, BalanceContents(classes, config.content_balance, &data));
+      }
       label_critics = LabelCriticEnsemble(config.critics, width,
                                           static_cast<int>(classes.styles.size()),
                                           static_cast<int>(classes.contents.size()));
@@ -344,6 +347,9 @@ struct CyclicTrainer {
 absl::Status TrainCyclic(const CyclicTrainOptions& options) {
   if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
   if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
+  if (options.config.critics < 1 || options.config.critics > 64) {
+    return absl::InvalidArgumentError("the number of label critics must be in [1, 64]");
+  }
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
@@ -353,6 +359,10 @@ absl::Status TrainCyclic(const CyclicTrainOptions& options) {
     return s;
   if (options.config.pair_gan && !options.config.guided) {
     return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
+  }
+  if ((options.config.content_balance > 0 || options.config.critics != 1) &&
+      !options.config.guided) {
+    return absl::InvalidArgumentError("content balance and several critics need --guided");
   }
   CyclicTrainer t{options, options.config, {}, nullptr, {},      nullptr, nullptr, nullptr,
                   nullptr, nullptr, {},      {},      {},      {},      nullptr, nullptr};

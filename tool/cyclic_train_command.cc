@@ -20,6 +20,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
       "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1] [--critics 1]\n"
+      "         [--content-balance 0]\n"
       "         [--average-from K [--average-every 50]]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
@@ -40,7 +41,8 @@ int TrainCyclicModel(const Argv& argv) {
       "--guided) makes the adversarial term (--gan-weight) label-conditional;\n"
       "--content-class-weight scales the content half of the critic's verdict;\n"
       "--critics K trains K such critics from different random starts and takes\n"
-      "their mean verdict.\n"
+      "their mean verdict. --content-balance P (0..1) draws a content class with n\n"
+      "windows in proportion to n^(1-P): 1 draws every action alike.\n"
       "--keep-weight W adds W x the L1 distance between the transfer and the\n"
       "content over the legs' joint positions, root trajectory and contacts.\n"
       "--random-starts starts each training window anywhere in its clip instead\n"
@@ -58,10 +60,11 @@ int TrainCyclicModel(const Argv& argv) {
   const std::vector<std::string> weights = {"style-weight",  "content-weight", "gan-weight",
                                             "cycle-weight",  "smooth-weight",  "bone-weight",
                                             "traj-weight",   "foot-weight",    "class-weight",
-                                            "content-class-weight", "keep-weight"};
+                                            "content-class-weight", "keep-weight",
+                                            "content-balance"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
-                "style-dim", "blocks", "average-from", "average-every"},
+                "style-dim", "blocks", "average-from", "average-every", "critics"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan",
                 "random-starts", "keep-path"}};
   for (const std::string& w : weights) spec.options.insert(w);
@@ -88,7 +91,7 @@ int TrainCyclicModel(const Argv& argv) {
                            {"kernel", &c.kernel, 1}, {"kc-iters", &c.kc_iters, 0},
                            {"threads", &opt.threads, 0}, {"style-dim", &c.style_dim, 0},
                            {"blocks", &c.blocks, 1}, {"average-from", &c.average_from, 0},
-                           {"average-every", &c.average_every, 1},
+                           {"average-every", &c.average_every, 1}, {"critics", &c.critics, 1},
                            {"checkpoint-every", &opt.checkpoint_every, 1},
                            {"log-every", &opt.log_every, 1}}) {
     absl::StatusOr<int> v = args->GetInt(f.name, *f.value);
@@ -103,13 +106,16 @@ int TrainCyclicModel(const Argv& argv) {
   double* weight_fields[] = {&c.style_weight,  &c.content_weight, &c.gan_weight,
                              &c.cycle_weight,  &c.smooth_weight,  &c.bone_weight,
                              &c.traj_weight,   &c.foot_weight,    &c.class_weight,
-                             &c.content_class_weight, &c.keep_weight};
+                             &c.content_class_weight, &c.keep_weight, &c.content_balance};
   for (size_t i = 0; i < weights.size(); ++i) {
     absl::StatusOr<double> v = args->GetDouble(weights[i], *weight_fields[i]);
     if (!v.ok() || *v < 0) {
       return Fail("train", absl::InvalidArgumentError("--" + weights[i] + " must be a number >= 0"));
     }
     *weight_fields[i] = *v;
+  }
+  if (c.content_balance > 1) {
+    return Fail("train", absl::InvalidArgumentError("--content-balance must be in [0, 1]"));
   }
   absl::StatusOr<double> lr = args->GetDouble("lr", c.lr);
   if (!lr.ok() || *lr <= 0) return Fail("train", absl::InvalidArgumentError("--lr must be > 0"));
@@ -122,7 +128,7 @@ int TrainCyclicModel(const Argv& argv) {
   }
   c.dropout = *dropout;
   c.guided = args->switches.count("guided") > 0;
-  for (const char* name : {"class-weight", "content-class-weight", "critics"}) {
+  for (const char* name : {"class-weight", "content-class-weight", "critics", "content-balance"}) {
     if (args->Has(name) && !c.guided) {
       return Fail("train", absl::InvalidArgumentError(absl::StrCat("--", name, " needs --guided")));
     }

@@ -3,6 +3,7 @@
 // inference-time kinematic optimization, packaging and inference.
 #include "model/cyclic_model.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <fstream>
@@ -303,6 +304,9 @@ TEST(CyclicModelTest, GuidedGeneratorStageLearnsFromTheLabelCritic) {
   o.data = testing::LabelledClips();
   o.config.guided = true;
   o.config.critics = 2;
+  o.config.content_balance = 1;  // Every action drawn alike (logged).
+  std::vector<std::string> log;
+  o.log = [&](const std::string& line) { log.push_back(line); };
   std::vector<LossRow> rows;
   o.on_record = [&](const LossRow& r) { rows.push_back(r); };
   ASSERT_TRUE(TrainCyclic(o).ok());
@@ -318,12 +322,18 @@ TEST(CyclicModelTest, GuidedGeneratorStageLearnsFromTheLabelCritic) {
               generator.back().values[cls]);
   EXPECT_LT(generator.back().values[labels], 0.5 * generator.front().values[labels]);
   EXPECT_LT(generator.back().values[cls], 0.8 * generator.front().values[cls]);
+  EXPECT_TRUE(std::any_of(log.begin(), log.end(), [](const std::string& l) {
+    return l.rfind("content balance 1:", 0) == 0;
+  }));
   for (const char* f : {"label_critic.pt", "opt_l.pt", "label_critic2.pt", "opt_l2.pt"}) {
     EXPECT_TRUE(std::filesystem::exists(o.out + "/checkpoint/" + f)) << f;
   }
   absl::StatusOr<std::unique_ptr<StyleModel>> m = LoadStyleModel(o.out);
   ASSERT_TRUE(m.ok()) << m.status();
   // Unlabelled names are refused, naming the file.
+  CyclicTrainOptions unguided = TinyOptions(Dir("balance_unguided"));
+  unguided.config.content_balance = 1;
+  EXPECT_EQ(TrainCyclic(unguided).code(), absl::StatusCode::kInvalidArgument);
   o.data = testing::FourClips();
   o.out = Dir("guided_unlabelled");
   const absl::Status s = TrainCyclic(o);
@@ -529,13 +539,14 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   c.use_cycle = false;
   c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true, c.content_class_weight = 3;
   c.keep_weight = 2, c.average_from = 100, c.average_every = 25;
-  c.random_starts = true, c.keep_path = true, c.critics = 2;
+  c.random_starts = true, c.keep_path = true, c.critics = 2, c.content_balance = 0.5;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());
   EXPECT_TRUE(back->random_starts);
   EXPECT_TRUE(back->keep_path);
   EXPECT_EQ(back->critics, 2);
+  EXPECT_DOUBLE_EQ(back->content_balance, 0.5);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\ncritics = 0\n", "cfg.txt").status().code(),
             absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\nkernel = 4\n", "cfg.txt").status().message(),

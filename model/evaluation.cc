@@ -94,7 +94,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     };
     std::vector<motion::Motion> outputs;
     for (const EvalModel& m : models) {
-      absl::StatusOr<StyleCode> code = m.model->EncodeStyle(*style);
+      absl::StatusOr<StyleCode> code = m.model->EncodeStyle(m.own_style ? *content : *style);
       if (!code.ok()) return code.status();
       absl::StatusOr<motion::Motion> raw =
           m.model->Transfer(*content, *code, motion::PostProcessMode::kNone);

@@ -57,11 +57,14 @@ struct EvalRow {
 };
 
 // A model to evaluate; `postprocess` adds a second row with `full`
-// post-processing.
+// post-processing. With `own_style`, each content clip is restyled with its
+// own style code instead of the style clip's: what the model keeps of a clip
+// it should give back unchanged (its ceiling on content accuracy).
 struct EvalModel {
   std::string name;
   const StyleModel* model = nullptr;
   bool postprocess = false;
+  bool own_style = false;
 };
 
 // What the judges said about one output of one pair.

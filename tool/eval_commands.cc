@@ -77,7 +77,7 @@ int Eval(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool eval --model DIR --judges DIR --data DIR... --out report.md\n"
       "         [--ablation LABEL=DIR]... [--pairs-per-content 3] [--threads N]\n"
-      "         [--verdicts verdicts.csv] [--second-judges DIR]\n\n"
+      "         [--verdicts verdicts.csv] [--second-judges DIR] [--own-style]\n\n"
       "Transfers deterministic held-out pairs (content clip x style clip of another\n"
       "content and another style) and reports, as Markdown: style and content\n"
       "recognition accuracy (by the judges); FMD and KID against every clip of\n"
@@ -92,12 +92,15 @@ int Eval(const Argv& argv) {
       "next to the wanted ones (CSV).\n"
       "--second-judges DIR judges every output a second time (e.g. judges trained\n"
       "with --random-starts) and adds their accuracies and the share of pairs\n"
-      "whose content both sets, or either, recognized.\n";
+      "whose content both sets, or either, recognized.\n"
+      "--own-style adds a row of the model restyling each content clip with its\n"
+      "own style: what it keeps of a clip it should give back unchanged (its\n"
+      "ceiling on content accuracy).\n";
   int code = 0;
   auto args = ParseOrExit("eval", argv,
                           {{"model", "judges", "data", "out", "pairs-per-content", "threads",
                             "ablation", "verdicts", "second-judges"},
-                           {}},
+                           {"own-style"}},
                           kHelp, &code);
   if (!args) return code;
   if (!args->Has("model") || !args->Has("judges") || !args->Has("data") || !args->Has("out")) {
@@ -131,6 +134,9 @@ int Eval(const Argv& argv) {
     if (!a.ok()) return Fail("eval", a.status());
     ablations.push_back(*std::move(a));
     models.push_back({spec.substr(0, eq), ablations.back().get(), false});
+  }
+  if (args->switches.count("own-style")) {
+    models.push_back({"model with its own style", m->get(), false, /*own_style=*/true});
   }
   std::unique_ptr<model::FeatureJudge> features;
   std::vector<motion::Motion> reference;

@@ -144,6 +144,25 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
     EXPECT_DOUBLE_EQ(row.ContentByEither(), row.content_accuracy) << row.name;
   }
   EXPECT_NE(twice->Markdown().find("Second judges"), std::string::npos);
+
+  // own_style: the row restyles each content clip with its own style code;
+  // its verdicts are the judges' on exactly those transfers.
+  absl::StatusOr<EvalReport> own = Evaluate(
+      {{"model", model->get(), false}, {"own", model->get(), false, /*own_style=*/true}}, **judges,
+      nullptr, {}, *pairs);
+  ASSERT_TRUE(own.ok()) << own.status();
+  ASSERT_EQ(own->rows[1].name, "own, no post-processing");
+  int checked = 0;
+  for (const EvalVerdict& v : own->verdicts) {
+    if (v.row != 1) continue;
+    const motion::Motion content = *motion::ReadBvhFile((*pairs)[v.pair].content_path);
+    const motion::Motion back = *(*model)->Transfer(content, *(*model)->EncodeStyle(content),
+                                                    motion::PostProcessMode::kNone);
+    EXPECT_EQ(v.content, (*judges)->contents()[*(*judges)->ClassifyContent(back)]);
+    EXPECT_EQ(v.style, (*judges)->styles()[*(*judges)->ClassifyStyle(back)]);
+    ++checked;
+  }
+  EXPECT_EQ(checked, static_cast<int>(pairs->size()));
 }
 
 // --random-starts: the same seed draws other windows (so other weights),

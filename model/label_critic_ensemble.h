@@ -3,8 +3,10 @@
 // transfer is their mean loss. A generator trained against one critic can
 // find outputs that critic reads as the content and another classifier does
 // not (the judges v1 and v2 disagree on 8-11% of the contrastive family's
-// transfers, on 3% of real clips); outputs all members agree on sit further
-// inside the class. Internal to model/ (includes LibTorch).
+// transfers, on 3% of real clips); outputs all members agree on should sit
+// further inside the class. Measured on Bandai with three critics: no gain
+// in content accuracy (docs/contrastive.md, session 11). Internal to model/
+// (includes LibTorch).
 #ifndef STYLUS_MODEL_LABEL_CRITIC_ENSEMBLE_H_
 #define STYLUS_MODEL_LABEL_CRITIC_ENSEMBLE_H_
 

@@ -27,7 +27,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--random-starts]\n"
-      "         [--residual] [--full-rate-content]\n"
+      "         [--residual] [--full-rate-content] [--channels 144]\n"
       "         [--content-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]\n"
@@ -71,6 +71,8 @@ int Train(const Argv& argv) {
       "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
       "(style, content) label pair; it also rejects the unchanged content and the\n"
       "style clip itself under the transfer's labels.\n"
+      "--channels N sets the width of the encoders, the generator and the codes\n"
+      "(a new network: it cannot start from a package of another width).\n"
       "--full-rate-content keeps one content code column per frame (no stride-2\n"
       "convolution, no upsampling in the generator) instead of one per two.\n"
       "--residual trains each transfer as the content window plus the change the\n"
@@ -91,7 +93,7 @@ int Train(const Argv& argv) {
                     "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
                     "smooth-sigma", "class-weight", "cycle-weight", "self-rec-weight",
                     "content-class-weight", "content-balance", "init-from", "average-from",
-                    "average-every", "critics"},
+                    "average-every", "critics", "channels"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
                     "replicate-pad", "random-starts", "residual", "full-rate-content"}},
@@ -192,6 +194,11 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--critics needs --guided"));
   }
   c.critics = *critics;
+  absl::StatusOr<int> channels = args->GetInt("channels", c.channels);
+  if (!channels.ok() || *channels < 1 || *channels > 4096) {
+    return Fail("train", absl::InvalidArgumentError("--channels must be a number in [1, 4096]"));
+  }
+  c.channels = *channels;
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

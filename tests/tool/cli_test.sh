@@ -54,6 +54,13 @@ check "train --content-balance without --guided" 1 "--content-balance needs --gu
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-balance 0.5
 check "train --self-rec-weight without --guided" 1 "--self-rec-weight needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --self-rec-weight 1
+check "train --channels" 0 "model written to $work/narrow" -- "$tool" train --data "$work/old.bvh" \
+  --data "$work/proud.bvh" --out "$work/narrow" --iters 2 --batch 2 --threads 1 --channels 24
+check "train --channels in the package" 0 "^channels = 24$" -- cat "$work/narrow/config.txt"
+check "the narrow package transfers" 0 "wrote .*narrow_out.bvh" -- "$tool" transfer --model "$work/narrow" \
+  --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/narrow_out.bvh" --threads 1
+check "train --channels 0" 1 "--channels must be a number in \\[1, 4096\\]" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --channels 0
 check "train --critics without --guided" 1 "--critics needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --critics 3
 check "train --critics 0" 1 "--critics must be a number in \\[1, 64\\]" -- \

@@ -16,6 +16,7 @@
 #include "model/contrastive_trainer.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
+#include "motion/metrics.h"
 #include "motion/synth.h"
 #include "tests/test_support.h"
 
@@ -152,7 +153,10 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
       nullptr, {}, *pairs);
   ASSERT_TRUE(own.ok()) << own.status();
   ASSERT_EQ(own->rows[1].name, "own, no post-processing");
+  // Its foot skating is the mean over exactly those transfers, and differs
+  // from the transfers' row (the verdicts alone could agree by chance).
   int checked = 0;
+  double skating = 0;
   for (const EvalVerdict& v : own->verdicts) {
     if (v.row != 1) continue;
     const motion::Motion content = *motion::ReadBvhFile((*pairs)[v.pair].content_path);
@@ -160,9 +164,12 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
                                                     motion::PostProcessMode::kNone);
     EXPECT_EQ(v.content, (*judges)->contents()[*(*judges)->ClassifyContent(back)]);
     EXPECT_EQ(v.style, (*judges)->styles()[*(*judges)->ClassifyStyle(back)]);
+    skating += motion::FootSkating(back, content, (*model)->data().roles);
     ++checked;
   }
-  EXPECT_EQ(checked, static_cast<int>(pairs->size()));
+  ASSERT_EQ(checked, static_cast<int>(pairs->size()));
+  EXPECT_NEAR(own->rows[1].foot_skating, skating / checked, 1e-6 * skating / checked);
+  EXPECT_NE(own->rows[1].foot_skating, own->rows[0].foot_skating);
 }
 
 // --random-starts: the same seed draws other windows (so other weights),

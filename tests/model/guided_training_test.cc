@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <random>
 #include <set>
@@ -159,6 +160,31 @@ TEST(TrainingSetTest, RandomStartsReachTheClipsLastFrames) {
   EXPECT_GT(any_starts.size(), 40u);
 }
 
+// One run of `make(dir, 80)` unbroken and one stopped at its checkpoint at
+// 40 and resumed to 80: their loss curves (the resumed one from 40 on) and
+// directories, for tests that a resumed run ends where an unbroken one ends.
+struct ResumedRuns {
+  std::vector<LossRecord> unbroken, resumed;
+  std::string unbroken_dir, resumed_dir;
+};
+
+void TrainUnbrokenAndResumed(const std::string& name,
+                             const std::function<TrainOptions(const std::string&, int)>& make,
+                             ResumedRuns* runs) {
+  TrainOptions unbroken = make(testing::FreshDir(name + "_a"), 80);
+  unbroken.on_record = [runs](const LossRecord& r) { runs->unbroken.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(unbroken).ok());
+  TrainOptions stopped = make(testing::FreshDir(name + "_b"), 40);
+  ASSERT_TRUE(TrainContrastive(stopped).ok());
+  TrainOptions resumed = make(stopped.out, 80);
+  resumed.resume = true;
+  resumed.on_record = [runs](const LossRecord& r) { runs->resumed.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(resumed).ok());
+  ASSERT_EQ(runs->resumed.size(), 4u);
+  runs->unbroken_dir = unbroken.out;
+  runs->resumed_dir = stopped.out;
+}
+
 TEST(GuidedTrainingTest, CriticLearnsTheLabelsAndTransfersFollowIt) {
   TrainOptions o = GuidedOptions(testing::FreshDir("guided_learn"), 200);
   o.config.alpha = 0;
@@ -291,21 +317,13 @@ TEST(GuidedTrainingTest, ResidualTrainingKeepsTheClipAndStillRestyles) {
 }
 
 TEST(GuidedTrainingTest, ResumesWithItsCritic) {
-  std::vector<LossRecord> a, c;
-  TrainOptions oa = GuidedOptions(testing::FreshDir("guided_a"), 80);
-  oa.on_record = [&](const LossRecord& r) { a.push_back(r); };
-  ASSERT_TRUE(TrainContrastive(oa).ok());
-  TrainOptions ob = GuidedOptions(testing::FreshDir("guided_b"), 40);
-  ASSERT_TRUE(TrainContrastive(ob).ok());
-  TrainOptions oc = GuidedOptions(ob.out, 80);
-  oc.resume = true;
-  oc.on_record = [&](const LossRecord& r) { c.push_back(r); };
-  ASSERT_TRUE(TrainContrastive(oc).ok());
-  ASSERT_EQ(c.size(), 4u);
-  EXPECT_NEAR(c.back().critic, a.back().critic, 1e-4 * std::fabs(a.back().critic));
-  EXPECT_NEAR(c.back().total, a.back().total, 1e-4 * std::fabs(a.back().total));
+  ResumedRuns runs;
+  ASSERT_NO_FATAL_FAILURE(TrainUnbrokenAndResumed("guided", GuidedOptions, &runs));
+  const LossRecord &a = runs.unbroken.back(), &c = runs.resumed.back();
+  EXPECT_NEAR(c.critic, a.critic, 1e-4 * std::fabs(a.critic));
+  EXPECT_NEAR(c.total, a.total, 1e-4 * std::fabs(a.total));
   // A label-free checkpoint is another configuration.
-  TrainOptions od = GuidedOptions(ob.out, 120);
+  TrainOptions od = GuidedOptions(runs.resumed_dir, 120);
   od.config.guided = false;
   od.resume = true;
   EXPECT_EQ(TrainContrastive(od).code(), absl::StatusCode::kFailedPrecondition);
@@ -367,23 +385,15 @@ TEST(GuidedTrainingTest, CriticEnsembleTrainsAndResumes) {
     o.config.critics = 3;
     return o;
   };
-  std::vector<LossRecord> a, c;
-  TrainOptions oa = options(testing::FreshDir("critics_a"), 80);
-  oa.on_record = [&](const LossRecord& r) { a.push_back(r); };
-  ASSERT_TRUE(TrainContrastive(oa).ok());
-  ASSERT_TRUE(fs::exists(oa.out + "/checkpoint/critic3.pt"));
-  ASSERT_TRUE(fs::exists(oa.out + "/checkpoint/opt_c3.pt"));
-  EXPECT_LT(a.back().critic, 0.5 * a.front().critic);
-  TrainOptions ob = options(testing::FreshDir("critics_b"), 40);
-  ASSERT_TRUE(TrainContrastive(ob).ok());
-  TrainOptions oc = options(ob.out, 80);
-  oc.resume = true;
-  oc.on_record = [&](const LossRecord& r) { c.push_back(r); };
-  ASSERT_TRUE(TrainContrastive(oc).ok());
-  ASSERT_EQ(c.size(), 4u);
-  EXPECT_NEAR(c.back().critic, a.back().critic, 1e-4 * std::fabs(a.back().critic));
-  EXPECT_NEAR(c.back().total, a.back().total, 1e-4 * std::fabs(a.back().total));
-  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(oa.out);
+  ResumedRuns runs;
+  ASSERT_NO_FATAL_FAILURE(TrainUnbrokenAndResumed("critics", options, &runs));
+  ASSERT_TRUE(fs::exists(runs.unbroken_dir + "/checkpoint/critic3.pt"));
+  ASSERT_TRUE(fs::exists(runs.unbroken_dir + "/checkpoint/opt_c3.pt"));
+  const LossRecord &a = runs.unbroken.back(), &c = runs.resumed.back();
+  EXPECT_LT(a.critic, 0.5 * runs.unbroken.front().critic);
+  EXPECT_NEAR(c.critic, a.critic, 1e-4 * std::fabs(a.critic));
+  EXPECT_NEAR(c.total, a.total, 1e-4 * std::fabs(a.total));
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(runs.unbroken_dir);
   ASSERT_TRUE(m.ok()) << m.status();
   EXPECT_EQ((*m)->package().config.critics, 3);
 }
@@ -429,26 +439,18 @@ TEST(GuidedTrainingTest, PairGanTrainsAndResumesWithItsDiscriminator) {
     o.config.alpha = 0.5;
     return o;
   };
-  std::vector<LossRecord> a, c;
-  TrainOptions oa = options(testing::FreshDir("pair_gan_a"), 80);
-  oa.on_record = [&](const LossRecord& r) { a.push_back(r); };
-  ASSERT_TRUE(TrainContrastive(oa).ok());
-  ASSERT_TRUE(fs::exists(oa.out + "/checkpoint/pair_disc.pt"));
-  ASSERT_EQ(a.size(), 8u);
-  for (const LossRecord& r : a) {
+  ResumedRuns runs;
+  ASSERT_NO_FATAL_FAILURE(TrainUnbrokenAndResumed("pair_gan", options, &runs));
+  ASSERT_TRUE(fs::exists(runs.unbroken_dir + "/checkpoint/pair_disc.pt"));
+  ASSERT_EQ(runs.unbroken.size(), 8u);
+  for (const LossRecord& r : runs.unbroken) {
     EXPECT_TRUE(std::isfinite(r.gan) && r.gan > 0) << r.iteration;
     EXPECT_TRUE(std::isfinite(r.disc) && r.disc > 0) << r.iteration;
   }
-  TrainOptions ob = options(testing::FreshDir("pair_gan_b"), 40);
-  ASSERT_TRUE(TrainContrastive(ob).ok());
-  TrainOptions oc = options(ob.out, 80);
-  oc.resume = true;
-  oc.on_record = [&](const LossRecord& r) { c.push_back(r); };
-  ASSERT_TRUE(TrainContrastive(oc).ok());
-  ASSERT_EQ(c.size(), 4u);
-  EXPECT_NEAR(c.back().disc, a.back().disc, 1e-4 * std::fabs(a.back().disc));
-  EXPECT_NEAR(c.back().total, a.back().total, 1e-4 * std::fabs(a.back().total));
-  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(oa.out);
+  const LossRecord &a = runs.unbroken.back(), &c = runs.resumed.back();
+  EXPECT_NEAR(c.disc, a.disc, 1e-4 * std::fabs(a.disc));
+  EXPECT_NEAR(c.total, a.total, 1e-4 * std::fabs(a.total));
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(runs.unbroken_dir);
   ASSERT_TRUE(m.ok()) << m.status();
   EXPECT_TRUE((*m)->package().config.pair_gan);
 }

@@ -30,6 +30,7 @@ std::string CyclicConfig::Serialize() const {
   if (style_dim > 0) {
     num("style_dim", style_dim);
     num("blocks", blocks);
+    if (adain_skip) put("adain_skip", "1");
   }
   if (random_starts) put("random_starts", "1");
   if (keep_path) put("keep_path", "1");
@@ -100,6 +101,7 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "random_starts") return e.Bool(&c.random_starts);
     if (key == "keep_path") return e.Bool(&c.keep_path);
     if (key == "residual") return e.Bool(&c.residual);
+    if (key == "adain_skip") return e.Bool(&c.adain_skip);
     if (key == "use_kc") return e.Bool(&c.use_kc);
     if (key == "guided") return e.Bool(&c.guided);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
@@ -120,6 +122,9 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
   });
   if (!parsed.ok()) return parsed;
   if (c.dim <= 0) return absl::InvalidArgumentError(source + ": missing 'dim'");
+  if (c.adain_skip && c.style_dim == 0) {
+    return absl::InvalidArgumentError(source + ": 'adain_skip' needs a style network ('style_dim')");
+  }
   return c;
 }
 

@@ -31,6 +31,14 @@ struct CyclicConfig {
   // blocks (dilated convolutions, each modulated by the code) restyle them.
   int style_dim = 0;
   int blocks = 4;
+  // Style network only (docs/cyclic.md, "A normalized skip"): before the
+  // blocks, the content's hidden features take the style clip's own
+  // per-channel mean and spread over time (AdaIN of the autoencoder's
+  // features, exact for a clip's own style), so the content clip's channel
+  // statistics, which carry its style, do not reach the output along the
+  // blocks' skip path. The style code then holds those statistics after the
+  // style encoder's values.
+  bool adain_skip = false;
   // Loss weights. The generator: reconstruction of C and G(C, C) = C,
   // Gram style loss and content loss in hidden space, adversarial, cycle
   // ||F(G(C,S), C) - C||^2, and the kinematic constraints on generated joint
@@ -99,7 +107,9 @@ struct CyclicConfig {
   // root trajectory, foot contacts.
   int net_channels(int joints) const { return 3 * joints + 8; }
   // Values in a style code.
-  int code_size() const { return style_dim > 0 ? style_dim : 2 * hidden; }
+  int code_size() const {
+    return style_dim > 0 ? style_dim + (adain_skip ? 2 * hidden : 0) : 2 * hidden;
+  }
 
   std::string Serialize() const;
   // INVALID_ARGUMENT naming `source` and the line of a malformed or

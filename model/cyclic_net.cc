@@ -19,7 +19,7 @@ std::vector<int64_t> CyclicChannels(int joints) {
 }
 
 CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels)
-    : hidden(c.hidden), style_dim(c.style_dim), residual(c.residual) {
+    : hidden(c.hidden), style_dim(c.style_dim), residual(c.residual), adain_skip(c.adain_skip) {
   const int pad = c.kernel / 2;
   enc_drop = register_module("enc_drop", nn::Dropout(c.dropout));
   enc_conv = register_module(
@@ -86,20 +86,45 @@ torch::Tensor InstanceNormalize(const torch::Tensor& h) {
   return (h - mean) / sd;
 }
 
+// The variance floor of the normalized skip: small enough that a clip's own
+// statistics give back its features (to 1e-5), large enough that a channel
+// which barely moves over a clip is not blown up into noise.
+constexpr double kSkipVarianceFloor = 1e-3;
+
 }  // namespace
+
+torch::Tensor CyclicNetImpl::SkipStats(const torch::Tensor& h) {
+  const torch::Tensor mean = h.mean(2, /*keepdim=*/true);
+  const torch::Tensor var = (h - mean).pow(2).mean(2, /*keepdim=*/true);
+  return torch::cat({mean, (var + kSkipVarianceFloor).sqrt()}, 1);
+}
+
+torch::Tensor CyclicNetImpl::AdaInSkip(const torch::Tensor& content,
+                                       const torch::Tensor& skip_stats) {
+  const int64_t h = content.size(1);
+  const torch::Tensor own = SkipStats(content);
+  const torch::Tensor normalized = (content - own.slice(1, 0, h)) / own.slice(1, h, 2 * h);
+  return normalized * skip_stats.slice(1, h, 2 * h) + skip_stats.slice(1, 0, h);
+}
 
 torch::Tensor CyclicNetImpl::code(const torch::Tensor& x) {
   if (style_dim == 0) return stats(encode(x));
   const torch::Tensor h =
       torch::max_pool1d(torch::leaky_relu(sty_a(x), 0.2), 2);
-  return sty_out(torch::leaky_relu(sty_b(h), 0.2).mean(2, /*keepdim=*/true));
+  const torch::Tensor code = sty_out(torch::leaky_relu(sty_b(h), 0.2).mean(2, /*keepdim=*/true));
+  return adain_skip ? torch::cat({code, SkipStats(encode(x))}, 1) : code;
 }
 
 torch::Tensor CyclicNetImpl::transform(const torch::Tensor& content, const torch::Tensor& style) {
   if (style_dim > 0) {
     torch::Tensor h = content;
+    torch::Tensor code = style;
+    if (adain_skip) {
+      h = AdaInSkip(content, style.slice(1, style_dim, style.size(1)));
+      code = style.slice(1, 0, style_dim);
+    }
     for (size_t b = 0; b < block_mod->size(); ++b) {
-      const torch::Tensor p = block_mod[b]->as<nn::Conv1d>()->forward(style);
+      const torch::Tensor p = block_mod[b]->as<nn::Conv1d>()->forward(code);
       const torch::Tensor scale = p.slice(1, 0, hidden), bias = p.slice(1, hidden, 2 * hidden);
       const torch::Tensor m = torch::leaky_relu((1 + scale) * InstanceNormalize(h) + bias, 0.2);
       h = h + block_b[b]->as<nn::Conv1d>()->forward(

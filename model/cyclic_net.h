@@ -28,8 +28,15 @@ struct CyclicNetImpl : torch::nn::Module {
   torch::Tensor decode(const torch::Tensor& h);  // (B, H, T/2) -> (B, C, T).
   // (B, H, t) -> (B, 2H, 1): the style code (mean and std over time).
   static torch::Tensor stats(const torch::Tensor& h);
+  // With adain_skip: `content` (B, H, t) given, channel by channel, the mean
+  // and spread that `skip_stats` ((B, 2H, 1 or t), the tail of a style code)
+  // hold. The identity when they are the content's own (SkipStats).
+  static torch::Tensor AdaInSkip(const torch::Tensor& content, const torch::Tensor& skip_stats);
+  // (B, H, t) -> (B, 2H, 1): per-channel mean and spread, as AdaInSkip uses.
+  static torch::Tensor SkipStats(const torch::Tensor& h);
   // The style code of a clip (B, C, T) -> (B, code_size, 1): stats(encode(x))
-  // or, with a style network (CyclicConfig::style_dim), its style encoder's.
+  // or, with a style network (CyclicConfig::style_dim), its style encoder's
+  // (followed, with adain_skip, by SkipStats(encode(x))).
   torch::Tensor code(const torch::Tensor& x);
   // Content hidden features restyled by `style` ((B, code_size, 1), or
   // (B, code_size, t) for a code per hidden step).
@@ -52,7 +59,7 @@ struct CyclicNetImpl : torch::nn::Module {
   torch::nn::Conv1d sty_a{nullptr}, sty_b{nullptr}, sty_out{nullptr};
   torch::nn::ModuleList block_mod{nullptr}, block_a{nullptr}, block_b{nullptr};
   int hidden, style_dim;
-  bool residual;
+  bool residual, adain_skip;
 };
 TORCH_MODULE(CyclicNet);
 

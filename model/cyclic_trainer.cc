@@ -360,6 +360,9 @@ absl::Status TrainCyclic(const CyclicTrainOptions& options) {
   if (options.config.pair_gan && !options.config.guided) {
     return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
   }
+  if (options.config.adain_skip && options.config.style_dim == 0) {
+    return absl::InvalidArgumentError("the normalized skip (adain_skip) needs a style network");
+  }
   if ((options.config.content_balance > 0 || options.config.critics != 1) &&
       !options.config.guided) {
     return absl::InvalidArgumentError("content balance and several critics need --guided");

@@ -19,8 +19,8 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--keep-weight 0] [--random-starts] [--keep-path]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
-      "         [--style-dim 0 [--blocks 4]] [--pair-gan] [--content-class-weight 1] [--critics 1]\n"
-      "         [--content-balance 0]\n"
+      "         [--style-dim 0 [--blocks 4] [--adain-skip]] [--pair-gan]\n"
+      "         [--content-class-weight 1] [--critics 1] [--content-balance 0]\n"
       "         [--average-from K [--average-every 50]]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
       "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
@@ -53,7 +53,9 @@ int TrainCyclicModel(const Argv& argv) {
       "encoder mapping the style clip to D values and --blocks residual blocks\n"
       "modulated by them (default 0: the style code is the encoder features'\n"
       "mean and spread, as in v1). --init-from then copies what fits (e.g. a v1\n"
-      "autoencoder).\n"
+      "autoencoder). --adain-skip (with --style-dim) first gives the content's\n"
+      "hidden features the style clip's per-channel mean and spread (AdaIN), so\n"
+      "the content's own statistics do not pass the blocks' skip path.\n"
       "--average-from K: the package holds the mean of the network's weights\n"
       "sampled every --average-every iterations from iteration K on.\n";
   int code = 0;
@@ -66,7 +68,7 @@ int TrainCyclicModel(const Argv& argv) {
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
                 "style-dim", "blocks", "average-from", "average-every", "critics"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan",
-                "random-starts", "keep-path"}};
+                "random-starts", "keep-path", "adain-skip"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
@@ -142,6 +144,10 @@ int TrainCyclicModel(const Argv& argv) {
   c.use_cycle = !args->switches.count("no-cycle");
   c.use_kc = !args->switches.count("no-kc");
   c.residual = !args->switches.count("no-residual");
+  c.adain_skip = args->switches.count("adain-skip") > 0;
+  if (c.adain_skip && c.style_dim == 0) {
+    return Fail("train", absl::InvalidArgumentError("--adain-skip needs --style-dim"));
+  }
   opt.resume = args->switches.count("resume") > 0;
   opt.commit = args->Get("commit");
   opt.init_from = args->Get("init-from");

@@ -65,6 +65,8 @@ check "train --critics without --guided" 1 "--critics needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --critics 3
 check "train --critics 0" 1 "--critics must be a number in \\[1, 64\\]" -- \
   "$tool" train --guided --data "$work/old.bvh" --out "$work/unguided" --critics 0
+check "train cyclic --adain-skip without --style-dim" 1 "--adain-skip needs --style-dim" -- \
+  "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/plain" --adain-skip
 check "train cyclic --content-balance without --guided" 1 "--content-balance needs --guided" -- \
   "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/unguided" --content-balance 1
 check "train cyclic --critics without --guided" 1 "--critics needs --guided" -- \

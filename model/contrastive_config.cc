@@ -29,6 +29,7 @@ std::string ContrastiveConfig::Serialize() const {
   if (replicate_pad) put("replicate_pad", "1");
   if (full_rate_content) put("full_rate_content", "1");
   if (random_starts) put("random_starts", "1");
+  if (mirror) put("mirror", "1");
   if (centred_style) put("centred_style", "1");
   if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
   if (content_body) put("content_body", "1");
@@ -113,6 +114,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "replicate_pad") return e.Bool(&c.replicate_pad);
     if (key == "full_rate_content") return e.Bool(&c.full_rate_content);
     if (key == "random_starts") return e.Bool(&c.random_starts);
+    if (key == "mirror") return e.Bool(&c.mirror);
     if (std::optional<absl::Status> s = ParseTrainingKey(
             e,
             {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data, &c.commit}))

@@ -88,6 +88,9 @@ struct ContrastiveConfig {
   // hop grid, so every clip's last frames are trained on too
   // (TrainingSet::random_starts).
   bool random_starts = false;
+  // Training: left-right mirrored copies of the training clips join them,
+  // their content labels' sides swapped (model/training_set.h).
+  bool mirror = false;
   // Weight averaging (model/weight_average.h): from iteration
   // `average_from` on (0: off), every `average_every` iterations, the
   // generator's weights are folded into a running mean, which is what the

@@ -33,6 +33,7 @@ std::string CyclicConfig::Serialize() const {
     if (adain_skip) put("adain_skip", "1");
   }
   if (random_starts) put("random_starts", "1");
+  if (mirror) put("mirror", "1");
   if (keep_path) put("keep_path", "1");
   put("use_cycle", use_cycle ? "1" : "0");
   put("use_kc", use_kc ? "1" : "0");
@@ -99,6 +100,7 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     }
     if (key == "use_cycle") return e.Bool(&c.use_cycle);
     if (key == "random_starts") return e.Bool(&c.random_starts);
+    if (key == "mirror") return e.Bool(&c.mirror);
     if (key == "keep_path") return e.Bool(&c.keep_path);
     if (key == "residual") return e.Bool(&c.residual);
     if (key == "adain_skip") return e.Bool(&c.adain_skip);

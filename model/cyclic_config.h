@@ -77,6 +77,9 @@ struct CyclicConfig {
   // Training: windows start anywhere in their clip, not only on the hop grid
   // (TrainingSet::random_starts), so the clips' last frames are trained on.
   bool random_starts = false;
+  // Training: left-right mirrored copies of the training clips join them,
+  // their content labels' sides swapped (model/training_set.h).
+  bool mirror = false;
   // Inference: the output's root trajectory and foot contacts are the
   // content's (the style restyles the body along the content's path, as the
   // contrastive family's keep_path).

@@ -250,7 +250,7 @@ struct CyclicTrainer {
   absl::Status Run() {
     SetComputeThreads(opt.threads);
     absl::StatusOr<TrainingSet> loaded =
-        LoadTrainingData(opt.data, {config.window, config.hop}, opt.log);
+        LoadTrainingData(opt.data, {config.window, config.hop}, opt.log, config.mirror);
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
     data.random_starts = config.random_starts;

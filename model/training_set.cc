@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
@@ -10,6 +11,7 @@
 #include "model/training_run.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
+#include "motion/mirror.h"
 
 namespace stylus::model {
 namespace {
@@ -85,7 +87,8 @@ void TrainingSet::SampleFromClips(const std::vector<int>& clip_ids, int length,
 absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
                                             const motion::WindowSpec& spec,
                                             const std::function<void(int, int)>& progress,
-                                            bool test, const motion::NormStats* fixed_norm) {
+                                            bool test, const motion::NormStats* fixed_norm,
+                                            std::vector<motion::Motion>* motions) {
   std::vector<std::string> paths, dirs;
   for (const std::string& s : sources) {
     if (!test || !absl::EndsWith(s, ".bvh"))
@@ -127,6 +130,7 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
       return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", f.status().message()));
     set.clips.push_back(*std::move(f));
     set.paths.push_back(paths[i]);
+    if (motions != nullptr) motions->push_back(*std::move(m));
     if (progress) progress(static_cast<int>(i + 1), static_cast<int>(paths.size()));
   }
   for (const auto& c : set.clips) raw.push_back(&c);
@@ -156,15 +160,65 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
   return set;
 }
 
+namespace {
+
+// "DIR/mirrored/NAME" for the mirror of the clip at `path` (see
+// AddMirroredClips).
+std::string MirroredPath(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : path.substr(0, slash);
+  std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  if (std::optional<motion::ClipLabel> l = motion::ParseClipName(path)) {
+    name = absl::StrFormat("%s_%s_%s_%03d.bvh", l->dataset, motion::MirrorLabel(l->content),
+                           l->style, l->take);
+  }
+  return dir + "/mirrored/" + name;
+}
+
+}  // namespace
+
+absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
+                              const motion::WindowSpec& spec, TrainingSet* set) {
+  if (motions.size() != set->clips.size())
+    return absl::InternalError("AddMirroredClips: one motion per loaded clip is needed");
+  std::vector<const motion::Motion*> samples;
+  for (const motion::Motion& m : motions) samples.push_back(&m);
+  absl::StatusOr<motion::MirrorMap> map = motion::PlanMirror(set->skeleton, samples);
+  if (!map.ok()) return map.status();
+  const size_t real = set->clips.size();
+  for (size_t i = 0; i < real; ++i) {
+    absl::StatusOr<motion::FeatureClip> f =
+        motion::ExtractFeatures(motion::MirrorMotion(motions[i], *map), set->roles);
+    if (!f.ok()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(set->paths[i], " (mirrored): ", f.status().message()));
+    }
+    set->norm.Normalize(&*f);
+    absl::StatusOr<std::vector<int>> starts = motion::WindowStarts(f->frames, spec);
+    if (!starts.ok()) return starts.status();
+    for (int s : *starts) set->windows.push_back({static_cast<int>(set->clips.size()), s});
+    set->clips.push_back(*std::move(f));
+    set->paths.push_back(MirroredPath(set->paths[i]));
+  }
+  set->window_cdf.clear();
+  return absl::OkStatus();
+}
+
 absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
                                              const motion::WindowSpec& windows,
-                                             const std::function<void(const std::string&)>& log) {
+                                             const std::function<void(const std::string&)>& log,
+                                             bool mirror) {
   const auto t0 = std::chrono::steady_clock::now();
-  absl::StatusOr<TrainingSet> loaded = LoadTrainingSet(sources, windows);
+  std::vector<motion::Motion> motions;
+  absl::StatusOr<TrainingSet> loaded =
+      LoadTrainingSet(sources, windows, {}, false, nullptr, mirror ? &motions : nullptr);
   if (!loaded.ok()) return loaded.status();
+  if (mirror) {
+    if (absl::Status s = AddMirroredClips(motions, windows, &*loaded); !s.ok()) return s;
+  }
   LogLine(log, absl::StrFormat(
-                   "loaded %d clips, %d windows of %d frames, %d channels in %.1f s",
-                   loaded->clips.size(), loaded->windows.size(), windows.length, loaded->dim(),
+                   "loaded %d clips%s, %d windows of %d frames, %d channels in %.1f s",
+                   loaded->clips.size(), mirror ? " (half of them mirrored)" : "", loaded->windows.size(), windows.length, loaded->dim(),
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
   return loaded;
 }

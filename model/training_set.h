@@ -59,17 +59,31 @@ struct TrainingSet {
 // with statistics computed over the loaded clips. `progress` (may be empty) is
 // told how many clips are loaded. INVALID_ARGUMENT names a clip on another
 // skeleton or frame rate, or a clip that fails to parse.
+// `motions` (if not null) gets the loaded clips as read.
 absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
                                             const motion::WindowSpec& windows,
                                             const std::function<void(int, int)>& progress = {},
                                             bool test = false,
-                                            const motion::NormStats* norm = nullptr);
+                                            const motion::NormStats* norm = nullptr,
+                                            std::vector<motion::Motion>* motions = nullptr);
 
-// LoadTrainingSet of the training split for a trainer: logs "loaded N clips,
-// W windows of T frames, D channels in S s" through `log` (stderr when empty).
+// Left-right mirrored copies of the loaded clips (motion/mirror.h) after
+// the clips themselves, their normalization statistics those of the real
+// clips alone (so a package trained without mirroring can be fine-tuned
+// with it). A mirrored clip's path is "DIR/mirrored/NAME", where NAME is
+// its clip's file name with the content label's sides swapped
+// ("raise-up-left-hand" -> "raise-up-right-hand"): it names no file, only
+// the labels. INVALID_ARGUMENT when the skeleton cannot be mirrored.
+absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
+                              const motion::WindowSpec& windows, TrainingSet* set);
+
+// LoadTrainingSet of the training split for a trainer (with `mirror`, plus
+// AddMirroredClips): logs "loaded N clips, W windows of T frames, D channels
+// in S s" through `log` (stderr when empty).
 absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
                                              const motion::WindowSpec& windows,
-                                             const std::function<void(const std::string&)>& log);
+                                             const std::function<void(const std::string&)>& log,
+                                             bool mirror = false);
 
 }  // namespace stylus::model
 

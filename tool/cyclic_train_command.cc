@@ -16,7 +16,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--no-cycle] [--no-kc] [--no-residual] [--kc-iters 100]\n"
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
-      "         [--keep-weight 0] [--random-starts] [--keep-path]\n"
+      "         [--keep-weight 0] [--random-starts] [--mirror] [--keep-path]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
       "         [--style-dim 0 [--blocks 4] [--adain-skip]] [--pair-gan]\n"
@@ -47,6 +47,8 @@ int TrainCyclicModel(const Argv& argv) {
       "content over the legs' joint positions, root trajectory and contacts.\n"
       "--random-starts starts each training window anywhere in its clip instead\n"
       "of on the hop grid, so the clips' last frames are trained on too.\n"
+      "--mirror adds a left-right mirrored copy of every training clip (content\n"
+      "labels' sides swapped: a raise of the left hand becomes one of the right).\n"
       "--keep-path makes the package's transfers keep the content's root\n"
       "trajectory and foot contacts (keep_path in config.txt).\n"
       "--style-dim D gives the generator a style network of its own: a style\n"
@@ -68,7 +70,7 @@ int TrainCyclicModel(const Argv& argv) {
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
                 "style-dim", "blocks", "average-from", "average-every", "critics"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan",
-                "random-starts", "keep-path", "adain-skip"}};
+                "random-starts", "mirror", "keep-path", "adain-skip"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
@@ -137,6 +139,7 @@ int TrainCyclicModel(const Argv& argv) {
   }
   c.pair_gan = args->switches.count("pair-gan") > 0;
   c.random_starts = args->switches.count("random-starts") > 0;
+  c.mirror = args->switches.count("mirror") > 0;
   c.keep_path = args->switches.count("keep-path") > 0;
   if (c.pair_gan && !c.guided) {
     return Fail("train", absl::InvalidArgumentError("--pair-gan needs --guided"));

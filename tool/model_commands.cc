@@ -27,7 +27,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
       "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--random-starts]\n"
-      "         [--residual] [--full-rate-content] [--channels 144]\n"
+      "         [--mirror] [--residual] [--full-rate-content] [--channels 144]\n"
       "         [--content-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]\n"
@@ -52,6 +52,8 @@ int Train(const Argv& argv) {
       "(smooth_sigma in config.txt; the shipped default model uses 3; 0: off).\n"
       "--random-starts starts each content window anywhere in its clip instead\n"
       "of on the hop grid, so the clips' last frames are trained on too.\n"
+      "--mirror adds a left-right mirrored copy of every training clip (content\n"
+      "labels' sides swapped: a raise of the left hand becomes one of the right).\n"
       "--content-weight W adds W x the L1 distance between the transfer and its\n"
       "content input over the root trajectory, foot contacts and legs (default 0:\n"
       "off); with --content-body over the whole body.\n"
@@ -96,7 +98,7 @@ int Train(const Argv& argv) {
                     "average-every", "critics", "channels"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
-                    "replicate-pad", "random-starts", "residual", "full-rate-content"}},
+                    "replicate-pad", "random-starts", "mirror", "residual", "full-rate-content"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -136,6 +138,7 @@ int Train(const Argv& argv) {
   c.centred_style = args->switches.count("centred-style") > 0;
   c.replicate_pad = args->switches.count("replicate-pad") > 0;
   c.random_starts = args->switches.count("random-starts") > 0;
+  c.mirror = args->switches.count("mirror") > 0;
   c.residual = args->switches.count("residual") > 0;
   c.full_rate_content = args->switches.count("full-rate-content") > 0;
   absl::StatusOr<double> content_weight = args->GetDouble("content-weight", 0);

@@ -14,7 +14,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   c.content_weight = 0.5, c.guided = true, c.class_weight = 2, c.cycle_weight = 3;
   c.content_class_weight = 2.5, c.content_body = true, c.content_balance = 0.5;
   c.pair_gan = true, c.keep_path = true, c.smooth_sigma = 1.5, c.style_strength = 0.7;
-  c.residual = true, c.replicate_pad = true, c.random_starts = true;
+  c.residual = true, c.replicate_pad = true, c.random_starts = true, c.mirror = true;
   c.full_rate_content = true, c.critics = 3;
   c.batch = 8, c.lr = 3e-4, c.iterations = 123, c.seed = 99, c.trained_iterations = 77;
   c.data = "../shared/data/bandai", c.commit = "abc123";
@@ -32,6 +32,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_TRUE(back->replicate_pad);
   EXPECT_TRUE(back->full_rate_content);
   EXPECT_TRUE(back->random_starts);
+  EXPECT_TRUE(back->mirror);
   EXPECT_DOUBLE_EQ(back->content_class_weight, 2.5);
   EXPECT_EQ(back->critics, 3);
   EXPECT_DOUBLE_EQ(back->content_balance, 0.5);

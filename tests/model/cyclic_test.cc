@@ -644,7 +644,7 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true, c.content_class_weight = 3;
   c.keep_weight = 2, c.average_from = 100, c.average_every = 25;
   c.random_starts = true, c.keep_path = true, c.critics = 2, c.content_balance = 0.5;
-  c.adain_skip = true;
+  c.adain_skip = true, c.mirror = true;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());
@@ -653,6 +653,7 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   EXPECT_EQ(back->critics, 2);
   EXPECT_DOUBLE_EQ(back->content_balance, 0.5);
   EXPECT_TRUE(back->adain_skip);
+  EXPECT_TRUE(back->mirror);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\ncritics = 0\n", "cfg.txt").status().code(),
             absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\nkernel = 4\n", "cfg.txt").status().message(),

@@ -59,6 +59,9 @@ check "train --channels" 0 "model written to $work/narrow" -- "$tool" train --da
 check "train --channels in the package" 0 "^channels = 24$" -- cat "$work/narrow/config.txt"
 check "the narrow package transfers" 0 "wrote .*narrow_out.bvh" -- "$tool" transfer --model "$work/narrow" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/narrow_out.bvh" --threads 1
+check "train --mirror" 0 "half of them mirrored" -- "$tool" train --data "$work/old.bvh" \
+  --data "$work/proud.bvh" --out "$work/mirrored" --iters 2 --batch 2 --threads 1 --channels 24 --mirror
+check "train --mirror in the package" 0 "^mirror = 1$" -- cat "$work/mirrored/config.txt"
 check "train --channels 0" 1 "--channels must be a number in \\[1, 4096\\]" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --channels 0
 check "train --critics without --guided" 1 "--critics needs --guided" -- \

@@ -360,6 +360,27 @@ TEST(CyclicNetTest, StyleNetworkShapesAndStartsNearTheIdentity) {
   EXPECT_EQ(net->transform(h, net->code(style).expand({1, 8, h.size(2)})).sizes(), h.sizes());
 }
 
+// Trains the autoencoder stage alone on the labelled clips (into
+// Dir(name + "_ae"); its loss rows into `ae_rows` when given) and returns the
+// options of a guided style-network run (8 values, 2 blocks) of
+// `iterations` that starts from it, into Dir(name).
+CyclicTrainOptions StyleNetworkAfterAutoencoder(const std::string& name, int iterations,
+                                                std::vector<LossRow>* ae_rows = nullptr) {
+  CyclicTrainOptions ae = TinyOptions(Dir(name + "_ae"));
+  ae.data = testing::LabelledClips();
+  ae.config.iterations = ae.config.ae_iterations;  // The autoencoder stage only.
+  if (ae_rows != nullptr) ae.on_record = [ae_rows](const LossRow& r) { ae_rows->push_back(r); };
+  const absl::Status trained = TrainCyclic(ae);
+  EXPECT_TRUE(trained.ok()) << trained;
+  CyclicTrainOptions o = TinyOptions(Dir(name));
+  o.data = testing::LabelledClips();
+  o.config.guided = true;
+  o.config.style_dim = 8, o.config.blocks = 2;
+  o.config.ae_iterations = 0, o.config.iterations = iterations;
+  o.init_from = ae.out;
+  return o;
+}
+
 // --adain-skip: the content's own channel statistics never reach the
 // restyled features; the style clip's take their place.
 TEST(CyclicNetTest, AdaInSkipGivesTheContentTheStyleClipsChannelStatistics) {
@@ -414,19 +435,10 @@ TEST(CyclicNetTest, AdaInSkipGivesTheContentTheStyleClipsChannelStatistics) {
 // transfers (its style codes hold the statistics too); without a style
 // network the option is refused.
 TEST(CyclicModelTest, AdaInSkipPackageTrainsLoadsAndTransfers) {
-  CyclicTrainOptions ae = TinyOptions(Dir("adain_skip_ae"));
-  ae.data = testing::LabelledClips();
-  ae.config.iterations = ae.config.ae_iterations;
   std::vector<LossRow> ae_rows;
-  ae.on_record = [&](const LossRow& r) { ae_rows.push_back(r); };
-  ASSERT_TRUE(TrainCyclic(ae).ok());
+  CyclicTrainOptions o = StyleNetworkAfterAutoencoder("adain_skip", 60, &ae_rows);
   ASSERT_FALSE(ae_rows.empty());
-  CyclicTrainOptions o = TinyOptions(Dir("adain_skip"));
-  o.data = testing::LabelledClips();
-  o.config.guided = true;
-  o.config.style_dim = 8, o.config.blocks = 2, o.config.adain_skip = true;
-  o.config.ae_iterations = 0, o.config.iterations = 60;
-  o.init_from = ae.out;
+  o.config.adain_skip = true;
   std::vector<LossRow> rows;
   o.on_record = [&](const LossRow& r) { rows.push_back(r); };
   ASSERT_TRUE(TrainCyclic(o).ok());
@@ -465,17 +477,9 @@ TEST(CyclicModelTest, AdaInSkipPackageTrainsLoadsAndTransfers) {
 }
 
 TEST(CyclicModelTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabelCritic) {
-  CyclicTrainOptions ae = TinyOptions(Dir("style_net_ae"));
-  ae.data = testing::LabelledClips();
-  ae.config.iterations = ae.config.ae_iterations;  // The autoencoder stage only.
-  ASSERT_TRUE(TrainCyclic(ae).ok());
-
-  CyclicTrainOptions o = TinyOptions(Dir("style_net"));
-  o.data = testing::LabelledClips();
-  o.config.guided = true;
-  o.config.style_dim = 8, o.config.blocks = 2, o.config.pair_gan = true;
-  o.config.ae_iterations = 0, o.config.iterations = 150;
-  o.init_from = ae.out;
+  CyclicTrainOptions o = StyleNetworkAfterAutoencoder("style_net", 150);
+  o.config.pair_gan = true;
+  const std::string ae_out = o.init_from;
   std::vector<std::string> log;
   o.log = [&](const std::string& line) { log.push_back(line); };
   std::vector<LossRow> rows;
@@ -484,7 +488,7 @@ TEST(CyclicModelTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabelCr
   // The encoder and decoder come from the autoencoder; the style network is new.
   bool partial = false;
   for (const std::string& line : log)
-    partial = partial || (line.find("initialized 4 of ") == 0 && line.find(ae.out) != std::string::npos);
+    partial = partial || (line.find("initialized 4 of ") == 0 && line.find(ae_out) != std::string::npos);
   EXPECT_TRUE(partial);
   const auto& names = CyclicLossNames();
   const size_t cls = std::find(names.begin(), names.end(), "cls") - names.begin();

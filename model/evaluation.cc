@@ -219,6 +219,61 @@ std::string EvalReport::VerdictsCsv(const std::vector<EvalPair>& pairs) const {
   return s;
 }
 
+std::string EvalReport::ByDatasetMarkdown(const std::vector<EvalPair>& pairs) const {
+  std::vector<std::optional<motion::ClipLabel>> style(pairs.size()), content(pairs.size());
+  std::vector<std::string> datasets;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    content[i] = motion::ParseClipName(pairs[i].content_path);
+    style[i] = motion::ParseClipName(pairs[i].style_path);
+    if (content[i] && style[i]) datasets.push_back(content[i]->dataset);
+  }
+  std::sort(datasets.begin(), datasets.end());
+  datasets.erase(std::unique(datasets.begin(), datasets.end()), datasets.end());
+  // Groups: each content dataset, then one dataset and two.
+  std::vector<std::string> groups;
+  for (const std::string& d : datasets) groups.push_back("content from " + d);
+  const int one = static_cast<int>(groups.size()), two = one + 1;
+  groups.push_back("both clips from one dataset");
+  groups.push_back("from two datasets");
+  std::vector<std::vector<int>> group_of(pairs.size());
+  std::vector<int> pairs_in(groups.size(), 0);
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    if (!content[i] || !style[i]) continue;
+    const auto d = std::find(datasets.begin(), datasets.end(), content[i]->dataset);
+    group_of[i] = {static_cast<int>(d - datasets.begin()),
+                   content[i]->dataset == style[i]->dataset ? one : two};
+    for (int g : group_of[i]) ++pairs_in[g];
+  }
+  // [row][group]: pairs whose judged style / content is right.
+  std::vector<std::vector<int>> style_right(rows.size(), std::vector<int>(groups.size(), 0));
+  std::vector<std::vector<int>> content_right = style_right;
+  for (const EvalVerdict& v : verdicts) {
+    for (int g : group_of[v.pair]) {
+      style_right[v.row][g] += v.style == style[v.pair]->style;
+      content_right[v.row][g] += v.content == content[v.pair]->content;
+    }
+  }
+  std::string s = "| output |";
+  for (size_t g = 0; g < groups.size(); ++g)
+    absl::StrAppendFormat(&s, " %s (%d pairs) |", groups[g], pairs_in[g]);
+  s += "\n| --- |";
+  for (size_t g = 0; g < groups.size(); ++g) s += " --- |";
+  s += "\n";
+  for (size_t r = 0; r < rows.size(); ++r) {
+    absl::StrAppend(&s, "| ", rows[r].name, " |");
+    for (size_t g = 0; g < groups.size(); ++g) {
+      if (pairs_in[g] == 0) {
+        s += " - |";
+        continue;
+      }
+      absl::StrAppendFormat(&s, " %.3f / %.3f |", double(style_right[r][g]) / pairs_in[g],
+                            double(content_right[r][g]) / pairs_in[g]);
+    }
+    s += "\n";
+  }
+  return s;
+}
+
 std::string EvalReport::Markdown() const {
   std::string s =
       "| output | pairs | style accuracy | content accuracy | FMD | KID | diversity | content "

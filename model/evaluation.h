@@ -87,6 +87,12 @@ struct EvalReport {
   // One line per pair and row: content_bvh, style_bvh, output, wanted and
   // judged style and content (where a transfer goes wrong, and into what).
   std::string VerdictsCsv(const std::vector<EvalPair>& pairs) const;
+  // Every row's style / content accuracy over the pairs whose content clip
+  // comes from each dataset (the "dataset-N" of its name), then over the
+  // pairs whose two clips come from one dataset and from two (Markdown).
+  // Bandai's two datasets share few labels, so where a model loses content
+  // depends on which (docs/contrastive.md, session 12).
+  std::string ByDatasetMarkdown(const std::vector<EvalPair>& pairs) const;
 };
 
 // Runs every model over every pair. With `features` (may be null), FMD and KID

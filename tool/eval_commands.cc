@@ -165,8 +165,10 @@ int Eval(const Argv& argv) {
   const std::string second_name =
       second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
   const std::string text = absl::StrFormat(
-      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d.\n\n%s", args->Get("model"),
-      args->Get("judges"), second_name, pairs->size(), report->Markdown());
+      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d.\n\n%s\nStyle / content "
+      "accuracy by dataset (the labels in the clips' names):\n\n%s",
+      args->Get("model"), args->Get("judges"), second_name, pairs->size(), report->Markdown(),
+      report->ByDatasetMarkdown(*pairs));
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
   if (args->Has("verdicts")) {

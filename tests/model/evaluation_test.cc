@@ -250,5 +250,34 @@ TEST(EvaluationTest, BandaiPairsDifferInContentAndStyleAndAreDeterministic) {
   EXPECT_EQ(sa, sb);
 }
 
+// The by-dataset table counts each verdict in its content clip's dataset and
+// in "one dataset" or "two datasets".
+TEST(EvaluationTest, AccuracyByDatasetSplitsThePairs) {
+  const std::vector<EvalPair> pairs = {
+      {"d/dataset-1_bow_old_001.bvh", "d/dataset-1_run_proud_001.bvh"},
+      {"d/dataset-1_bow_old_001.bvh", "d/dataset-2_walk_elderly_001.bvh"},
+      {"d/dataset-2_walk_active_001.bvh", "d/dataset-2_run_elderly_002.bvh"},
+      {"d/dataset-2_run_normal_003.bvh", "d/dataset-1_bow_proud_002.bvh"}};
+  EvalReport report;
+  report.rows.resize(2);
+  report.rows[0].name = "model", report.rows[1].name = "identity";
+  // The model: style right on pairs 0, 1 and 3; content right on 1 and 2.
+  const std::vector<std::pair<std::string, std::string>> model = {
+      {"proud", "guide"}, {"elderly", "bow"}, {"normal", "walk"}, {"proud", "walk"}};
+  for (int p = 0; p < 4; ++p) {
+    report.verdicts.push_back({p, 0, model[p].first, model[p].second});
+    const auto content = motion::ParseClipName(pairs[p].content_path);
+    report.verdicts.push_back({p, 1, content->style, content->content});
+  }
+  const std::string table = report.ByDatasetMarkdown(pairs);
+  EXPECT_EQ(table,
+            "| output | content from dataset-1 (2 pairs) | content from dataset-2 (2 pairs) | both "
+            "clips from one dataset (2 pairs) | from two datasets (2 pairs) |\n"
+            "| --- | --- | --- | --- | --- |\n"
+            "| model | 1.000 / 0.500 | 0.500 / 0.500 | 0.500 / 0.500 | 1.000 / 0.500 |\n"
+            "| identity | 0.000 / 1.000 | 0.000 / 1.000 | 0.000 / 1.000 | 0.000 / 1.000 |\n")
+      << table;
+}
+
 }  // namespace
 }  // namespace stylus::model

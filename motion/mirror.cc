@@ -7,6 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
+#include "motion/kinematics.h"
 
 namespace stylus::motion {
 namespace {
@@ -189,6 +190,15 @@ Motion MirrorMotion(const Motion& motion, const MirrorMap& map) {
     SetPose(&out, f, mirrored, &previous_euler);
   }
   return out;
+}
+
+double MaxMirrorError(const Motion& original, const Motion& mirrored, const MirrorMap& map) {
+  const auto before = GlobalPositions(original), after = GlobalPositions(mirrored);
+  double worst = 0;
+  for (size_t f = 0; f < before.size() && f < after.size(); ++f)
+    for (size_t j = 0; j < before[f].size(); ++j)
+      worst = std::max(worst, Norm(Scale(kWorldFlip, before[f][j]) - after[f][map.counterpart[j]]));
+  return worst;
 }
 
 std::string MirrorLabel(const std::string& label) {

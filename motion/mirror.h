@@ -43,6 +43,11 @@ absl::StatusOr<MirrorMap> PlanMirror(const Skeleton& skeleton,
 // skeleton, frames and channel layout.
 Motion MirrorMotion(const Motion& motion, const MirrorMap& map);
 
+// The largest distance, over frames and joints, between a joint of
+// `mirrored` and the mirror image (x -> -x) of its counterpart in `original`
+// (world positions, the file's units): how exactly `mirrored` is the mirror.
+double MaxMirrorError(const Motion& original, const Motion& mirrored, const MirrorMap& map);
+
 // A content label with its sides swapped: "raise-up-left-hand" ->
 // "raise-up-right-hand", "walk-turn-right" -> "walk-turn-left"; labels
 // without a side are returned as they are.

@@ -1,4 +1,4 @@
-// bvh-info, bvh-roundtrip and features.
+// bvh-info, bvh-roundtrip, bvh-mirror and features.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +9,7 @@
 #include "motion/features.h"
 #include "motion/humanoid.h"
 #include "motion/kinematics.h"
+#include "motion/mirror.h"
 #include "tool/cli_support.h"
 
 namespace stylus::tool {
@@ -78,6 +79,40 @@ int BvhRoundtrip(const Argv& argv) {
   }
   absl::PrintF("frames=%d joints=%d\n", in->num_frames, in->skeleton.num_joints());
   absl::PrintF("max_fk_error=%g\n", motion::MaxPositionDifference(*in, *back));
+  return 0;
+}
+
+int BvhMirror(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool bvh-mirror IN OUT\n\n"
+      "Writes IN mirrored left to right on its own skeleton (docs/motion.md,\n"
+      "\"Mirroring\"): the world reflected across x = 0, each joint moving as its\n"
+      "counterpart (Hand_L <-> Hand_R) did, so a raise of the left hand becomes a\n"
+      "raise of the right. Prints the largest distance between a mirrored joint\n"
+      "and the mirror image of its counterpart (max_mirror_error=..., in the\n"
+      "file's units). Exits 1 when a file cannot be read or written, or when the\n"
+      "skeleton has no left-right symmetry (the message names the joint).\n";
+  int code = 0;
+  auto args = ParseOrExit("bvh-mirror", argv, {}, kHelp, &code);
+  if (!args) return code;
+  if (args->positional.size() != 2) {
+    std::fprintf(stderr, "stylus-tool bvh-mirror: expected IN and OUT\n\n%s", kHelp);
+    return 2;
+  }
+  absl::StatusOr<Motion> in = motion::ReadBvhFile(args->positional[0]);
+  if (!in.ok()) return Fail("bvh-mirror", in.status());
+  absl::StatusOr<motion::MirrorMap> map = motion::PlanMirror(in->skeleton, {&*in});
+  if (!map.ok()) {
+    return Fail("bvh-mirror", absl::Status(map.status().code(),
+                                           absl::StrCat(args->positional[0], ": ",
+                                                        map.status().message())));
+  }
+  const Motion out = motion::MirrorMotion(*in, *map);
+  if (absl::Status s = motion::WriteBvhFile(out, args->positional[1]); !s.ok()) {
+    return Fail("bvh-mirror", s);
+  }
+  absl::PrintF("frames=%d joints=%d\n", in->num_frames, in->skeleton.num_joints());
+  absl::PrintF("max_mirror_error=%g\n", motion::MaxMirrorError(*in, out, *map));
   return 0;
 }
 

@@ -18,6 +18,7 @@ const Command kCommands[] = {
     {"bvh-info", stylus::tool::BvhInfo, "joints, frames, fps and channel layout of a BVH file"},
     {"bvh-roundtrip", stylus::tool::BvhRoundtrip,
      "read, write and re-read a BVH; report the FK error"},
+    {"bvh-mirror", stylus::tool::BvhMirror, "mirror a clip left to right on its own skeleton"},
     {"features", stylus::tool::Features,
      "feature summary of a clip (and its features->motion error)"},
     {"dataset-stats", stylus::tool::DatasetStats, "clips, frames and counts per content and style"},

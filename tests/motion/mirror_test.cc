@@ -49,19 +49,13 @@ TEST(MirrorTest, RealWalkLandsOnItsMirrorImageAndBack) {
   const Motion mirrored = MirrorMotion(walk, *map);
   ASSERT_EQ(mirrored.num_frames, walk.num_frames);
   ASSERT_EQ(mirrored.values.size(), walk.values.size());
-  const auto before = GlobalPositions(walk), after = GlobalPositions(mirrored);
-  double worst = 0;
-  for (int f = 0; f < walk.num_frames; ++f)
-    for (int j = 0; j < sk.num_joints(); ++j) {
-      const Vec3 p = before[f][j], q = after[f][map->counterpart[j]];
-      worst = std::max(worst, Norm(Vec3{-p.x, p.y, p.z} - q));
-    }
+  const double worst = MaxMirrorError(walk, mirrored, *map);
   // The rig is symmetric to within a fraction of a unit (cm); a wrong
   // reflection anywhere puts a limb tens of units off.
   EXPECT_LT(worst, 0.5) << worst;
 
   const Motion back = MirrorMotion(mirrored, *map);
-  const auto again = GlobalPositions(back);
+  const auto before = GlobalPositions(walk), again = GlobalPositions(back);
   double round_trip = 0;
   for (int f = 0; f < walk.num_frames; ++f)
     for (int j = 0; j < sk.num_joints(); ++j)

@@ -11,7 +11,7 @@ bad=$src/tests/fixtures/bvh/bad
 check "help" 0 "bvh-roundtrip" -- "$tool" --help
 check "no command" 2 "usage" -- "$tool"
 check "unknown command" 2 "unknown command 'frobnicate'" -- "$tool" frobnicate
-for cmd in bvh-info bvh-roundtrip features dataset-stats synth render; do
+for cmd in bvh-info bvh-roundtrip bvh-mirror features dataset-stats synth render; do
   check "$cmd --help" 0 "usage: stylus-tool $cmd" -- "$tool" "$cmd" --help
 done
 check "unknown option" 2 "unknown option --bogus" -- "$tool" bvh-info --bogus "$good"
@@ -59,6 +59,17 @@ check "train --channels" 0 "model written to $work/narrow" -- "$tool" train --da
 check "train --channels in the package" 0 "^channels = 24$" -- cat "$work/narrow/config.txt"
 check "the narrow package transfers" 0 "wrote .*narrow_out.bvh" -- "$tool" transfer --model "$work/narrow" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/narrow_out.bvh" --threads 1
+check "bvh-mirror" 0 "max_mirror_error=(0|[0-9.]+e-(0[5-9]|1[0-9]))$" -- \
+  "$tool" bvh-mirror "$work/old.bvh" "$work/old_mirrored.bvh"
+check "bvh-mirror output reads back" 0 "frames: 45" -- "$tool" bvh-info "$work/old_mirrored.bvh"
+printf '%s\n' HIERARCHY "ROOT Hips" "{" "  OFFSET 0 0 0" \
+  "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation" "  JOINT Arm_L" "  {" \
+  "    OFFSET 10 0 0" "    CHANNELS 3 Zrotation Xrotation Yrotation" "    End Site" "    {" \
+  "      OFFSET 10 0 0" "    }" "  }" "}" MOTION "Frames: 1" "Frame Time: 0.033333" \
+  "0 0 0 0 0 0 0 0 0" > "$work/lopsided.bvh"
+check "bvh-mirror of a lopsided rig" 1 "lopsided.bvh: cannot mirror the skeleton: joint 'Arm_L' has no counterpart 'Arm_R'" -- \
+  "$tool" bvh-mirror "$work/lopsided.bvh" "$work/x.bvh"
+check "bvh-mirror without OUT" 2 "expected IN and OUT" -- "$tool" bvh-mirror "$work/old.bvh"
 check "train --mirror" 0 "half of them mirrored" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/mirrored" --iters 2 --batch 2 --threads 1 --channels 24 --mirror
 check "train --mirror in the package" 0 "^mirror = 1$" -- cat "$work/mirrored/config.txt"

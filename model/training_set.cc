@@ -175,12 +175,10 @@ std::string MirroredPath(const std::string& path) {
   return dir + "/mirrored/" + name;
 }
 
-}  // namespace
-
+// Appends the mirrors of `motions` (the set's clips as read, one each) to
+// `set` (see LoadTrainingData).
 absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
                               const motion::WindowSpec& spec, TrainingSet* set) {
-  if (motions.size() != set->clips.size())
-    return absl::InternalError("AddMirroredClips: one motion per loaded clip is needed");
   std::vector<const motion::Motion*> samples;
   for (const motion::Motion& m : motions) samples.push_back(&m);
   absl::StatusOr<motion::MirrorMap> map = motion::PlanMirror(set->skeleton, samples);
@@ -200,9 +198,10 @@ absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
     set->clips.push_back(*std::move(f));
     set->paths.push_back(MirroredPath(set->paths[i]));
   }
-  set->window_cdf.clear();
   return absl::OkStatus();
 }
+
+}  // namespace
 
 absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
                                              const motion::WindowSpec& windows,
@@ -218,7 +217,8 @@ absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sou
   }
   LogLine(log, absl::StrFormat(
                    "loaded %d clips%s, %d windows of %d frames, %d channels in %.1f s",
-                   loaded->clips.size(), mirror ? " (half of them mirrored)" : "", loaded->windows.size(), windows.length, loaded->dim(),
+                   loaded->clips.size(), mirror ? " (half of them mirrored)" : "",
+                   loaded->windows.size(), windows.length, loaded->dim(),
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
   return loaded;
 }

@@ -67,19 +67,15 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
                                             const motion::NormStats* norm = nullptr,
                                             std::vector<motion::Motion>* motions = nullptr);
 
-// Left-right mirrored copies of the loaded clips (motion/mirror.h) after
-// the clips themselves, their normalization statistics those of the real
-// clips alone (so a package trained without mirroring can be fine-tuned
-// with it). A mirrored clip's path is "DIR/mirrored/NAME", where NAME is
-// its clip's file name with the content label's sides swapped
-// ("raise-up-left-hand" -> "raise-up-right-hand"): it names no file, only
-// the labels. INVALID_ARGUMENT when the skeleton cannot be mirrored.
-absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
-                              const motion::WindowSpec& windows, TrainingSet* set);
-
-// LoadTrainingSet of the training split for a trainer (with `mirror`, plus
-// AddMirroredClips): logs "loaded N clips, W windows of T frames, D channels
-// in S s" through `log` (stderr when empty).
+// LoadTrainingSet of the training split for a trainer: logs "loaded N clips,
+// W windows of T frames, D channels in S s" through `log` (stderr when
+// empty). With `mirror`, left-right mirrored copies of the clips
+// (motion/mirror.h) follow them, normalized with the real clips' statistics
+// (so a package trained without mirroring can be fine-tuned with it). A
+// mirrored clip's path is "DIR/mirrored/NAME", where NAME is its clip's file
+// name with the content label's sides swapped ("raise-up-left-hand" ->
+// "raise-up-right-hand"): it names no file, only the labels.
+// INVALID_ARGUMENT when the skeleton cannot be mirrored.
 absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
                                              const motion::WindowSpec& windows,
                                              const std::function<void(const std::string&)>& log,

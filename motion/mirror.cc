@@ -61,23 +61,30 @@ std::optional<std::string> SwapSide(const std::string& name) {
   return std::nullopt;
 }
 
-// Local rotations of every 4th frame of the samples: [frame][joint].
-using RotationSamples = std::vector<std::vector<Quat>>;
-
-RotationSamples SampleRotations(const std::vector<const Motion*>& samples) {
-  RotationSamples out;
+// Local poses of every 4th frame of the samples.
+std::vector<LocalPose> SamplePoses(const std::vector<const Motion*>& samples) {
+  std::vector<LocalPose> out;
   for (const Motion* m : samples)
-    for (int f = 0; f < m->num_frames; f += 4) out.push_back(PoseAt(*m, f).rotations);
+    for (int f = 0; f < m->num_frames; f += 4) out.push_back(PoseAt(*m, f));
   return out;
 }
 
+// Whether joint `j`'s translation moves off its offset (by more than `tol`)
+// in any sampled pose: then the offset says nothing about the bone (a root's
+// child placed in the world, say) and does not constrain the mirror.
+bool Animated(const std::vector<LocalPose>& poses, const Skeleton& skeleton, int j, double tol) {
+  for (const LocalPose& p : poses)
+    if (Norm(p.translations[j] - skeleton.joint(j).offset) > tol) return true;
+  return false;
+}
+
 // The sign-aligned mean of `map` of joint `j`'s rotations, normalized.
-Quat MeanRotation(const RotationSamples& samples, int j,
+Quat MeanRotation(const std::vector<LocalPose>& poses, int j,
                   const std::function<Quat(const Quat&)>& map) {
   Quat sum{0, 0, 0, 0};
   std::optional<Quat> first;
-  for (const std::vector<Quat>& frame : samples) {
-    Quat q = map(frame[j]);
+  for (const LocalPose& pose : poses) {
+    Quat q = map(pose.rotations[j]);
     if (!first) first = q;
     if (Dot(q, *first) < 0) q = {-q.w, -q.x, -q.y, -q.z};
     sum = {sum.w + q.w, sum.x + q.x, sum.y + q.y, sum.z + q.z};
@@ -114,7 +121,7 @@ absl::StatusOr<MirrorMap> PlanMirror(const Skeleton& skeleton,
       return absl::InvalidArgumentError("cannot mirror: a sample motion is on another skeleton");
   }
 
-  const RotationSamples rotations = SampleRotations(samples);
+  const std::vector<LocalPose> poses = SamplePoses(samples);
   map.flip.assign(n, Vec3{0, 0, 0});
   for (int j = 0; j < n; ++j) {
     if (map.flip[j].x != 0) continue;  // Planned with its counterpart.
@@ -130,10 +137,16 @@ absl::StatusOr<MirrorMap> PlanMirror(const Skeleton& skeleton,
                                                      "' do not sit alike in the hierarchy"));
     }
     const Vec3 parent_flip = p < 0 ? kWorldFlip : map.flip[p];
-    // B(j) must carry each of k's child offsets onto j's matching child's.
+    // B(j) must carry each of k's child offsets onto j's matching child's
+    // (children placed by their position channels aside).
     std::vector<std::pair<Vec3, Vec3>> pairs;  // (own offset, counterpart's offset)
     for (int c : skeleton.children(j)) {
-      pairs.push_back({skeleton.joint(c).offset, skeleton.joint(map.counterpart[c]).offset});
+      const int twin_child = map.counterpart[c];
+      const Vec3& own = skeleton.joint(c).offset;
+      const Vec3& theirs = skeleton.joint(twin_child).offset;
+      const double tol = kOffsetTolerance * std::max(Norm(own), Norm(theirs)) + 1e-6 * scale;
+      if (Animated(poses, skeleton, c, tol) || Animated(poses, skeleton, twin_child, tol)) continue;
+      pairs.push_back({own, theirs});
     }
     for (size_t e = 0; e < joint.end_sites.size(); ++e)
       pairs.push_back({joint.end_sites[e], twin.end_sites[e]});
@@ -151,20 +164,24 @@ absl::StatusOr<MirrorMap> PlanMirror(const Skeleton& skeleton,
           "cannot mirror the skeleton: it is not left-right symmetric at joint '", joint.name,
           "' (the offsets below '", twin.name, "' do not mirror onto its own)"));
     }
-    // Several fit: the one whose mirrored rotations look most like the
-    // counterpart's own on the samples (then: the parent's, the first).
+    // Several fit: the parent's reflection if it is one of them (then a
+    // local rotation is mirrored by conjugation, B R B, and a joint at rest
+    // stays at rest); else the one whose mirrored rotations look most like
+    // the counterpart's own on the samples; else the first.
     Vec3 best = feasible[0];
-    for (const Vec3& b : feasible)
-      if (SameSigns(b, parent_flip)) best = b;
-    if (feasible.size() > 1 && !rotations.empty() && skeleton.has_rotation(j)) {
+    const bool parents = std::any_of(feasible.begin(), feasible.end(),
+                                     [&](const Vec3& b) { return SameSigns(b, parent_flip); });
+    if (parents) {
+      best = parent_flip;
+    } else if (feasible.size() > 1 && !poses.empty() && skeleton.has_rotation(j)) {
       double best_cost = 1e9;
       auto same = [](const Quat& q) { return q; };
-      const Quat own_mean = MeanRotation(rotations, j, same);
-      const Quat twin_mean = MeanRotation(rotations, k, same);
+      const Quat own_mean = MeanRotation(poses, j, same);
+      const Quat twin_mean = MeanRotation(poses, k, same);
       for (const Vec3& b : feasible) {
         auto mirrored = [&](const Quat& q) { return Reflect(parent_flip, q, b); };
-        double cost = AngleBetween(MeanRotation(rotations, j, mirrored), twin_mean);
-        if (k != j) cost += AngleBetween(MeanRotation(rotations, k, mirrored), own_mean);
+        double cost = AngleBetween(MeanRotation(poses, j, mirrored), twin_mean);
+        if (k != j) cost += AngleBetween(MeanRotation(poses, k, mirrored), own_mean);
         if (cost < best_cost - 1e-9) best_cost = cost, best = b;
       }
     }

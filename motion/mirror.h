@@ -10,10 +10,11 @@
 // whose joint frames are not mirror images of each other, such as Bandai's,
 // needs a different one per joint). So local rotations become
 // R'(m(j)) = B(parent) R(j) B(j) and translations t'(m(j)) = B(parent) t(j).
-// B(j) is searched among the reflections that flip one axis or all three;
-// where the offsets leave a choice (a bone along one axis), the one whose
-// mirrored rotations best match the counterpart's own, on sample motions,
-// is taken (docs/motion.md, "Mirroring").
+// B(j) is searched among the reflections that flip one axis or all three
+// (a child placed by its position channels, off its offset, does not
+// constrain it); where the offsets leave a choice, the parent's reflection
+// is taken if it fits, else the one whose mirrored rotations best match the
+// counterpart's own on sample motions (docs/motion.md, "Mirroring").
 #ifndef STYLUS_MOTION_MIRROR_H_
 #define STYLUS_MOTION_MIRROR_H_
 

@@ -80,6 +80,29 @@ TEST(MirrorTest, RealWalkLandsOnItsMirrorImageAndBack) {
   std::printf("mirror: worst joint gap %.3f units\n", worst);
 }
 
+// One clip is enough to plan the mirror, whatever it does: a one-sided
+// action (a raised left hand) gives the plan of a walk, and a dataset-1 clip
+// whose hips' OFFSET is a world position 452 units off the origin (the hips'
+// channels place them) is mirrored as exactly as the walk.
+TEST(MirrorTest, EveryClipPlansTheSameMirrorOnItsOwn) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const Motion walk = Load(data, "dataset-2/dataset-2_walk_normal_001.bvh");
+  const Motion raise = Load(data, "dataset-2/dataset-2_raise-up-left-hand_normal_001.bvh");
+  const Motion bow = Load(data, "dataset-1/dataset-1_bow_active_001.bvh");
+  ASSERT_GT(std::fabs(bow.skeleton.joint(JointIndex(bow.skeleton, "Hips")).offset.z), 400);
+  const MirrorMap both = *PlanMirror(walk.skeleton, {&walk, &raise});
+  for (const Motion* m : {&raise, &bow}) {
+    absl::StatusOr<MirrorMap> alone = PlanMirror(m->skeleton, {m});
+    ASSERT_TRUE(alone.ok()) << alone.status();
+    for (int j = 0; j < m->skeleton.num_joints(); ++j) {
+      EXPECT_EQ(alone->flip[j].x, both.flip[j].x) << m->skeleton.joint(j).name;
+      EXPECT_EQ(alone->flip[j].y, both.flip[j].y) << m->skeleton.joint(j).name;
+      EXPECT_EQ(alone->flip[j].z, both.flip[j].z) << m->skeleton.joint(j).name;
+    }
+    EXPECT_LT(MaxMirrorError(*m, MirrorMotion(*m, *alone), *alone), 0.5);
+  }
+}
+
 // Features of the mirrored walk: the root turns and sidesteps the other
 // way, the feet's contacts swap sides.
 TEST(MirrorTest, MirroredFeaturesTurnTheOtherWayAndSwapTheFeet) {

@@ -47,6 +47,8 @@ std::string ContrastiveConfig::Serialize() const {
   if (smooth_sigma > 0) put("smooth_sigma", absl::StrCat(smooth_sigma));
   if (style_strength != 1) put("style_strength", absl::StrCat(style_strength));
   if (residual) put("residual", "1");
+  if (content_detail > 0) put("content_detail", absl::StrCat(content_detail));
+  if (detail_sigma > 0) put("detail_sigma", absl::StrCat(detail_sigma));
   if (average_from > 0) {
     put("average_from", absl::StrCat(average_from));
     put("average_every", absl::StrCat(average_every));
@@ -94,6 +96,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "smooth_sigma") return e.Double(&c.smooth_sigma, 0, 100);
     if (key == "style_strength") return e.Double(&c.style_strength, 0, 1);
     if (key == "residual") return e.Bool(&c.residual);
+    if (key == "content_detail") return e.Double(&c.content_detail, 0, 1);
+    if (key == "detail_sigma") return e.Double(&c.detail_sigma, 0, 100);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "self_rec_weight") return e.Double(&c.self_rec_weight, 0, 1e6);
@@ -123,6 +127,16 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
   });
   if (!parsed.ok()) return parsed;
   if (c.dim <= 0) return absl::InvalidArgumentError(source + ": missing 'dim'");
+  if (c.content_detail > 0 && c.residual) {
+    return absl::InvalidArgumentError(
+        source +
+        ": 'content_detail' cannot be used with 'residual' (its output already is the "
+        "content window plus a change)");
+  }
+  if (c.content_detail > 0 && c.DetailSigma() <= 0) {
+    return absl::InvalidArgumentError(
+        source + ": 'content_detail' needs 'detail_sigma' or 'smooth_sigma' above 0");
+  }
   return c;
 }
 

@@ -125,6 +125,16 @@ struct ContrastiveConfig {
   // fails to reproduce of the content is not lost (docs/contrastive.md).
   // Training with it (`train --residual`) trains the transfers in this form.
   bool residual = false;
+  // Inference: with `content_detail` k in (0, 1], each generated window's
+  // pose channels also take k times the content window's own detail, what a
+  // Gaussian of `detail_sigma` frames (0: smooth_sigma) removes from it: the
+  // generator's output sets the slow part of the motion (posture, the
+  // reach of a gesture), the content keeps its quick part (when a hand
+  // moves, and that a held hand stays still). The frequency split of
+  // spectral style transfer (docs/contrastive.md, session 13). Not with
+  // `residual`, whose output already carries the whole content window.
+  double content_detail = 0;
+  double detail_sigma = 0;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;
@@ -135,6 +145,10 @@ struct ContrastiveConfig {
   std::string data;    // Data directories trained on.
   std::string commit;  // Source commit of the trainer.
   int trained_iterations = 0;
+
+  // The Gaussian that splits off the content's detail: detail_sigma, or
+  // smooth_sigma when it is 0.
+  double DetailSigma() const { return detail_sigma > 0 ? detail_sigma : smooth_sigma; }
 
   std::string Serialize() const;
   // INVALID_ARGUMENT naming `source` and the line of a malformed or

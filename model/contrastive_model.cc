@@ -123,6 +123,11 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
     if (config.smooth_sigma > 0) {
       y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config.smooth_sigma));
     }
+    if (config.content_detail > 0) {
+      const torch::Tensor pose = x.slice(1, 0, path);
+      y.slice(1, 0, path)
+          .add_(config.content_detail * (pose - SmoothOverTime(pose, config.DetailSigma())));
+    }
     if (config.residual) y = y + x;
     // keep_path: the style changes the body, not the content's path.
     if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));

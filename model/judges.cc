@@ -74,17 +74,28 @@ struct Judges::Impl {
   std::vector<std::string> styles, contents;
   Classifier style{nullptr}, content{nullptr};
 
-  absl::StatusOr<int> Classify(Classifier& net, const motion::Motion& clip) {
+  absl::StatusOr<torch::Tensor> Logits(Classifier& net, const motion::Motion& clip) {
     if (absl::Status s = CheckClipFitsModel(clip, shape, "clip"); !s.ok()) return s;
     absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, shape.roles);
     if (!f.ok()) return f.status();
     shape.norm.Normalize(&*f);
     try {
       c10::InferenceMode guard;
-      return static_cast<int>(ClipLogits(net, *f).argmax().item<int64_t>());
+      return ClipLogits(net, *f);
     } catch (const std::exception& e) {
       return absl::InternalError(absl::StrCat("judges ", dir, ": ", e.what()));
     }
+  }
+  absl::StatusOr<int> Classify(Classifier& net, const motion::Motion& clip) {
+    absl::StatusOr<torch::Tensor> logits = Logits(net, clip);
+    if (!logits.ok()) return logits.status();
+    return static_cast<int>(logits->argmax().item<int64_t>());
+  }
+  absl::StatusOr<std::vector<double>> Probabilities(Classifier& net, const motion::Motion& clip) {
+    absl::StatusOr<torch::Tensor> logits = Logits(net, clip);
+    if (!logits.ok()) return logits.status();
+    const torch::Tensor p = torch::softmax(logits->to(torch::kFloat64), 0).contiguous();
+    return std::vector<double>(p.data_ptr<double>(), p.data_ptr<double>() + p.numel());
   }
 };
 
@@ -192,6 +203,13 @@ absl::StatusOr<int> Judges::ClassifyStyle(const motion::Motion& clip) const {
 }
 absl::StatusOr<int> Judges::ClassifyContent(const motion::Motion& clip) const {
   return impl_->Classify(impl_->content, clip);
+}
+
+absl::StatusOr<std::vector<double>> Judges::StyleProbabilities(const motion::Motion& clip) const {
+  return impl_->Probabilities(impl_->style, clip);
+}
+absl::StatusOr<std::vector<double>> Judges::ContentProbabilities(const motion::Motion& clip) const {
+  return impl_->Probabilities(impl_->content, clip);
 }
 
 absl::StatusOr<std::unique_ptr<Judges>> Judges::Load(const std::string& dir) {

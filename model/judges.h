@@ -52,6 +52,10 @@ class Judges {
   // skeleton or frame rate. Thread-safe.
   absl::StatusOr<int> ClassifyStyle(const motion::Motion& clip) const;
   absl::StatusOr<int> ClassifyContent(const motion::Motion& clip) const;
+  // The softmax of the clip's mean logits, one probability per label of
+  // styles() / contents(): how sure the judge is, and of what else.
+  absl::StatusOr<std::vector<double>> StyleProbabilities(const motion::Motion& clip) const;
+  absl::StatusOr<std::vector<double>> ContentProbabilities(const motion::Motion& clip) const;
 
  private:
   struct Impl;

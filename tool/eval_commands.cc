@@ -1,8 +1,9 @@
 // train-judges and eval.
+#include <algorithm>
 #include <cstdio>
 
-#include "absl/strings/str_format.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "model/evaluation.h"
 #include "model/feature_judge.h"
 #include "model/judges.h"
@@ -62,14 +63,67 @@ int TrainJudges(const Argv& argv) {
                  acc->style, acc->content);
   }
   absl::StatusOr<model::DaeTrainResult> dae = model::TrainFeatureJudge(
-      o.data, o.out, *dae_iters, o.seed, [](const std::string& line) {
-        std::fprintf(stderr, "%s\n", line.c_str());
-      });
+      o.data, o.out, *dae_iters, o.seed,
+      [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
   if (!dae.ok()) return Fail("train-judges", dae.status());
   absl::PrintF(
       "feature judge: held-out denoising error %.4f (the corrupted input's: %.4f, %d clips)\n"
       "judges written to %s\n",
       dae->denoised_mse, dae->noisy_mse, dae->clips, o.out);
+  return 0;
+}
+
+namespace {
+
+// "label 0.93, other 0.05": the judge's most likely labels, best first.
+std::string TopLabels(const std::vector<std::string>& labels, const std::vector<double>& p,
+                      int count) {
+  std::vector<int> order(p.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return p[a] > p[b]; });
+  std::string out;
+  for (int k = 0; k < count && k < static_cast<int>(order.size()); ++k) {
+    absl::StrAppendFormat(&out, "%s%s %.3f", k ? ", " : "", labels[order[k]], p[order[k]]);
+  }
+  return out;
+}
+
+}  // namespace
+
+int Judge(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool judge --judges DIR [--top 3] CLIP.bvh...\n\n"
+      "Prints what the judges (stylus-tool train-judges) read in each clip: its\n"
+      "most likely styles and contents with their probabilities (the softmax of\n"
+      "the clip's mean logits), best first, one line per clip. The verdicts are\n"
+      "the ones eval counts; the runners-up show how close a call was (a raised\n"
+      "hand read as a wave).\n";
+  int code = 0;
+  auto args = ParseOrExit("judge", argv, {{"judges", "top"}, {}}, kHelp, &code);
+  if (!args) return code;
+  if (args->Get("judges").empty() || args->positional.empty()) {
+    std::fprintf(stderr, "stylus-tool judge: --judges and at least one clip are required\n\n%s",
+                 kHelp);
+    return 2;
+  }
+  absl::StatusOr<int> top = args->GetInt("top", 3);
+  if (!top.ok()) return Fail("judge", top.status());
+  if (*top < 1) return Fail("judge", absl::InvalidArgumentError("--top must be at least 1"));
+  absl::StatusOr<std::unique_ptr<model::Judges>> judges = model::Judges::Load(args->Get("judges"));
+  if (!judges.ok()) return Fail("judge", judges.status());
+  for (const std::string& path : args->positional) {
+    absl::StatusOr<motion::Motion> clip = motion::ReadBvhFile(path);
+    if (!clip.ok()) return Fail("judge", clip.status());
+    absl::StatusOr<std::vector<double>> style = (*judges)->StyleProbabilities(*clip);
+    absl::StatusOr<std::vector<double>> content = (*judges)->ContentProbabilities(*clip);
+    for (const auto* p : {&style, &content}) {
+      if (!p->ok())
+        return Fail("judge", absl::Status(p->status().code(),
+                                          absl::StrCat(path, ": ", p->status().message())));
+    }
+    absl::PrintF("%s\tstyle: %s\tcontent: %s\n", path, TopLabels((*judges)->styles(), *style, *top),
+                 TopLabels((*judges)->contents(), *content, *top));
+  }
   return 0;
 }
 
@@ -130,7 +184,8 @@ int Eval(const Argv& argv) {
   for (const std::string& spec : args->All("ablation")) {
     const size_t eq = spec.find('=');
     if (eq == std::string::npos || eq == 0) {
-      return Fail("eval", absl::InvalidArgumentError("--ablation wants LABEL=DIR, got '" + spec + "'"));
+      return Fail("eval",
+                  absl::InvalidArgumentError("--ablation wants LABEL=DIR, got '" + spec + "'"));
     }
     auto a = LoadModelSpec(spec.substr(eq + 1));
     if (!a.ok()) return Fail("eval", a.status());
@@ -152,16 +207,20 @@ int Eval(const Argv& argv) {
       reference.push_back(*std::move(clip));
     }
   } else {
-    std::fprintf(stderr, "stylus-tool eval: no feature judge (%s); FMD, KID, diversity and the "
-                 "distances are left at 0\n", std::string(f.status().message()).c_str());
+    std::fprintf(stderr,
+                 "stylus-tool eval: no feature judge (%s); FMD, KID, diversity and the "
+                 "distances are left at 0\n",
+                 std::string(f.status().message()).c_str());
   }
   auto pairs = model::MakeEvalPairs(args->All("data"), *per);
   if (!pairs.ok()) return Fail("eval", pairs.status());
-  auto report = model::Evaluate(models, **judges, features.get(), reference, *pairs,
-                                [](int done, int total) {
-    if (done % 20 == 0 || done == total)
-      std::fprintf(stderr, "\revaluated %d/%d pairs", done, total);
-  }, second.get());
+  auto report = model::Evaluate(
+      models, **judges, features.get(), reference, *pairs,
+      [](int done, int total) {
+        if (done % 20 == 0 || done == total)
+          std::fprintf(stderr, "\revaluated %d/%d pairs", done, total);
+      },
+      second.get());
   std::fprintf(stderr, "\n");
   if (!report.ok()) return Fail("eval", report.status());
   const std::string second_name =
@@ -174,8 +233,8 @@ int Eval(const Argv& argv) {
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
   if (args->Has("verdicts")) {
-    if (absl::Status s = motion::WriteFileAtomically(args->Get("verdicts"),
-                                                     report->VerdictsCsv(*pairs));
+    if (absl::Status s =
+            motion::WriteFileAtomically(args->Get("verdicts"), report->VerdictsCsv(*pairs));
         !s.ok())
       return Fail("eval", s);
   }

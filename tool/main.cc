@@ -28,6 +28,8 @@ const Command kCommands[] = {
     {"transfer", stylus::tool::Transfer, "transfer a style clip onto a content clip with a model"},
     {"train-judges", stylus::tool::TrainJudges,
      "train the style and content classifiers used by eval"},
+    {"judge", stylus::tool::Judge,
+     "what the judges read in clips: styles and contents, likeliest first"},
     {"eval", stylus::tool::Eval, "evaluate a model on held-out pairs against baselines"},
     {"style-map", stylus::tool::StyleMap, "plot style codes of labelled clips (PCA, SVG)"},
     {"trajectories", stylus::tool::Trajectories,

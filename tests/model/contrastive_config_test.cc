@@ -39,6 +39,18 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_TRUE(back->content_body);
 }
 
+TEST(ContrastiveConfigTest, ContentDetailRoundTrips) {
+  ContrastiveConfig c;
+  c.dim = 162, c.smooth_sigma = 3, c.content_detail = 0.5, c.detail_sigma = 2;
+  absl::StatusOr<ContrastiveConfig> back = ContrastiveConfig::Parse(c.Serialize(), "config.txt");
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->Serialize(), c.Serialize());
+  EXPECT_DOUBLE_EQ(back->content_detail, 0.5);
+  EXPECT_DOUBLE_EQ(back->DetailSigma(), 2);
+  c.detail_sigma = 0;  // Falls back to the output smoothing's sigma.
+  EXPECT_DOUBLE_EQ(ContrastiveConfig::Parse(c.Serialize(), "c")->DetailSigma(), 3);
+}
+
 TEST(ContrastiveConfigTest, ErrorsNameTheLine) {
   const absl::Status unknown = ContrastiveConfig::Parse("dim = 10\nwings = 2\n", "c.txt").status();
   EXPECT_NE(unknown.message().find("c.txt:2: unknown key 'wings'"), std::string::npos) << unknown;

@@ -7,7 +7,9 @@
 
 #include "gtest/gtest.h"
 #include "model/contrastive_trainer.h"
+#include "model/window_tensor.h"
 #include "motion/bvh.h"
+#include "motion/features.h"
 #include "motion/kinematics.h"
 #include "motion/synth.h"
 #include "tests/model/synth_clips.h"
@@ -183,6 +185,58 @@ TEST_F(TrainedModelTest, ResidualTransferKeepsWhatTheGeneratorLoses) {
   EXPECT_LT(off(*own), 1e-3);
   EXPECT_GT(off(*plain), 100 * off(*own));
   EXPECT_GT(off(*residual), 1e-3);  // A real style change remains.
+}
+
+// content_detail (config.txt): each generated window's pose channels gain k
+// times the content window's detail, what the Gaussian of detail_sigma
+// frames takes out of it; the root path and contacts are left alone.
+TEST_F(TrainedModelTest, ContentDetailAddsTheContentsQuickMotion) {
+  const std::string dir = Dir("detail");
+  fs::copy(*dir_, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  std::ofstream(dir + "/config.txt", std::ios::app) << "smooth_sigma = 2\n";
+  const auto plain = *ContrastiveModel::Load(dir);
+  std::ofstream(dir + "/config.txt", std::ios::app) << "content_detail = 0.5\ndetail_sigma = 3\n";
+  const auto detailed = *ContrastiveModel::Load(dir);
+  EXPECT_DOUBLE_EQ(detailed->package().config.content_detail, 0.5);
+
+  // A walk with a quick 5-frame shake on every channel.
+  motion::FeatureClip f = *plain->NormalizedFeatures(Clip(0), "content");
+  for (int t = 0; t < f.frames; ++t) {
+    for (int c = 0; c < f.dim; ++c) f.row(t)[c] += (t % 5 == 0 ? 0.8f : -0.2f);
+  }
+  const int window = plain->package().config.window;
+  const std::vector<int> starts = {0, 10};
+  const StyleCode a = *plain->EncodeStyle(Clip(1));
+  const std::vector<float> y0 = *plain->GenerateWindows(f, starts, {a, a});
+  const std::vector<float> y1 = *detailed->GenerateWindows(f, starts, {a, a});
+  const torch::Tensor x = WindowTensor(f, starts, window);
+  const torch::Tensor want = 0.5 * (x - SmoothOverTime(x, 3));
+  const torch::Tensor got =
+      torch::from_blob(const_cast<float*>(y1.data()), x.sizes(), torch::kFloat32) -
+      torch::from_blob(const_cast<float*>(y0.data()), x.sizes(), torch::kFloat32);
+  const int64_t path = f.dim - motion::FeatureLayout::kPathChannels;
+  EXPECT_LT((got.slice(1, 0, path) - want.slice(1, 0, path)).abs().max().item<double>(), 1e-4);
+  EXPECT_GT(want.slice(1, 0, path).abs().max().item<double>(), 0.3);  // The shake is there.
+  EXPECT_LT(got.slice(1, path).abs().max().item<double>(), 1e-6);
+
+  // The smoothing takes the shake out of the transfer; the detail puts it back.
+  auto shake = [&](const std::vector<float>& y) {
+    const torch::Tensor t =
+        torch::from_blob(const_cast<float*>(y.data()), x.sizes(), torch::kFloat32)
+            .slice(1, 0, path);
+    return (t - SmoothOverTime(t, 3)).abs().mean().item<double>();
+  };
+  EXPECT_GT(shake(y1), 3 * shake(y0)) << shake(y0) << " vs " << shake(y1);
+
+  // Whole clips transfer, and the options that cannot go together are refused.
+  EXPECT_TRUE(detailed->Transfer(Clip(0), a).ok());
+  for (const char* bad :
+       {"dim = 10\ncontent_detail = 1.5\nsmooth_sigma = 3\n", "dim = 10\ncontent_detail = 0.5\n",
+        "dim = 10\ncontent_detail = 0.5\nsmooth_sigma = 3\nresidual = 1\n"}) {
+    EXPECT_FALSE(ContrastiveConfig::Parse(bad, "c.txt").ok()) << bad;
+  }
+  EXPECT_TRUE(
+      ContrastiveConfig::Parse("dim = 10\ncontent_detail = 0.5\ndetail_sigma = 2\n", "c.txt").ok());
 }
 
 TEST_F(TrainedModelTest, RejectsClipsTheModelCannotTake) {

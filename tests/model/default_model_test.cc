@@ -1,4 +1,5 @@
 // The shipped default model and judges (models/) load and work on real input.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -39,14 +40,25 @@ TEST(DefaultModelTest, JudgesRecognizeRealHeldOutClips) {
   ASSERT_TRUE(judges.ok()) << judges.status();
   absl::StatusOr<motion::DatasetIndex> index = motion::IndexDataset({dir});
   ASSERT_TRUE(index.ok());
-  int right = 0, total = 0;
+  int right = 0, content_right = 0, total = 0;
   for (const motion::ClipEntry* c : index->Split(true)) {
     const motion::Motion clip = *motion::ReadBvhFile(c->path);
     const auto& styles = (*judges)->styles();
     right += styles[*(*judges)->ClassifyStyle(clip)] == c->label.style;
+    // The probabilities `stylus-tool judge` prints: a distribution whose
+    // likeliest label is the verdict.
+    const std::vector<double> p = *(*judges)->ContentProbabilities(clip);
+    ASSERT_EQ(p.size(), (*judges)->contents().size());
+    double sum = 0;
+    for (double x : p) sum += x;
+    EXPECT_NEAR(sum, 1, 1e-9);
+    const int best = static_cast<int>(std::max_element(p.begin(), p.end()) - p.begin());
+    EXPECT_EQ(best, *(*judges)->ClassifyContent(clip)) << c->path;
+    content_right += (*judges)->contents()[best] == c->label.content;
     ++total;
   }
   EXPECT_GT(static_cast<double>(right) / total, 0.8);
+  EXPECT_GT(static_cast<double>(content_right) / total, 0.9);
 }
 
 // The shipped model on the 94 held-out pairs of `eval --pairs-per-content 1`

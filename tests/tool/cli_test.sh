@@ -32,7 +32,7 @@ check "render svg" 0 "<svg" -- cat "$work/walk.svg"
 check "dataset-stats missing dir" 1 "not a directory" -- "$tool" dataset-stats "$work/none"
 # Training and transfer on synthesized clips (a few iterations: the plumbing,
 # not the quality, which model_tests and the evaluation cover).
-for cmd in train transfer train-judges eval style-map trajectories; do
+for cmd in train transfer train-judges judge eval style-map trajectories; do
   check "$cmd --help" 0 "usage: stylus-tool $cmd" -- "$tool" "$cmd" --help
 done
 "$tool" synth --style proud,frames=40 -o "$work/proud.bvh" >/dev/null
@@ -151,6 +151,21 @@ check "transfer batch output" 0 "frames: 45" -- "$tool" bvh-info "$work/batch/ol
 for s in walk_normal walk_old run; do
   check "sample $s" 0 "joints: 22" -- "$tool" bvh-info "$src/samples/$s.bvh"
 done
+
+# The shipped judges read the sample clips (on the Bandai skeleton).
+judges=$src/models/judges/v1
+check "judge" 0 "walk_normal.bvh	style: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}	content: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}$" -- \
+  "$tool" judge --judges "$judges" --top 2 "$src/samples/walk_normal.bvh"
+check "judge one line per clip" 0 "run.bvh	style: .*content: [a-z-]+ [01]\.[0-9]{3}, " -- \
+  "$tool" judge --judges "$judges" "$src/samples/walk_old.bvh" "$src/samples/run.bvh"
+check "judge another skeleton" 1 "mixed_orders_crlf.bvh: .*another skeleton" -- \
+  "$tool" judge --judges "$judges" "$good"
+check "judge without clips" 2 "--judges and at least one clip are required" -- \
+  "$tool" judge --judges "$judges"
+check "judge --top 0" 1 "--top must be at least 1" -- \
+  "$tool" judge --judges "$judges" --top 0 "$src/samples/run.bvh"
+check "judge missing judges" 1 "labels.txt: missing" -- \
+  "$tool" judge --judges "$work/none" "$src/samples/run.bvh"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

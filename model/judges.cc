@@ -18,7 +18,9 @@
 #include "model/window_tensor.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
+#include "motion/features.h"
 #include "motion/files.h"
+#include "motion/splice.h"
 #include "motion/windowing.h"
 
 namespace stylus::model {
@@ -57,6 +59,22 @@ std::vector<std::string> SortedLabels(const TrainingSet& set, bool style) {
   std::vector<std::string> out;
   for (const auto& [k, v] : seen) out.push_back(k);
   return out;
+}
+
+// The feature channels of each body part (positions and rotations of its
+// joints; motion/features.h).
+std::vector<std::vector<int64_t>> BodyPartChannels(const TrainingSet& set) {
+  const motion::FeatureLayout layout(set.skeleton.num_joints());
+  std::vector<std::vector<int64_t>> parts;
+  for (motion::BodyPart p : motion::kBodyParts) {
+    std::vector<int64_t> channels;
+    for (int j : motion::BodyPartJoints(set.skeleton, set.roles, p)) {
+      for (int k = 0; k < 3; ++k) channels.push_back(layout.position(j) + k);
+      for (int k = 0; k < 4; ++k) channels.push_back(layout.rotation(j) + k);
+    }
+    parts.push_back(std::move(channels));
+  }
+  return parts;
 }
 
 // Clip-level logits: the mean over the clip's windows.
@@ -122,6 +140,11 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
   };
   torch::manual_seed(o.seed);
   std::mt19937_64 rng(o.seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  std::vector<torch::Tensor> part_channels;
+  for (const std::vector<int64_t>& c : BodyPartChannels(*train)) {
+    part_channels.push_back(torch::tensor(c, torch::kLong));
+  }
   Classifier style_net(train->dim(), static_cast<int>(styles.size()));
   Classifier content_net(train->dim(), static_cast<int>(contents.size()));
   JudgeAccuracy acc;
@@ -139,18 +162,26 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
       for (int it = 1; it <= o.iterations; ++it) {
         torch::Tensor x = torch::empty({o.batch, d, kWindow});
         torch::Tensor y = torch::empty({o.batch}, torch::kLong);
-        for (int b = 0; b < o.batch; ++b) {
-          int c;
-          do c = static_cast<int>(rng() % classes);
-          while (windows_of[c].empty());
+        auto draw_window = [&](int c) -> torch::Tensor {
           const auto& w = train->windows[windows_of[c][rng() % windows_of[c].size()]];
           const motion::FeatureClip& clip = train->clips[w.clip];
           const int start =
               o.random_starts && clip.frames >= kWindow
                   ? static_cast<int>(rng() % static_cast<uint64_t>(clip.frames - kWindow + 1))
                   : w.start;
-          x[b] = WindowTensor(clip, {start}, kWindow)[0];
+          return WindowTensor(clip, {start}, kWindow)[0];
+        };
+        for (int b = 0; b < o.batch; ++b) {
+          int c;
+          do c = static_cast<int>(rng() % classes);
+          while (windows_of[c].empty());
+          x[b] = draw_window(c);
           y[b] = c;
+          if (o.swap_parts > 0 && uniform(rng) < o.swap_parts) {
+            // One body part from another window of the same label.
+            const torch::Tensor& part = part_channels[rng() % part_channels.size()];
+            x[b].index_copy_(0, part, draw_window(c).index_select(0, part));
+          }
         }
         // Small Gaussian noise: the judges must not hinge on exact values.
         const torch::Tensor loss =
@@ -187,8 +218,8 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
   const std::string labels = absl::StrCat(
       "styles = ", absl::StrJoin(styles, ","), "\ncontents = ", absl::StrJoin(contents, ","),
       absl::StrFormat("\nheld_out_style_accuracy = %.4f\nheld_out_content_accuracy = "
-                      "%.4f\nheld_out_clips = %d\nrandom_starts = %d\n",
-                      acc.style, acc.content, acc.clips, o.random_starts ? 1 : 0));
+                      "%.4f\nheld_out_clips = %d\nrandom_starts = %d\nswap_parts = %g\n",
+                      acc.style, acc.content, acc.clips, o.random_starts ? 1 : 0, o.swap_parts));
   if (absl::Status s = motion::WriteFileAtomically(o.out + "/labels.txt", labels); !s.ok())
     return s;
   return acc;

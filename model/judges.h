@@ -27,6 +27,15 @@ struct JudgeTrainOptions {
   // frames, which evaluation's end-aligned window shows them (a 78-frame
   // clip's grid windows stop at frame 56).
   bool random_starts = false;
+  // With probability `swap_parts` a drawn window gets one body part (legs,
+  // torso or an arm; motion/splice.h) from a window of another clip with the
+  // same label (the content judge: the same action; the style judge: the
+  // same style). A content judge learns to read the action from whatever
+  // the body does, not from one take's way of doing the rest: v1's verdicts
+  // fall from 0.968 to 0.70-0.83 on real clips given one body part of the
+  // same action in another style (`stylus-tool judge --swap-test`;
+  // docs/contrastive.md, session 13).
+  double swap_parts = 0;
   std::function<void(const std::string&)> log;  // Default: stderr.
 };
 

@@ -10,6 +10,7 @@
 #include "motion/humanoid.h"
 #include "motion/kinematics.h"
 #include "motion/mirror.h"
+#include "motion/splice.h"
 #include "tool/cli_support.h"
 
 namespace stylus::tool {
@@ -103,9 +104,9 @@ int BvhMirror(const Argv& argv) {
   if (!in.ok()) return Fail("bvh-mirror", in.status());
   absl::StatusOr<motion::MirrorMap> map = motion::PlanMirror(in->skeleton, {&*in});
   if (!map.ok()) {
-    return Fail("bvh-mirror", absl::Status(map.status().code(),
-                                           absl::StrCat(args->positional[0], ": ",
-                                                        map.status().message())));
+    return Fail("bvh-mirror",
+                absl::Status(map.status().code(),
+                             absl::StrCat(args->positional[0], ": ", map.status().message())));
   }
   const Motion out = motion::MirrorMotion(*in, *map);
   if (absl::Status s = motion::WriteBvhFile(out, args->positional[1]); !s.ok()) {
@@ -113,6 +114,50 @@ int BvhMirror(const Argv& argv) {
   }
   absl::PrintF("frames=%d joints=%d\n", in->num_frames, in->skeleton.num_joints());
   absl::PrintF("max_mirror_error=%g\n", motion::MaxMirrorError(*in, out, *map));
+  return 0;
+}
+
+int BvhSplice(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool bvh-splice BASE DONOR --part legs|torso|left-arm|right-arm...\n"
+      "         -o OUT.bvh\n\n"
+      "Writes BASE with the named body parts taken from DONOR, frame by frame\n"
+      "(DONOR's first frames; it needs at least as many as BASE): the legs of one\n"
+      "take under the upper body of another. Parts are found by the skeleton's\n"
+      "humanoid roles: the legs from the hips down, an arm from its clavicle, the\n"
+      "torso from the spine to the head; the pelvis and root stay BASE's, so the\n"
+      "path does. Both clips must share a skeleton layout. --part may repeat.\n";
+  int code = 0;
+  auto args = ParseOrExit("bvh-splice", argv, {{"part", "out"}, {}}, kHelp, &code);
+  if (!args) return code;
+  if (args->positional.size() != 2 || args->All("part").empty() || args->Get("out").empty()) {
+    std::fprintf(stderr, "stylus-tool bvh-splice: expected BASE, DONOR, --part and -o\n\n%s",
+                 kHelp);
+    return 2;
+  }
+  const std::string &base_path = args->positional[0], &donor_path = args->positional[1];
+  absl::StatusOr<Motion> base = motion::ReadBvhFile(base_path);
+  if (!base.ok()) return Fail("bvh-splice", base.status());
+  absl::StatusOr<Motion> donor = motion::ReadBvhFile(donor_path);
+  if (!donor.ok()) return Fail("bvh-splice", donor.status());
+  absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(base->skeleton);
+  if (!roles.ok()) {
+    return Fail("bvh-splice", absl::InvalidArgumentError(
+                                  absl::StrCat(base_path, ": ", roles.status().message())));
+  }
+  std::vector<int> joints;
+  for (const std::string& name : args->All("part")) {
+    absl::StatusOr<motion::BodyPart> part = motion::ParseBodyPart(name);
+    if (!part.ok()) return Fail("bvh-splice", part.status());
+    for (int j : motion::BodyPartJoints(base->skeleton, *roles, *part)) joints.push_back(j);
+  }
+  absl::StatusOr<Motion> out = motion::SpliceJoints(*base, *donor, joints, base_path, donor_path);
+  if (!out.ok()) return Fail("bvh-splice", out.status());
+  if (absl::Status s = motion::WriteBvhFile(*out, args->Get("out")); !s.ok()) {
+    return Fail("bvh-splice", s);
+  }
+  absl::PrintF("wrote %s: %d frames, %zu joints from %s\n", args->Get("out"), out->num_frames,
+               joints.size(), donor_path);
   return 0;
 }
 

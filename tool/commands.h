@@ -14,6 +14,7 @@ using Argv = std::vector<std::string>;
 int BvhInfo(const Argv& argv);
 int BvhRoundtrip(const Argv& argv);
 int BvhMirror(const Argv& argv);
+int BvhSplice(const Argv& argv);
 int Features(const Argv& argv);
 int DatasetStats(const Argv& argv);
 int Synth(const Argv& argv);

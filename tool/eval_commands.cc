@@ -6,6 +6,7 @@
 #include "absl/strings/str_format.h"
 #include "model/evaluation.h"
 #include "model/feature_judge.h"
+#include "model/judge_swap.h"
 #include "model/judges.h"
 #include "model/package.h"
 #include "model/runtime.h"
@@ -22,7 +23,7 @@ int TrainJudges(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool train-judges --data DIR... --out models/judges/VERSION\n"
       "         [--iters 3000] [--batch 32] [--dae-iters 3000] [--dae-only] [--seed S]\n"
-      "         [--random-starts] [--threads N]\n\n"
+      "         [--random-starts] [--swap-parts P] [--threads N]\n\n"
       "Trains, on the labelled training split of DIR, a style classifier and a\n"
       "content classifier (class-balanced batches) and reports their clip-level\n"
       "accuracy on the held-out split; then the feature judge, a denoising\n"
@@ -31,12 +32,17 @@ int TrainJudges(const Argv& argv) {
       "denoising error. --dae-only adds the feature judge to existing judges.\n"
       "--random-starts draws the classifiers' training windows anywhere in their\n"
       "clips instead of on the hop grid (the grid never reaches a clip's last\n"
-      "frames, which evaluation shows them).\n";
+      "frames, which evaluation shows them).\n"
+      "--swap-parts P gives each drawn window, with probability P, one body part\n"
+      "(legs, torso or an arm) of another window with the same label, so the\n"
+      "content judge reads an action from the body part that performs it rather\n"
+      "than from one take's way of moving the rest (see judge --swap-test).\n";
   int code = 0;
-  auto args = ParseOrExit("train-judges", argv,
-                          {{"data", "out", "iters", "batch", "seed", "threads", "dae-iters"},
-                           {"dae-only", "random-starts"}},
-                          kHelp, &code);
+  auto args =
+      ParseOrExit("train-judges", argv,
+                  {{"data", "out", "iters", "batch", "seed", "threads", "dae-iters", "swap-parts"},
+                   {"dae-only", "random-starts"}},
+                  kHelp, &code);
   if (!args) return code;
   model::JudgeTrainOptions o;
   o.data = args->All("data");
@@ -55,6 +61,12 @@ int TrainJudges(const Argv& argv) {
   }
   o.iterations = *iters, o.batch = *batch, o.seed = *seed;
   o.random_starts = args->switches.count("random-starts") > 0;
+  absl::StatusOr<double> swap = args->GetDouble("swap-parts", 0);
+  if (!swap.ok()) return Fail("train-judges", swap.status());
+  if (*swap < 0 || *swap > 1) {
+    return Fail("train-judges", absl::InvalidArgumentError("--swap-parts must be in [0, 1]"));
+  }
+  o.swap_parts = *swap;
   model::SetComputeThreads(*threads);
   if (!args->switches.count("dae-only")) {
     absl::StatusOr<model::JudgeAccuracy> acc = model::TrainJudges(o);
@@ -88,19 +100,55 @@ std::string TopLabels(const std::vector<std::string>& labels, const std::vector<
   return out;
 }
 
+// judge --swap-test.
+int JudgeSwapTest(const Args& args, const char* help) {
+  if (args.Get("judges").empty() || args.All("data").empty() || !args.positional.empty()) {
+    std::fprintf(stderr,
+                 "stylus-tool judge: --swap-test takes --judges and --data, and no clips\n\n%s",
+                 help);
+    return 2;
+  }
+  absl::StatusOr<std::unique_ptr<model::Judges>> judges = model::Judges::Load(args.Get("judges"));
+  if (!judges.ok()) return Fail("judge", judges.status());
+  absl::StatusOr<model::SwapTestReport> report =
+      model::RunSwapTest(**judges, args.All("data"), [](int done, int total) {
+        if (done % 10 == 0 || done == total) {
+          std::fprintf(stderr, "\rswap test: %d/%d held-out clips", done, total);
+          if (done == total) std::fprintf(stderr, "\n");
+        }
+      });
+  if (!report.ok()) return Fail("judge", report.status());
+  const std::string markdown = report->Markdown();
+  absl::PrintF("%s", markdown);
+  if (!args.Get("out").empty()) {
+    if (absl::Status s = motion::WriteFileAtomically(args.Get("out"), markdown); !s.ok()) {
+      return Fail("judge", s);
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int Judge(const Argv& argv) {
   static const char kHelp[] =
-      "usage: stylus-tool judge --judges DIR [--top 3] CLIP.bvh...\n\n"
+      "usage: stylus-tool judge --judges DIR [--top 3] CLIP.bvh...\n"
+      "       stylus-tool judge --judges DIR --swap-test --data DIR... [--out report.md]\n\n"
       "Prints what the judges (stylus-tool train-judges) read in each clip: its\n"
       "most likely styles and contents with their probabilities (the softmax of\n"
       "the clip's mean logits), best first, one line per clip. The verdicts are\n"
       "the ones eval counts; the runners-up show how close a call was (a raised\n"
-      "hand read as a wave).\n";
+      "hand read as a wave).\n"
+      "--swap-test checks whether the content judge reads an action from the body\n"
+      "part that performs it: each held-out clip of DIR gets the legs, the torso\n"
+      "or an arm of another real clip (the same action in another style, then\n"
+      "another action in the same style) and the content verdicts are counted\n"
+      "(Markdown on stdout, and in --out).\n";
   int code = 0;
-  auto args = ParseOrExit("judge", argv, {{"judges", "top"}, {}}, kHelp, &code);
+  auto args =
+      ParseOrExit("judge", argv, {{"judges", "top", "data", "out"}, {"swap-test"}}, kHelp, &code);
   if (!args) return code;
+  if (args->switches.count("swap-test")) return JudgeSwapTest(*args, kHelp);
   if (args->Get("judges").empty() || args->positional.empty()) {
     std::fprintf(stderr, "stylus-tool judge: --judges and at least one clip are required\n\n%s",
                  kHelp);

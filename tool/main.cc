@@ -19,6 +19,8 @@ const Command kCommands[] = {
     {"bvh-roundtrip", stylus::tool::BvhRoundtrip,
      "read, write and re-read a BVH; report the FK error"},
     {"bvh-mirror", stylus::tool::BvhMirror, "mirror a clip left to right on its own skeleton"},
+    {"bvh-splice", stylus::tool::BvhSplice,
+     "take body parts (legs, torso, an arm) from another clip"},
     {"features", stylus::tool::Features,
      "feature summary of a clip (and its features->motion error)"},
     {"dataset-stats", stylus::tool::DatasetStats, "clips, frames and counts per content and style"},

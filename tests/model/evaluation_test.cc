@@ -175,31 +175,46 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
 // --random-starts: the same seed draws other windows (so other weights),
 // the judges still learn the tiny set's labels, and labels.txt says how
 // they were trained.
-TEST(EvaluationTest, JudgesTrainedOnRandomStartsRecordIt) {
+// --random-starts and --swap-parts: each draws other windows (so other
+// weights from the same seed), learns, and is recorded in labels.txt.
+TEST(EvaluationTest, JudgesTrainedOnRandomStartsOrSwappedPartsRecordIt) {
   const std::string data = TinyDataset();
-  std::map<bool, std::string> weights;
-  for (bool random : {false, true}) {
+  struct Variant {
+    std::string name;
+    bool random_starts;
+    double swap_parts;
+    std::vector<std::string> recorded;
+  };
+  const std::vector<Variant> variants = {
+      {"grid", false, 0, {"random_starts = 0", "swap_parts = 0\n"}},
+      {"random", true, 0, {"random_starts = 1", "swap_parts = 0\n"}},
+      {"swap", false, 0.5, {"random_starts = 0", "swap_parts = 0.5\n"}}};
+  std::map<std::string, std::string> weights;
+  for (const Variant& v : variants) {
     JudgeTrainOptions jo;
     jo.data = {data};
-    jo.out = ::testing::TempDir() + (random ? "/judges_random" : "/judges_grid");
+    jo.out = ::testing::TempDir() + "/judges_" + v.name;
     jo.iterations = 400;
     jo.batch = 8;
-    jo.random_starts = random;
+    jo.random_starts = v.random_starts;
+    jo.swap_parts = v.swap_parts;
     jo.log = [](const std::string&) {};
     absl::StatusOr<JudgeAccuracy> acc = TrainJudges(jo);
     ASSERT_TRUE(acc.ok()) << acc.status();
-    std::printf("random starts %d: held-out style %.2f content %.2f\n", random, acc->style,
+    std::printf("%s: held-out style %.2f content %.2f\n", v.name.c_str(), acc->style,
                 acc->content);
-    EXPECT_GE(acc->content, 0.75);
+    EXPECT_GE(acc->content, 0.75) << v.name;
     std::ifstream labels(jo.out + "/labels.txt");
     const std::string text((std::istreambuf_iterator<char>(labels)), {});
-    EXPECT_NE(text.find(random ? "random_starts = 1" : "random_starts = 0"), std::string::npos)
-        << text;
+    for (const std::string& line : v.recorded) {
+      EXPECT_NE(text.find(line), std::string::npos) << v.name << ": " << line << " in " << text;
+    }
     std::ifstream w(jo.out + "/content.pt", std::ios::binary);
-    weights[random] = std::string((std::istreambuf_iterator<char>(w)), {});
+    weights[v.name] = std::string((std::istreambuf_iterator<char>(w)), {});
     ASSERT_TRUE(Judges::Load(jo.out).ok());
   }
-  EXPECT_NE(weights[false], weights[true]);
+  EXPECT_NE(weights["grid"], weights["random"]);
+  EXPECT_NE(weights["grid"], weights["swap"]);
 }
 
 TEST(FeatureMetricsTest, DistancesAreZeroForIdenticalSetsAndGrowWithAShift) {

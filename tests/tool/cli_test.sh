@@ -152,6 +152,20 @@ for s in walk_normal walk_old run; do
   check "sample $s" 0 "joints: 22" -- "$tool" bvh-info "$src/samples/$s.bvh"
 done
 
+check "bvh-splice" 0 "wrote .*spliced.bvh: 120 frames, 8 joints from .*walk_old.bvh" -- \
+  "$tool" bvh-splice "$src/samples/walk_normal.bvh" "$src/samples/walk_old.bvh" --part legs -o "$work/spliced.bvh"
+check "bvh-splice output reads back" 0 "frames: 120" -- "$tool" bvh-info "$work/spliced.bvh"
+check "bvh-splice two parts" 0 ": 120 frames, 12 joints from" -- "$tool" bvh-splice \
+  "$src/samples/walk_normal.bvh" "$src/samples/walk_old.bvh" --part legs --part torso -o "$work/spliced2.bvh"
+check "bvh-splice unknown part" 1 "unknown body part 'tail'" -- "$tool" bvh-splice \
+  "$src/samples/walk_normal.bvh" "$src/samples/walk_old.bvh" --part tail -o "$work/x.bvh"
+check "bvh-splice short donor" 1 "old.bvh has 45 frames, fewer than the .* of .*run.bvh" -- \
+  "$tool" bvh-splice "$src/samples/run.bvh" "$work/old.bvh" --part legs -o "$work/x.bvh"
+check "bvh-splice other skeleton" 1 "mixed_orders_crlf.bvh is on another skeleton" -- \
+  "$tool" bvh-splice "$src/samples/run.bvh" "$good" --part legs -o "$work/x.bvh"
+check "bvh-splice without --part" 2 "expected BASE, DONOR, --part and -o" -- \
+  "$tool" bvh-splice "$src/samples/run.bvh" "$work/old.bvh" -o "$work/x.bvh"
+
 # The shipped judges read the sample clips (on the Bandai skeleton).
 judges=$src/models/judges/v1
 check "judge" 0 "walk_normal.bvh	style: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}	content: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}$" -- \
@@ -164,6 +178,10 @@ check "judge without clips" 2 "--judges and at least one clip are required" -- \
   "$tool" judge --judges "$judges"
 check "judge --top 0" 1 "--top must be at least 1" -- \
   "$tool" judge --judges "$judges" --top 0 "$src/samples/run.bvh"
+check "judge --swap-test without --data" 2 "--swap-test takes --judges and --data, and no clips" -- \
+  "$tool" judge --judges "$judges" --swap-test
+check "train-judges --swap-parts out of range" 1 "--swap-parts must be in \\[0, 1\\]" -- \
+  "$tool" train-judges --data "$work" --out "$work/judges_x" --swap-parts 1.5
 check "judge missing judges" 1 "labels.txt: missing" -- \
   "$tool" judge --judges "$work/none" "$src/samples/run.bvh"
 

@@ -38,6 +38,7 @@ std::string ContrastiveConfig::Serialize() const {
     put("class_weight", absl::StrCat(class_weight));
     put("cycle_weight", absl::StrCat(cycle_weight));
     if (self_rec_weight > 0) put("self_rec_weight", absl::StrCat(self_rec_weight));
+    if (pair_offset_weight > 0) put("pair_offset_weight", absl::StrCat(pair_offset_weight));
     if (content_class_weight != 1) put("content_class_weight", absl::StrCat(content_class_weight));
     if (critics != 1) put("critics", absl::StrCat(critics));
     if (content_balance > 0) put("content_balance", absl::StrCat(content_balance));
@@ -101,6 +102,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "self_rec_weight") return e.Double(&c.self_rec_weight, 0, 1e6);
+    if (key == "pair_offset_weight") return e.Double(&c.pair_offset_weight, 0, 1e6);
     if (key == "content_class_weight") return e.Double(&c.content_class_weight, 0, 1e6);
     if (key == "critics") return e.Int(&c.critics, 1, 64);
     if (key == "content_body") return e.Bool(&c.content_body);

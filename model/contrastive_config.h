@@ -73,6 +73,13 @@ struct ContrastiveConfig {
   // each content window with the code of another window of its own clip
   // (0: off; docs/contrastive.md, session 9).
   double self_rec_weight = 0;
+  // Guided only: `pair_offset_weight` x the L1 distance, over the pose
+  // channels, between a transfer's mean change of its content window and
+  // the mean posture change the target style makes to that action in the
+  // training data: mean(action, target style) - mean(action, content's
+  // style) (model/pair_means.h). Only where both label pairs have clips
+  // (0: off; docs/contrastive.md, session 13).
+  double pair_offset_weight = 0;
   // Guided only: the content head's share of the critic's verdict on a
   // transfer, times this (1: style and content weigh alike).
   double content_class_weight = 1.0;

@@ -13,6 +13,7 @@
 #include "model/label_critic_ensemble.h"
 #include "model/label_critic_net.h"
 #include "model/package.h"
+#include "model/pair_means.h"
 #include "model/runtime.h"
 #include "model/torch_files.h"
 #include "model/training_run.h"
@@ -37,6 +38,7 @@ struct Trainer {
   LabelCriticEnsemble critics;
   PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
   std::unique_ptr<torch::optim::Adam> opt_p;
+  PairMeans pair_means;            // With `pair_offset_weight` only.
   torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
@@ -139,6 +141,27 @@ struct Trainer {
     return r;
   }
 
+  // The L1 distance, over the pose channels, of each transfer's mean change
+  // of its content window to the posture change the training data shows
+  // between the content's style and the target style, for the content's
+  // action; windows whose label pairs have no clips count for nothing.
+  torch::Tensor PairOffsetLoss(const torch::Tensor& x, const torch::Tensor& x_g,
+                               const std::vector<int>& clips, const std::vector<int>& targets) {
+    const int64_t batch = x.size(0), pose = config.dim - motion::FeatureLayout::kPathChannels;
+    torch::Tensor want = torch::zeros({batch, config.dim});
+    torch::Tensor mask = torch::zeros({batch, 1});
+    for (int64_t b = 0; b < batch; ++b) {
+      const int clip = clips[b];
+      if (pair_means.Offset(classes.content_of[clip], classes.style_of[clip],
+                            classes.style_of[targets[b]], want[b].data_ptr<float>())) {
+        mask[b][0] = 1;
+      }
+    }
+    const torch::Tensor change = (x_g - x).mean(2).slice(1, 0, pose);
+    const torch::Tensor gap = (change - want.slice(1, 0, pose)).abs().mean(1, true) * mask;
+    return gap.sum() / mask.sum().clamp_min(1);
+  }
+
   // Label-guided step (docs/contrastive.md): content windows x; for each, a
   // window of a clip of the same style doing something else (the
   // reconstruction's style) and one of a clip of another style (the
@@ -181,6 +204,11 @@ struct Trainer {
         critics.Verdict(x_g, target_style, x_content, config.content_class_weight);
     r.cls = cls.item<double>();
     total = total + config.class_weight * cls;
+    if (config.pair_offset_weight > 0) {
+      const torch::Tensor offset = PairOffsetLoss(x, x_g, clips, other);
+      r.pair_offset = offset.item<double>();
+      total = total + config.pair_offset_weight * offset;
+    }
     if (config.self_rec_weight > 0) {
       data.SampleFromClips(clips, config.window, rng, &buf);  // Another window of each clip.
       const torch::Tensor self_rec =
@@ -256,6 +284,7 @@ struct Trainer {
       if (config.content_balance > 0) {
         LogLine(opt.log, BalanceContents(classes, config.content_balance, &data));
       }
+      if (config.pair_offset_weight > 0) pair_means = PairMeans(data, classes);
     }
     if (config.average_from > 0)  // Before the seed (see WeightAverage).
       average = WeightAverage<ContrastiveNet>(config.average_from, config.average_every,
@@ -282,9 +311,9 @@ struct Trainer {
     }
     disc = Discriminator(config);
     if (config.guided) {
-      critics = LabelCriticEnsemble(config.critics, config.dim,
-                                    static_cast<int>(classes.styles.size()),
-                                    static_cast<int>(classes.contents.size()));
+      critics =
+          LabelCriticEnsemble(config.critics, config.dim, static_cast<int>(classes.styles.size()),
+                              static_cast<int>(classes.contents.size()));
     }
     if (config.pair_gan) {
       pair_disc = PairDiscriminator(config.dim, static_cast<int>(classes.styles.size()),
@@ -302,6 +331,8 @@ struct Trainer {
     if (config.guided) spec.loss_names.insert(spec.loss_names.end(), {"cls", "cyc", "critic"});
     const bool self_rec = config.guided && config.self_rec_weight > 0;
     if (self_rec) spec.loss_names.push_back("self_rec");
+    const bool pair_offset = config.guided && config.pair_offset_weight > 0;
+    if (pair_offset) spec.loss_names.push_back("pair_offset");
     spec.loss_names.push_back("total");
     spec.config_text = config.Serialize();
     spec.iterations = config.iterations;
@@ -309,11 +340,12 @@ struct Trainer {
     spec.checkpoint_every = opt.checkpoint_every;
     spec.log = opt.log;
     if (opt.on_record) {
-      spec.on_record = [this, self_rec](const LossRow& row) {
+      spec.on_record = [this, self_rec, pair_offset](const LossRow& row) {
         const std::vector<double>& v = row.values;
         LossRecord r{row.iteration, v[0], v[1], v[2], v[3], v[4], v.back()};
         if (config.guided) r.cls = v[5], r.cyc = v[6], r.critic = v[7];
         if (self_rec) r.self_rec = v[8];
+        if (pair_offset) r.pair_offset = v[self_rec ? 9 : 8];
         opt.on_record(r);
       };
     }
@@ -345,12 +377,13 @@ struct Trainer {
       });
       if (!s.ok()) return s;
     }
-    return run.Run([this, self_rec](int iteration) {
+    return run.Run([this, self_rec, pair_offset](int iteration) {
       const LossRecord r = config.guided ? GuidedStep() : Step();
       average.Update(iteration + 1, net);
       std::vector<double> v = {r.rec, r.gan, r.nce, r.tri, r.disc};
       if (config.guided) v.insert(v.end(), {r.cls, r.cyc, r.critic});
       if (self_rec) v.push_back(r.self_rec);
+      if (pair_offset) v.push_back(r.pair_offset);
       v.push_back(r.total);
       return v;
     });
@@ -369,11 +402,16 @@ absl::Status TrainContrastive(const TrainOptions& options) {
     return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
   }
   if (options.config.critics != 1 && !options.config.guided) {
-    return absl::InvalidArgumentError("several label critics need label-guided training (--guided)");
+    return absl::InvalidArgumentError(
+        "several label critics need label-guided training (--guided)");
   }
   if (options.config.self_rec_weight > 0 && !options.config.guided) {
     return absl::InvalidArgumentError(
         "the self-reconstruction term needs label-guided training (--guided)");
+  }
+  if (options.config.pair_offset_weight > 0 && !options.config.guided) {
+    return absl::InvalidArgumentError(
+        "the pair offset term needs label-guided training (--guided)");
   }
   if (options.config.critics < 1 || options.config.critics > 64) {
     return absl::InvalidArgumentError("the number of label critics must be in [1, 64]");
@@ -381,8 +419,8 @@ absl::Status TrainContrastive(const TrainOptions& options) {
   if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
     return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
   }
-  Trainer t{options, options.config, {}, nullptr, {},      nullptr, nullptr, nullptr,
-            {},      {},             nullptr, nullptr, {},      nullptr};
+  Trainer t{options, options.config, {},      nullptr, {}, nullptr, nullptr, nullptr, {},
+            {},      nullptr,        nullptr, {},      {}, nullptr};
   try {
     return t.Run();
   } catch (const std::exception& e) {

@@ -19,7 +19,9 @@ struct LossRecord {
   // Label-guided training only: the transfers' classification loss, the
   // cycle loss and the critic's own loss on real windows; with
   // self_rec_weight, the error of restyling a window with its own clip's code.
-  double cls = 0, cyc = 0, critic = 0, self_rec = 0;
+  // pair_offset_weight: the distance of the transfers' mean change to the
+  // training data's posture change between the two styles of the action.
+  double cls = 0, cyc = 0, critic = 0, self_rec = 0, pair_offset = 0;
 };
 
 struct TrainOptions {

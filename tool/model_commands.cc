@@ -31,7 +31,7 @@ int Train(const Argv& argv) {
       "         [--content-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]\n"
-      "          [--critics 1]]\n"
+      "          [--critics 1] [--pair-offset-weight 0]]\n"
       "         [--keep-path]\n"
       "         [--content-body] [--average-from K [--average-every 50]]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
@@ -68,6 +68,10 @@ int Train(const Argv& argv) {
       "by their mean verdict, so it must be recognized by all of them.\n"
       "--self-rec-weight W adds W x the error of restyling each content window\n"
       "with a style code from another window of its own clip (guided only).\n"
+      "--pair-offset-weight W adds W x the distance between each transfer's mean\n"
+      "change of its content window and the mean posture change the target style\n"
+      "makes to that action in the training clips (guided only; where both label\n"
+      "pairs have clips).\n"
       "--content-balance P (0..1) draws a content class with n windows in\n"
       "proportion to n^(1-P): 1 draws every action alike, 0 (default) every window.\n"
       "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
@@ -91,11 +95,33 @@ int Train(const Argv& argv) {
   int code = 0;
   auto args =
       ParseOrExit("train", argv,
-                  {{"family", "data", "out", "iters", "batch", "lr", "alpha", "beta", "gamma",
-                    "seed", "threads", "checkpoint-every", "log-every", "commit", "content-weight",
-                    "smooth-sigma", "class-weight", "cycle-weight", "self-rec-weight",
-                    "content-class-weight", "content-balance", "init-from", "average-from",
-                    "average-every", "critics", "channels"},
+                  {{"family",
+                    "data",
+                    "out",
+                    "iters",
+                    "batch",
+                    "lr",
+                    "alpha",
+                    "beta",
+                    "gamma",
+                    "seed",
+                    "threads",
+                    "checkpoint-every",
+                    "log-every",
+                    "commit",
+                    "content-weight",
+                    "smooth-sigma",
+                    "class-weight",
+                    "cycle-weight",
+                    "self-rec-weight",
+                    "content-class-weight",
+                    "content-balance",
+                    "init-from",
+                    "average-from",
+                    "average-every",
+                    "critics",
+                    "channels",
+                    "pair-offset-weight"},
                    {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
                     "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
                     "replicate-pad", "random-starts", "mirror", "residual", "full-rate-content"}},
@@ -164,6 +190,7 @@ int Train(const Argv& argv) {
   for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
                              {"cycle-weight", &c.cycle_weight},
                              {"self-rec-weight", &c.self_rec_weight},
+                             {"pair-offset-weight", &c.pair_offset_weight},
                              {"content-class-weight", &c.content_class_weight},
                              {"content-balance", &c.content_balance}}) {
     if (!args->Has(name)) continue;

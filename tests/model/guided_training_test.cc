@@ -17,12 +17,14 @@
 #include "model/contrastive_trainer.h"
 #include "model/label_critic_ensemble.h"
 #include "model/label_critic_net.h"
+#include "model/pair_means.h"
 #include "model/training_set.h"
 #include "model/weight_average.h"
 #include "model/weights_io.h"
 #include "motion/bvh.h"
 #include "motion/kinematics.h"
 #include "motion/metrics.h"
+#include "motion/normalization.h"
 #include "motion/windowing.h"
 #include "tests/model/synth_clips.h"
 #include "tests/test_support.h"
@@ -298,8 +300,7 @@ TEST(GuidedTrainingTest, SelfReconstructionTermGivesAClipBackCloser) {
   const motion::Motion clip = *motion::ReadBvhFile(LabelledClips()[0]);
   std::map<double, double> gap;
   for (double weight : {0.0, 10.0}) {
-    TrainOptions o =
-        GuidedOptions(testing::FreshDir(weight > 0 ? "self_rec" : "no_self_rec"), 200);
+    TrainOptions o = GuidedOptions(testing::FreshDir(weight > 0 ? "self_rec" : "no_self_rec"), 200);
     o.config.alpha = 0;
     o.config.self_rec_weight = weight;
     std::vector<LossRecord> curve;
@@ -317,8 +318,8 @@ TEST(GuidedTrainingTest, SelfReconstructionTermGivesAClipBackCloser) {
     }
     absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(o.out);
     ASSERT_TRUE(m.ok()) << m.status();
-    const motion::Motion back = *(*m)->Transfer(clip, *(*m)->EncodeStyle(clip),
-                                                motion::PostProcessMode::kNone);
+    const motion::Motion back =
+        *(*m)->Transfer(clip, *(*m)->EncodeStyle(clip), motion::PostProcessMode::kNone);
     gap[weight] = motion::MaxPositionDifference(back, clip);
   }
   std::printf("self-transfer max joint gap: without %.2f, with %.2f\n", gap[0.0], gap[10.0]);
@@ -327,6 +328,64 @@ TEST(GuidedTrainingTest, SelfReconstructionTermGivesAClipBackCloser) {
   TrainOptions unguided = GuidedOptions(testing::FreshDir("self_rec_unguided"), 10);
   unguided.config.guided = false;
   unguided.config.self_rec_weight = 1;
+  EXPECT_EQ(TrainContrastive(unguided).code(), absl::StatusCode::kInvalidArgument);
+}
+
+// The mean features of each (content, style) pair, and their differences.
+TEST(PairMeansTest, OffsetIsTheDifferenceOfTheActionsMeansInTwoStyles) {
+  TrainingSet data;
+  auto clip = [](int frames, float value) {
+    motion::FeatureClip f;
+    f.frames = frames, f.dim = 2;
+    f.values.assign(2 * static_cast<size_t>(frames), value);
+    for (int i = 1; i < 2 * frames; i += 2) f.values[i] = -value;
+    return f;
+  };
+  const motion::FeatureClip zero = clip(4, 0);
+  data.norm = *motion::NormStats::Compute({&zero});
+  data.clips = {clip(4, 1), clip(2, 3), clip(6, 5), clip(3, 7)};
+  data.paths = {"d/dataset-1_walk_old_001.bvh", "d/dataset-1_walk_proud_001.bvh",
+                "d/dataset-1_walk_proud_002.bvh", "d/dataset-1_run_old_001.bvh"};
+  const ClipClasses classes = *ClipClasses::FromPaths(data.paths, {true, true, true, true});
+  const PairMeans means(data, classes);
+  const int run = 0, walk = 1, old = 0, proud = 1;  // Sorted labels.
+  ASSERT_EQ(classes.contents.size(), 2u);
+  ASSERT_EQ(classes.contents[walk], "walk");
+  ASSERT_EQ(classes.styles[proud], "proud");
+  EXPECT_EQ(means.frames(walk, proud), 8);
+  EXPECT_EQ(means.frames(run, proud), 0);
+  float out[2] = {0, 0};
+  ASSERT_TRUE(means.Offset(walk, old, proud, out));
+  EXPECT_FLOAT_EQ(out[0], (2 * 3 + 6 * 5) / 8.0f - 1);  // Frame-weighted: 4.5 - 1.
+  EXPECT_FLOAT_EQ(out[1], -out[0]);
+  ASSERT_TRUE(means.Offset(walk, proud, old, out));
+  EXPECT_FLOAT_EQ(out[0], -3.5f);
+  out[0] = 42;
+  EXPECT_FALSE(means.Offset(run, old, proud, out));  // No proud run.
+  EXPECT_EQ(out[0], 42);
+}
+
+// --pair-offset-weight: the transfers' mean change moves towards the
+// posture change the training clips show between the two styles of the
+// action; a label-guided term, refused without --guided.
+TEST(GuidedTrainingTest, PairOffsetTermPullsTransfersTowardsTheStylesPostureChange) {
+  TrainOptions o = GuidedOptions(testing::FreshDir("pair_offset"), 200);
+  o.config.alpha = 0;
+  o.config.pair_offset_weight = 10;
+  std::vector<LossRecord> curve;
+  o.on_record = [&](const LossRecord& r) { curve.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(o).ok());
+  std::printf("pair_offset %.4f -> %.4f\n", curve.front().pair_offset, curve.back().pair_offset);
+  EXPECT_GT(curve.front().pair_offset, 0);
+  EXPECT_LT(curve.back().pair_offset, 0.7 * curve.front().pair_offset);
+  std::ifstream csv(o.out + "/loss.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_NE(header.find("pair_offset"), std::string::npos) << header;
+  EXPECT_TRUE(ContrastiveModel::Load(o.out).ok());
+  TrainOptions unguided = GuidedOptions(testing::FreshDir("pair_offset_unguided"), 10);
+  unguided.config.guided = false;
+  unguided.config.pair_offset_weight = 1;
   EXPECT_EQ(TrainContrastive(unguided).code(), absl::StatusCode::kInvalidArgument);
 }
 
@@ -358,9 +417,10 @@ TEST(GuidedTrainingTest, ResidualTrainingKeepsTheClipAndStillRestyles) {
     self_gap[residual] = gap(clip);
     other_gap[residual] = gap(other);
   }
-  std::printf("max joint gap to the content: own style plain %.2f, residual %.2f; "
-              "other style plain %.2f, residual %.2f\n",
-              self_gap[false], self_gap[true], other_gap[false], other_gap[true]);
+  std::printf(
+      "max joint gap to the content: own style plain %.2f, residual %.2f; "
+      "other style plain %.2f, residual %.2f\n",
+      self_gap[false], self_gap[true], other_gap[false], other_gap[true]);
   EXPECT_LT(self_gap[true], 0.5 * self_gap[false]);
   EXPECT_GT(other_gap[true], 2 * self_gap[true]);
 }
@@ -403,7 +463,9 @@ TEST(LabelCriticEnsembleTest, MembersStartApartLearnAndAverageTheirVerdicts) {
     EXPECT_GT(apart, 1e-3);
   }
   // Slow sines are style 0 / content 0, fast ones style 1 / content 1.
-  auto learn = [&] { return critics.Learn({{windows(0.2), zeros, zeros}, {windows(1.1), ones, ones}}); };
+  auto learn = [&] {
+    return critics.Learn({{windows(0.2), zeros, zeros}, {windows(1.1), ones, ones}});
+  };
   const double first = learn();
   double last = first;
   for (int i = 0; i < 100; ++i) last = learn();

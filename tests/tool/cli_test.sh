@@ -54,6 +54,8 @@ check "train --content-balance without --guided" 1 "--content-balance needs --gu
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-balance 0.5
 check "train --self-rec-weight without --guided" 1 "--self-rec-weight needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --self-rec-weight 1
+check "train --pair-offset-weight without --guided" 1 "--pair-offset-weight needs --guided" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --pair-offset-weight 1
 check "train --channels" 0 "model written to $work/narrow" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/narrow" --iters 2 --batch 2 --threads 1 --channels 24
 check "train --channels in the package" 0 "^channels = 24$" -- cat "$work/narrow/config.txt"

@@ -280,8 +280,7 @@ TEST(GuidedTrainingTest, CriticLearnsTheLabelsAndTransfersFollowIt) {
   // What remains of the error is the generated body's facing, which turns
   // the kept velocities a little; how much depends on the weights' last
   // digits (under 0.5 units where this test was written, 0.65 on another
-  // machine with the same packages), so the bound is loose and
-  // the comparison with the free path is the check.
+  // machine), so the bound is loose and the comparison with the free path is the check.
   EXPECT_LT(path_error(*on_path), 2.0);
   EXPECT_GT(path_error(*out), 20 * path_error(*on_path));
 

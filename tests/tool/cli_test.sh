@@ -154,6 +154,7 @@ for s in walk_normal walk_old run; do
   check "sample $s" 0 "joints: 22" -- "$tool" bvh-info "$src/samples/$s.bvh"
 done
 
+check "bvh-splice --help" 0 "usage: stylus-tool bvh-splice BASE DONOR --part" -- "$tool" bvh-splice --help
 check "bvh-splice" 0 "wrote .*spliced.bvh: 120 frames, 8 joints from .*walk_old.bvh" -- \
   "$tool" bvh-splice "$src/samples/walk_normal.bvh" "$src/samples/walk_old.bvh" --part legs -o "$work/spliced.bvh"
 check "bvh-splice output reads back" 0 "frames: 120" -- "$tool" bvh-info "$work/spliced.bvh"

@@ -28,7 +28,7 @@ struct JudgeTrainOptions {
   // clip's grid windows stop at frame 56).
   bool random_starts = false;
   // With probability `swap_parts` a drawn window gets one body part (legs,
-  // torso or an arm; motion/splice.h) from a window of another clip with the
+  // torso or an arm; motion/splice.h) from another drawn window with the
   // same label (the content judge: the same action; the style judge: the
   // same style). A content judge learns to read the action from whatever
   // the body does, not from one take's way of doing the rest: v1's verdicts

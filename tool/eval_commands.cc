@@ -111,7 +111,7 @@ int JudgeSwapTest(const Args& args, const char* help) {
   absl::StatusOr<std::unique_ptr<model::Judges>> judges = model::Judges::Load(args.Get("judges"));
   if (!judges.ok()) return Fail("judge", judges.status());
   absl::StatusOr<model::SwapTestReport> report =
-      model::RunSwapTest(**judges, args.All("data"), [](int done, int total) {
+      model::RunSwapTest(**judges, DataSources(args), [](int done, int total) {
         if (done % 10 == 0 || done == total) {
           std::fprintf(stderr, "\rswap test: %d/%d held-out clips", done, total);
           if (done == total) std::fprintf(stderr, "\n");

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
 
@@ -142,6 +143,16 @@ struct ContrastiveConfig {
   // `residual`, whose output already carries the whole content window.
   double content_detail = 0;
   double detail_sigma = 0;
+  // Inference: with `content_guard`, the package's content guard (guard.pt,
+  // model/content_guard.h; `stylus-tool train-guard`) reads the action of the
+  // content clip and of each whole-clip transfer. When they differ, the
+  // transfer is made again in the residual form (the content plus the change
+  // the style makes) at each of `guard_strengths` in turn, and the first
+  // whose action the guard reads as the content's is returned (the last one
+  // when none is). The style is given up where the action would be lost
+  // (docs/contrastive.md, session 14). Streams are not guarded.
+  bool content_guard = false;
+  std::vector<double> guard_strengths = {1, 0.7, 0.4};
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

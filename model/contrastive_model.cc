@@ -2,9 +2,11 @@
 
 #include <torch/torch.h>
 
+#include <atomic>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "model/content_guard.h"
 #include "model/contrastive_net.h"
 #include "model/weights_io.h"
 #include "model/window_blend.h"
@@ -18,6 +20,31 @@ struct ContrastiveModel::Impl {
   std::string dir;
   PackageContents package;
   ContrastiveNet net{nullptr};
+  std::unique_ptr<ContentGuard> guard;  // With config.content_guard.
+  // How many guarded transfers ended at each step: [0] as configured, [k]
+  // at guard_strengths[k - 1].
+  mutable std::vector<std::atomic<int64_t>> guard_steps;
+
+  // What GenerateWindows takes from the config, so the guard can vary it.
+  struct Knobs {
+    double strength = 1;
+    bool residual = false;
+    double content_detail = 0;
+  };
+  Knobs Configured() const {
+    return {package.config.style_strength, package.config.residual, package.config.content_detail};
+  }
+  absl::StatusOr<std::vector<float>> Generate(const motion::FeatureClip& features,
+                                              const std::vector<int>& starts,
+                                              const std::vector<StyleCode>& codes,
+                                              const Knobs& knobs);
+  // Windows generated for `codes` at `starts`, cross-faded into a motion on
+  // `content`'s skeleton and post-processed.
+  absl::StatusOr<motion::Motion> Render(const motion::Motion& content,
+                                        const motion::FeatureClip& features,
+                                        const std::vector<int>& starts,
+                                        const std::vector<StyleCode>& codes, const Knobs& knobs,
+                                        motion::PostProcessMode post);
 
   absl::Status Internal(const std::exception& e) const {
     return absl::InternalError(absl::StrCat("model ", dir, ": ", e.what()));
@@ -51,6 +78,14 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(const s
   impl->net = ContrastiveNet(impl->package.config);
   if (absl::Status s = LoadWeights(impl->net, impl->package.weights_path); !s.ok()) return s;
   impl->net->eval();
+  const ContrastiveConfig& config = impl->package.config;
+  if (config.content_guard) {
+    absl::StatusOr<std::unique_ptr<ContentGuard>> guard =
+        ContentGuard::Load(dir, config.dim, config.window, config.hop);
+    if (!guard.ok()) return guard.status();
+    impl->guard = *std::move(guard);
+    impl->guard_steps = std::vector<std::atomic<int64_t>>(config.guard_strengths.size() + 1);
+  }
   return std::unique_ptr<ContrastiveModel>(new ContrastiveModel(std::move(impl)));
 }
 
@@ -82,7 +117,13 @@ absl::StatusOr<motion::FeatureClip> ContrastiveModel::NormalizedFeatures(
 absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
     const motion::FeatureClip& features, const std::vector<int>& starts,
     const std::vector<StyleCode>& codes) const {
-  const ContrastiveConfig& config = impl_->package.config;
+  return impl_->Generate(features, starts, codes, impl_->Configured());
+}
+
+absl::StatusOr<std::vector<float>> ContrastiveModel::Impl::Generate(
+    const motion::FeatureClip& features, const std::vector<int>& starts,
+    const std::vector<StyleCode>& codes, const Knobs& knobs) {
+  const ContrastiveConfig& config = package.config;
   if (codes.size() != starts.size()) {
     return absl::InvalidArgumentError("one style code per window is needed");
   }
@@ -105,36 +146,36 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
       code_tensor[w].copy_(torch::from_blob(const_cast<float*>(codes[w].values.data()),
                                             {config.channels}, torch::kFloat32));
     }
-    const torch::Tensor x = impl_->Windows(features, starts);
-    const torch::Tensor content = impl_->net->content(x);
+    const torch::Tensor x = Windows(features, starts);
+    const torch::Tensor content = net->content(x);
     torch::Tensor own_style;
-    if (config.style_strength < 1 || config.residual) own_style = impl_->net->style(x);
-    if (config.style_strength < 1) {
-      const double k = config.style_strength;
+    if (knobs.strength < 1 || knobs.residual) own_style = net->style(x);
+    if (knobs.strength < 1) {
+      const double k = knobs.strength;
       code_tensor = k * code_tensor + (1 - k) * own_style;
     }
-    torch::Tensor y = impl_->net->decode(content, code_tensor);
+    torch::Tensor y = net->decode(content, code_tensor);
     // residual: the content window plus what the style changes in the
     // generator's output; what the generator loses of any window cancels.
-    if (config.residual) y = y - impl_->net->decode(content, own_style);
+    if (knobs.residual) y = y - net->decode(content, own_style);
     // Channels [0, path) pose the body; [path, dim) are the root trajectory
     // and foot contacts (motion/features.h).
     const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
     if (config.smooth_sigma > 0) {
       y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config.smooth_sigma));
     }
-    if (config.content_detail > 0) {
+    if (knobs.content_detail > 0) {
       const torch::Tensor pose = x.slice(1, 0, path);
       y.slice(1, 0, path)
-          .add_(config.content_detail * (pose - SmoothOverTime(pose, config.DetailSigma())));
+          .add_(knobs.content_detail * (pose - SmoothOverTime(pose, config.DetailSigma())));
     }
-    if (config.residual) y = y + x;
+    if (knobs.residual) y = y + x;
     // keep_path: the style changes the body, not the content's path.
     if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
     y = y.contiguous();
     return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
   } catch (const std::exception& e) {
-    return impl_->Internal(e);
+    return Internal(e);
   }
 }
 
@@ -156,18 +197,49 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
     const std::vector<double>& mix = per_frame ? weights.per_frame[centre] : weights.fixed;
     codes[w] = MixStyles(styles, mix);
   }
-  absl::StatusOr<std::vector<float>> y = GenerateWindows(*f, starts, codes);
+  const Impl::Knobs configured = impl_->Configured();
+  if (!impl_->guard) return impl_->Render(content, *f, starts, codes, configured, post);
+  // The content guard: the first form whose action reads as the content's.
+  const int action = impl_->guard->Classify(*f);
+  const std::vector<double>& strengths = config.guard_strengths;
+  absl::StatusOr<motion::Motion> out;
+  for (size_t step = 0; step <= strengths.size(); ++step) {
+    const Impl::Knobs knobs =
+        step == 0 ? configured : Impl::Knobs{strengths[step - 1], /*residual=*/true, 0};
+    out = impl_->Render(content, *f, starts, codes, knobs, post);
+    if (!out.ok()) return out.status();
+    absl::StatusOr<motion::FeatureClip> read = NormalizedFeatures(*out, "transfer");
+    if (!read.ok()) return read.status();
+    if (impl_->guard->Classify(*read) == action || step == strengths.size()) {
+      ++impl_->guard_steps[step];
+      break;
+    }
+  }
+  return out;
+}
+
+absl::StatusOr<motion::Motion> ContrastiveModel::Impl::Render(
+    const motion::Motion& content, const motion::FeatureClip& f, const std::vector<int>& starts,
+    const std::vector<StyleCode>& codes, const Knobs& knobs, motion::PostProcessMode post) {
+  const ContrastiveConfig& config = package.config;
+  absl::StatusOr<std::vector<float>> y = Generate(f, starts, codes, knobs);
   if (!y.ok()) return y.status();
-  WindowBlender blender(config.window, config.window - config.hop, f->dim);
-  const size_t per_window = static_cast<size_t>(f->dim) * config.window;
+  WindowBlender blender(config.window, config.window - config.hop, f.dim);
+  const size_t per_window = static_cast<size_t>(f.dim) * config.window;
   for (size_t w = 0; w < starts.size(); ++w) blender.Add(starts[w], y->data() + w * per_window);
   motion::FeatureClip out = blender.Take(content.num_frames);  // Drops the padding.
-  impl_->package.norm.Denormalize(&out);
+  package.norm.Denormalize(&out);
   absl::StatusOr<motion::Motion> raw =
-      motion::MotionFromFeatures(out, content.skeleton, impl_->package.roles, content.frame_time,
-                                 motion::RootAt(content, impl_->package.roles, 0));
+      motion::MotionFromFeatures(out, content.skeleton, package.roles, content.frame_time,
+                                 motion::RootAt(content, package.roles, 0));
   if (!raw.ok()) return raw.status();
-  return motion::PostProcess(*raw, content, impl_->package.roles, post);
+  return motion::PostProcess(*raw, content, package.roles, post);
+}
+
+std::vector<int64_t> ContrastiveModel::GuardSteps() const {
+  std::vector<int64_t> out;
+  for (const auto& n : impl_->guard_steps) out.push_back(n.load());
+  return out;
 }
 
 }  // namespace stylus::model

@@ -23,6 +23,7 @@ int Train(const Argv& argv);
 int TrainCyclicModel(const Argv& argv);  // train --family cyclic.
 int Transfer(const Argv& argv);
 int TrainJudges(const Argv& argv);
+int TrainGuard(const Argv& argv);
 int Eval(const Argv& argv);
 int Judge(const Argv& argv);
 int StyleMap(const Argv& argv);

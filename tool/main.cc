@@ -30,6 +30,8 @@ const Command kCommands[] = {
     {"transfer", stylus::tool::Transfer, "transfer a style clip onto a content clip with a model"},
     {"train-judges", stylus::tool::TrainJudges,
      "train the style and content classifiers used by eval"},
+    {"train-guard", stylus::tool::TrainGuard,
+     "train a contrastive package's content guard (keeps the action)"},
     {"judge", stylus::tool::Judge,
      "what the judges read in clips: styles and contents, likeliest first"},
     {"eval", stylus::tool::Eval, "evaluate a model on held-out pairs against baselines"},

@@ -1,0 +1,204 @@
+#include "model/content_guard.h"
+
+#include <torch/torch.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
+#include "model/config_text.h"
+#include "model/label_critic_net.h"
+#include "model/package.h"
+#include "model/training_set.h"
+#include "model/weights_io.h"
+#include "model/window_tensor.h"
+#include "motion/dataset.h"
+#include "motion/files.h"
+#include "motion/windowing.h"
+
+namespace stylus::model {
+namespace {
+
+constexpr char kWeights[] = "/guard.pt";
+constexpr char kInfo[] = "/guard.txt";
+
+// The sorted, unique style or content labels of `paths` (Bandai names).
+std::vector<std::string> Labels(const std::vector<std::string>& paths, bool style) {
+  std::map<std::string, int> seen;
+  for (const std::string& p : paths) {
+    if (auto l = motion::ParseClipName(p)) seen[style ? l->style : l->content] = 0;
+  }
+  std::vector<std::string> out;
+  for (const auto& [label, unused] : seen) out.push_back(label);
+  return out;
+}
+
+int IndexOf(const std::vector<std::string>& labels, const std::string& label) {
+  const auto it = std::find(labels.begin(), labels.end(), label);
+  return it == labels.end() ? -1 : static_cast<int>(it - labels.begin());
+}
+
+// Clip-level logits: the mean over the clip's windows.
+LabelLogits ClipLogits(LabelCritic& net, motion::FeatureClip f, int window, int hop) {
+  PadToLength(&f, window);
+  const std::vector<int> starts = *motion::WindowStarts(f.frames, {window, hop}, true);
+  const LabelLogits l = net->forward(WindowTensor(f, starts, window));
+  return {l.style.mean(0), l.content.mean(0)};
+}
+
+}  // namespace
+
+absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOptions& o) {
+  auto log = [&](const std::string& s) {
+    if (o.log) {
+      o.log(s);
+    } else {
+      std::fprintf(stderr, "%s\n", s.c_str());
+    }
+  };
+  absl::StatusOr<PackageContents> package = ReadPackage(o.model);
+  if (!package.ok()) return package.status();
+  const int window = package->config.window, hop = package->config.hop;
+  absl::StatusOr<TrainingSet> train =
+      LoadTrainingSet(o.data, {window, hop}, {}, /*test=*/false, &package->norm);
+  if (!train.ok()) return train.status();
+  absl::StatusOr<TrainingSet> test =
+      LoadTrainingSet(o.data, {window, hop}, {}, /*test=*/true, &package->norm);
+  if (!test.ok()) return test.status();
+  if (train->windows.empty()) {
+    return absl::InvalidArgumentError("content guard: no training clip is a window long");
+  }
+  const std::vector<std::string> styles = Labels(train->paths, true),
+                                 contents = Labels(train->paths, false);
+  if (contents.size() < 2) {
+    return absl::InvalidArgumentError(
+        "content guard: the training clips need at least two content labels (Bandai names)");
+  }
+  auto label_of = [&](const TrainingSet& set, int clip, bool style) {
+    const auto l = motion::ParseClipName(set.paths[clip]);
+    if (!l) return -1;
+    return IndexOf(style ? styles : contents, style ? l->style : l->content);
+  };
+  torch::manual_seed(o.seed);
+  std::mt19937_64 rng(o.seed);
+  LabelCritic net(train->dim(), static_cast<int>(styles.size()),
+                  static_cast<int>(contents.size()));
+  ContentGuardAccuracy acc;
+  try {
+    // Batches balanced over actions: an action uniformly, then one of its windows.
+    std::vector<std::vector<int>> windows_of(contents.size());
+    for (size_t w = 0; w < train->windows.size(); ++w) {
+      const int c = label_of(*train, train->windows[w].clip, false);
+      if (c >= 0) windows_of[c].push_back(static_cast<int>(w));
+    }
+    torch::optim::Adam opt(net->parameters(), torch::optim::AdamOptions(o.lr));
+    const int d = train->dim();
+    for (int it = 1; it <= o.iterations; ++it) {
+      torch::Tensor x = torch::empty({o.batch, d, window});
+      torch::Tensor style = torch::empty({o.batch}, torch::kLong);
+      torch::Tensor content = torch::empty({o.batch}, torch::kLong);
+      for (int b = 0; b < o.batch; ++b) {
+        int c;
+        do c = static_cast<int>(rng() % contents.size());
+        while (windows_of[c].empty());
+        const TrainingSet::Window& w = train->windows[windows_of[c][rng() % windows_of[c].size()]];
+        x[b] = WindowTensor(train->clips[w.clip], {w.start}, window)[0];
+        content[b] = c;
+        style[b] = label_of(*train, w.clip, true);
+      }
+      // Noise, so that the verdict does not hinge on exact values.
+      const torch::Tensor loss =
+          LabelLoss(net->forward(x + 0.05 * torch::randn_like(x)), style, content);
+      opt.zero_grad();
+      loss.backward();
+      opt.step();
+      if (it % 250 == 0 || it == o.iterations) {
+        log(absl::StrFormat("content guard: iter %d/%d loss %.4f", it, o.iterations,
+                            loss.item<double>()));
+      }
+    }
+    net->eval();
+    c10::InferenceMode guard;
+    int right_content = 0, right_style = 0;
+    for (size_t i = 0; i < test->clips.size(); ++i) {
+      const LabelLogits l = ClipLogits(net, test->clips[i], window, hop);
+      right_content += l.content.argmax().item<int64_t>() == label_of(*test, i, false);
+      right_style += l.style.argmax().item<int64_t>() == label_of(*test, i, true);
+    }
+    acc.clips = static_cast<int>(test->clips.size());
+    if (acc.clips > 0) {
+      acc.content = static_cast<double>(right_content) / acc.clips;
+      acc.style = static_cast<double>(right_style) / acc.clips;
+    }
+    torch::save(net, o.model + kWeights);
+  } catch (const std::exception& e) {
+    return absl::InternalError(absl::StrCat("training the content guard: ", e.what()));
+  }
+  const std::string info = absl::StrFormat(
+      "styles = %s\ncontents = %s\niterations = %d\nseed = %d\ndata = %s\n"
+      "held_out_content_accuracy = %.4f\nheld_out_style_accuracy = %.4f\nheld_out_clips = %d\n",
+      absl::StrJoin(styles, ","), absl::StrJoin(contents, ","), o.iterations, o.seed,
+      absl::StrJoin(o.data, ","), acc.content, acc.style, acc.clips);
+  if (absl::Status s = motion::WriteFileAtomically(o.model + kInfo, info); !s.ok()) return s;
+  return acc;
+}
+
+struct ContentGuard::Impl {
+  std::vector<std::string> styles, contents;
+  int window = 0, hop = 0;
+  LabelCritic net{nullptr};
+};
+
+ContentGuard::ContentGuard(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+ContentGuard::~ContentGuard() = default;
+const std::vector<std::string>& ContentGuard::contents() const { return impl_->contents; }
+
+absl::StatusOr<std::unique_ptr<ContentGuard>> ContentGuard::Load(const std::string& dir, int dim,
+                                                                 int window, int hop) {
+  const std::string info_path = dir + kInfo, weights_path = dir + kWeights;
+  std::ifstream file(info_path);
+  if (!file) {
+    return absl::NotFoundError(info_path + ": missing (train it with stylus-tool train-guard)");
+  }
+  std::stringstream text;
+  text << file.rdbuf();
+  auto impl = std::make_unique<Impl>();
+  impl->window = window;
+  impl->hop = hop;
+  absl::Status parsed =
+      ParseConfigText(text.str(), info_path, [&impl](const ConfigEntry& e) -> absl::Status {
+        if (e.key == "styles" || e.key == "contents") {
+          std::vector<std::string> labels = absl::StrSplit(e.value, ',', absl::SkipEmpty());
+          if (labels.size() < 2) return e.Error("needs at least two labels");
+          (e.key == "styles" ? impl->styles : impl->contents) = std::move(labels);
+        }
+        return absl::OkStatus();  // Provenance and accuracy: informational.
+      });
+  if (!parsed.ok()) return parsed;
+  if (impl->styles.empty() || impl->contents.empty()) {
+    return absl::InvalidArgumentError(info_path + ": missing 'styles' or 'contents'");
+  }
+  if (!std::filesystem::exists(weights_path)) {
+    return absl::NotFoundError(weights_path + ": not found (train it with stylus-tool train-guard)");
+  }
+  impl->net = LabelCritic(dim, static_cast<int>(impl->styles.size()),
+                          static_cast<int>(impl->contents.size()));
+  if (absl::Status s = LoadWeights(impl->net, weights_path); !s.ok()) return s;
+  impl->net->eval();
+  return std::unique_ptr<ContentGuard>(new ContentGuard(std::move(impl)));
+}
+
+int ContentGuard::Classify(const motion::FeatureClip& normalized) const {
+  c10::InferenceMode guard;
+  return static_cast<int>(
+      ClipLogits(impl_->net, normalized, impl_->window, impl_->hop).content.argmax().item<int64_t>());
+}
+
+}  // namespace stylus::model

@@ -1,0 +1,70 @@
+// The content guard of a contrastive package: a classifier of the action
+// (content label) trained on the package's own normalized features of real
+// training clips, and used at inference to check that a transfer still reads
+// as the action its content clip reads as. When it does not, the model backs
+// off the style (ContrastiveConfig::content_guard, docs/contrastive.md,
+// session 14). Its design is the label critic's (model/label_critic_net.h),
+// deliberately unlike the evaluation judges. The header is torch-free.
+//
+// Files in the package: guard.pt (weights) and guard.txt (its labels, how it
+// was trained and its held-out accuracy).
+#ifndef STYLUS_MODEL_CONTENT_GUARD_H_
+#define STYLUS_MODEL_CONTENT_GUARD_H_
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "motion/features.h"
+
+namespace stylus::model {
+
+struct ContentGuardTrainOptions {
+  std::string model;              // The package the guard is trained for and written into.
+  std::vector<std::string> data;  // Labelled dataset directories (their training split).
+  int iterations = 3000;
+  int batch = 32;
+  double lr = 1e-3;
+  uint64_t seed = 1;
+  std::function<void(const std::string&)> log;  // Default: stderr.
+};
+
+struct ContentGuardAccuracy {
+  double content = 0, style = 0;  // Clip-level accuracy on the held-out split.
+  int clips = 0;
+};
+
+// Trains the guard on the training split of `data`, normalized with the
+// package's statistics, writes guard.pt and guard.txt into the package and
+// returns its held-out accuracy. NOT_FOUND / INVALID_ARGUMENT as for loading
+// the package or the data.
+absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOptions& options);
+
+class ContentGuard {
+ public:
+  // Reads guard.txt and guard.pt from the package `dir` whose features are
+  // `dim` wide, read in windows of `window` frames at hop `hop`. NOT_FOUND for
+  // a missing file, INVALID_ARGUMENT (naming the file) for a malformed one.
+  static absl::StatusOr<std::unique_ptr<ContentGuard>> Load(const std::string& dir, int dim,
+                                                            int window, int hop);
+  ~ContentGuard();
+
+  const std::vector<std::string>& contents() const;
+  // Index into contents() of the clip's most likely action: the guard's
+  // content logits averaged over the clip's windows (a clip shorter than a
+  // window is padded with its last frame). `normalized` as the package's
+  // statistics normalize it. Thread-safe.
+  int Classify(const motion::FeatureClip& normalized) const;
+
+ private:
+  struct Impl;
+  explicit ContentGuard(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CONTENT_GUARD_H_

@@ -2,6 +2,7 @@
 
 #include <torch/torch.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -26,8 +27,11 @@
 namespace stylus::model {
 namespace {
 
-constexpr char kWeights[] = "/guard.pt";
 constexpr char kInfo[] = "/guard.txt";
+
+std::string GuardPath(const std::string& dir, int k) {
+  return absl::StrCat(dir, "/guard_", k, ".pt");
+}
 
 // The sorted, unique style or content labels of `paths` (Bandai names).
 std::vector<std::string> Labels(const std::vector<std::string>& paths, bool style) {
@@ -45,12 +49,12 @@ int IndexOf(const std::vector<std::string>& labels, const std::string& label) {
   return it == labels.end() ? -1 : static_cast<int>(it - labels.begin());
 }
 
-// Clip-level logits: the mean over the clip's windows.
-LabelLogits ClipLogits(LabelCritic& net, motion::FeatureClip f, int window, int hop) {
+// The softmax of the content logits averaged over the clip's windows (kFloat64).
+torch::Tensor ClipProbabilities(LabelCritic& net, motion::FeatureClip f, int window, int hop) {
   PadToLength(&f, window);
   const std::vector<int> starts = *motion::WindowStarts(f.frames, {window, hop}, true);
-  const LabelLogits l = net->forward(WindowTensor(f, starts, window));
-  return {l.style.mean(0), l.content.mean(0)};
+  return torch::softmax(net->forward(WindowTensor(f, starts, window)).content.mean(0), 0)
+      .to(torch::kFloat64);
 }
 
 }  // namespace
@@ -63,15 +67,28 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
       std::fprintf(stderr, "%s\n", s.c_str());
     }
   };
+  if (o.guards < 1 || o.guards > 16) {
+    return absl::InvalidArgumentError("content guard: the number of guards must be in [1, 16]");
+  }
   absl::StatusOr<PackageContents> package = ReadPackage(o.model);
   if (!package.ok()) return package.status();
   const int window = package->config.window, hop = package->config.hop;
   absl::StatusOr<TrainingSet> train =
       LoadTrainingSet(o.data, {window, hop}, {}, /*test=*/false, &package->norm);
   if (!train.ok()) return train.status();
-  absl::StatusOr<TrainingSet> test =
-      LoadTrainingSet(o.data, {window, hop}, {}, /*test=*/true, &package->norm);
-  if (!test.ok()) return test.status();
+  // The held-out split of the directories among `data` (single files have none).
+  std::vector<std::string> dirs;
+  for (const std::string& d : o.data) {
+    if (std::filesystem::is_directory(d)) dirs.push_back(d);
+  }
+  TrainingSet held_out;
+  if (!dirs.empty()) {
+    absl::StatusOr<TrainingSet> loaded =
+        LoadTrainingSet(dirs, {window, hop}, {}, /*test=*/true, &package->norm);
+    if (!loaded.ok()) return loaded.status();
+    held_out = *std::move(loaded);
+  }
+  const TrainingSet* test = &held_out;
   if (train->windows.empty()) {
     return absl::InvalidArgumentError("content guard: no training clip is a window long");
   }
@@ -86,74 +103,88 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
     if (!l) return -1;
     return IndexOf(style ? styles : contents, style ? l->style : l->content);
   };
-  torch::manual_seed(o.seed);
-  std::mt19937_64 rng(o.seed);
-  LabelCritic net(train->dim(), static_cast<int>(styles.size()),
-                  static_cast<int>(contents.size()));
+  // Batches balanced over actions: an action uniformly, then one of its windows.
+  std::vector<std::vector<int>> windows_of(contents.size());
+  for (size_t w = 0; w < train->windows.size(); ++w) {
+    const int c = label_of(*train, train->windows[w].clip, false);
+    if (c >= 0) windows_of[c].push_back(static_cast<int>(w));
+  }
   ContentGuardAccuracy acc;
+  acc.clips = static_cast<int>(test->clips.size());
+  std::vector<torch::Tensor> probabilities(test->clips.size());  // Summed over guards.
   try {
-    // Batches balanced over actions: an action uniformly, then one of its windows.
-    std::vector<std::vector<int>> windows_of(contents.size());
-    for (size_t w = 0; w < train->windows.size(); ++w) {
-      const int c = label_of(*train, train->windows[w].clip, false);
-      if (c >= 0) windows_of[c].push_back(static_cast<int>(w));
-    }
-    torch::optim::Adam opt(net->parameters(), torch::optim::AdamOptions(o.lr));
-    const int d = train->dim();
-    for (int it = 1; it <= o.iterations; ++it) {
-      torch::Tensor x = torch::empty({o.batch, d, window});
-      torch::Tensor style = torch::empty({o.batch}, torch::kLong);
-      torch::Tensor content = torch::empty({o.batch}, torch::kLong);
-      for (int b = 0; b < o.batch; ++b) {
-        int c;
-        do c = static_cast<int>(rng() % contents.size());
-        while (windows_of[c].empty());
-        const TrainingSet::Window& w = train->windows[windows_of[c][rng() % windows_of[c].size()]];
-        x[b] = WindowTensor(train->clips[w.clip], {w.start}, window)[0];
-        content[b] = c;
-        style[b] = label_of(*train, w.clip, true);
+    for (int g = 1; g <= o.guards; ++g) {
+      const uint64_t seed = o.seed + g - 1;
+      torch::manual_seed(seed);
+      std::mt19937_64 rng(seed);
+      LabelCritic net(train->dim(), static_cast<int>(styles.size()),
+                      static_cast<int>(contents.size()));
+      torch::optim::Adam opt(net->parameters(), torch::optim::AdamOptions(o.lr));
+      const int d = train->dim();
+      for (int it = 1; it <= o.iterations; ++it) {
+        torch::Tensor x = torch::empty({o.batch, d, window});
+        torch::Tensor style = torch::empty({o.batch}, torch::kLong);
+        torch::Tensor content = torch::empty({o.batch}, torch::kLong);
+        for (int b = 0; b < o.batch; ++b) {
+          int c;
+          do c = static_cast<int>(rng() % contents.size());
+          while (windows_of[c].empty());
+          const TrainingSet::Window& w =
+              train->windows[windows_of[c][rng() % windows_of[c].size()]];
+          x[b] = WindowTensor(train->clips[w.clip], {w.start}, window)[0];
+          content[b] = c;
+          style[b] = label_of(*train, w.clip, true);
+        }
+        // Noise, so that the verdict does not hinge on exact values. The style
+        // head is trained too (the critic's design); only the content is read.
+        const torch::Tensor loss =
+            LabelLoss(net->forward(x + 0.05 * torch::randn_like(x)), style, content);
+        opt.zero_grad();
+        loss.backward();
+        opt.step();
+        if (it % 250 == 0 || it == o.iterations) {
+          log(absl::StrFormat("content guard %d/%d: iter %d/%d loss %.4f", g, o.guards, it,
+                              o.iterations, loss.item<double>()));
+        }
       }
-      // Noise, so that the verdict does not hinge on exact values.
-      const torch::Tensor loss =
-          LabelLoss(net->forward(x + 0.05 * torch::randn_like(x)), style, content);
-      opt.zero_grad();
-      loss.backward();
-      opt.step();
-      if (it % 250 == 0 || it == o.iterations) {
-        log(absl::StrFormat("content guard: iter %d/%d loss %.4f", it, o.iterations,
-                            loss.item<double>()));
+      net->eval();
+      c10::InferenceMode guard;
+      int right = 0;
+      for (size_t i = 0; i < test->clips.size(); ++i) {
+        const torch::Tensor p = ClipProbabilities(net, test->clips[i], window, hop);
+        right += p.argmax().item<int64_t>() == label_of(*test, static_cast<int>(i), false);
+        probabilities[i] = probabilities[i].defined() ? probabilities[i] + p : p;
       }
+      acc.each.push_back(acc.clips ? static_cast<double>(right) / acc.clips : 0);
+      torch::save(net, GuardPath(o.model, g));
     }
-    net->eval();
-    c10::InferenceMode guard;
-    int right_content = 0, right_style = 0;
+    int right = 0;
     for (size_t i = 0; i < test->clips.size(); ++i) {
-      const LabelLogits l = ClipLogits(net, test->clips[i], window, hop);
-      right_content += l.content.argmax().item<int64_t>() == label_of(*test, i, false);
-      right_style += l.style.argmax().item<int64_t>() == label_of(*test, i, true);
+      right += probabilities[i].argmax().item<int64_t>() == label_of(*test, static_cast<int>(i), false);
     }
-    acc.clips = static_cast<int>(test->clips.size());
-    if (acc.clips > 0) {
-      acc.content = static_cast<double>(right_content) / acc.clips;
-      acc.style = static_cast<double>(right_style) / acc.clips;
-    }
-    torch::save(net, o.model + kWeights);
+    if (acc.clips > 0) acc.content = static_cast<double>(right) / acc.clips;
   } catch (const std::exception& e) {
     return absl::InternalError(absl::StrCat("training the content guard: ", e.what()));
   }
   const std::string info = absl::StrFormat(
-      "styles = %s\ncontents = %s\niterations = %d\nseed = %d\ndata = %s\n"
-      "held_out_content_accuracy = %.4f\nheld_out_style_accuracy = %.4f\nheld_out_clips = %d\n",
-      absl::StrJoin(styles, ","), absl::StrJoin(contents, ","), o.iterations, o.seed,
-      absl::StrJoin(o.data, ","), acc.content, acc.style, acc.clips);
+      "styles = %s\ncontents = %s\nguards = %d\niterations = %d\nseed = %d\ndata = %s\n"
+      "held_out_content_accuracy = %.4f\neach_guards_held_out_content_accuracy = %s\n"
+      "held_out_clips = %d\n",
+      absl::StrJoin(styles, ","), absl::StrJoin(contents, ","), o.guards, o.iterations, o.seed,
+      absl::StrJoin(o.data, ","), acc.content,
+      absl::StrJoin(acc.each, ",", [](std::string* out, double a) {
+        absl::StrAppendFormat(out, "%.4f", a);
+      }),
+      acc.clips);
   if (absl::Status s = motion::WriteFileAtomically(o.model + kInfo, info); !s.ok()) return s;
   return acc;
 }
 
 struct ContentGuard::Impl {
   std::vector<std::string> styles, contents;
+  int guards = 1;
   int window = 0, hop = 0;
-  LabelCritic net{nullptr};
+  std::vector<LabelCritic> nets;
 };
 
 ContentGuard::ContentGuard(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -162,7 +193,7 @@ const std::vector<std::string>& ContentGuard::contents() const { return impl_->c
 
 absl::StatusOr<std::unique_ptr<ContentGuard>> ContentGuard::Load(const std::string& dir, int dim,
                                                                  int window, int hop) {
-  const std::string info_path = dir + kInfo, weights_path = dir + kWeights;
+  const std::string info_path = dir + kInfo;
   std::ifstream file(info_path);
   if (!file) {
     return absl::NotFoundError(info_path + ": missing (train it with stylus-tool train-guard)");
@@ -179,26 +210,41 @@ absl::StatusOr<std::unique_ptr<ContentGuard>> ContentGuard::Load(const std::stri
           if (labels.size() < 2) return e.Error("needs at least two labels");
           (e.key == "styles" ? impl->styles : impl->contents) = std::move(labels);
         }
+        if (e.key == "guards") return e.Int(&impl->guards, 1, 16);
         return absl::OkStatus();  // Provenance and accuracy: informational.
       });
   if (!parsed.ok()) return parsed;
   if (impl->styles.empty() || impl->contents.empty()) {
     return absl::InvalidArgumentError(info_path + ": missing 'styles' or 'contents'");
   }
-  if (!std::filesystem::exists(weights_path)) {
-    return absl::NotFoundError(weights_path + ": not found (train it with stylus-tool train-guard)");
+  for (int k = 1; k <= impl->guards; ++k) {
+    const std::string path = GuardPath(dir, k);
+    if (!std::filesystem::exists(path)) {
+      return absl::NotFoundError(path + ": missing (train it with stylus-tool train-guard)");
+    }
+    LabelCritic net(dim, static_cast<int>(impl->styles.size()),
+                    static_cast<int>(impl->contents.size()));
+    if (absl::Status s = LoadWeights(net, path); !s.ok()) return s;
+    net->eval();
+    impl->nets.push_back(net);
   }
-  impl->net = LabelCritic(dim, static_cast<int>(impl->styles.size()),
-                          static_cast<int>(impl->contents.size()));
-  if (absl::Status s = LoadWeights(impl->net, weights_path); !s.ok()) return s;
-  impl->net->eval();
   return std::unique_ptr<ContentGuard>(new ContentGuard(std::move(impl)));
 }
 
-int ContentGuard::Classify(const motion::FeatureClip& normalized) const {
+std::vector<double> ContentGuard::Probabilities(const motion::FeatureClip& normalized) const {
   c10::InferenceMode guard;
-  return static_cast<int>(
-      ClipLogits(impl_->net, normalized, impl_->window, impl_->hop).content.argmax().item<int64_t>());
+  torch::Tensor sum;
+  for (LabelCritic& net : impl_->nets) {
+    const torch::Tensor p = ClipProbabilities(net, normalized, impl_->window, impl_->hop);
+    sum = sum.defined() ? sum + p : p;
+  }
+  const torch::Tensor mean = (sum / static_cast<double>(impl_->nets.size())).contiguous();
+  return std::vector<double>(mean.data_ptr<double>(), mean.data_ptr<double>() + mean.numel());
+}
+
+int ContentGuard::Classify(const motion::FeatureClip& normalized) const {
+  const std::vector<double> p = Probabilities(normalized);
+  return static_cast<int>(std::max_element(p.begin(), p.end()) - p.begin());
 }
 
 }  // namespace stylus::model

@@ -6,8 +6,12 @@
 // session 14). Its design is the label critic's (model/label_critic_net.h),
 // deliberately unlike the evaluation judges. The header is torch-free.
 //
-// Files in the package: guard.pt (weights) and guard.txt (its labels, how it
-// was trained and its held-out accuracy).
+// It is an ensemble of `guards` such classifiers, trained alike from
+// different seeds, whose probabilities are averaged: one classifier's verdict
+// on a transfer near its boundary depends on its draw.
+//
+// Files in the package: guard_1.pt ... guard_K.pt (weights) and guard.txt
+// (the labels, how they were trained and their held-out accuracy).
 #ifndef STYLUS_MODEL_CONTENT_GUARD_H_
 #define STYLUS_MODEL_CONTENT_GUARD_H_
 
@@ -28,24 +32,28 @@ struct ContentGuardTrainOptions {
   int iterations = 3000;
   int batch = 32;
   double lr = 1e-3;
-  uint64_t seed = 1;
+  uint64_t seed = 1;  // Guard k (1-based) uses seed + k - 1.
+  int guards = 3;
   std::function<void(const std::string&)> log;  // Default: stderr.
 };
 
 struct ContentGuardAccuracy {
-  double content = 0, style = 0;  // Clip-level accuracy on the held-out split.
+  // Clip-level accuracy on the held-out split: the ensemble's content
+  // verdict, and each guard's own.
+  double content = 0;
+  std::vector<double> each;
   int clips = 0;
 };
 
-// Trains the guard on the training split of `data`, normalized with the
-// package's statistics, writes guard.pt and guard.txt into the package and
-// returns its held-out accuracy. NOT_FOUND / INVALID_ARGUMENT as for loading
+// Trains the guards on the training split of `data`, normalized with the
+// package's statistics, writes their files into the package and returns
+// their held-out accuracy. NOT_FOUND / INVALID_ARGUMENT as for loading
 // the package or the data.
 absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOptions& options);
 
 class ContentGuard {
  public:
-  // Reads guard.txt and guard.pt from the package `dir` whose features are
+  // Reads guard.txt and the guards' weights from the package `dir` whose features are
   // `dim` wide, read in windows of `window` frames at hop `hop`. NOT_FOUND for
   // a missing file, INVALID_ARGUMENT (naming the file) for a malformed one.
   static absl::StatusOr<std::unique_ptr<ContentGuard>> Load(const std::string& dir, int dim,
@@ -53,10 +61,13 @@ class ContentGuard {
   ~ContentGuard();
 
   const std::vector<std::string>& contents() const;
-  // Index into contents() of the clip's most likely action: the guard's
-  // content logits averaged over the clip's windows (a clip shorter than a
-  // window is padded with its last frame). `normalized` as the package's
-  // statistics normalize it. Thread-safe.
+  // One probability per label of contents() for the clip: each guard's
+  // softmax of its content logits averaged over the clip's windows (a clip
+  // shorter than a window is padded with its last frame), averaged over the
+  // guards. `normalized` as the package's statistics normalize it.
+  // Thread-safe.
+  std::vector<double> Probabilities(const motion::FeatureClip& normalized) const;
+  // Index into contents() of the likeliest action.
   int Classify(const motion::FeatureClip& normalized) const;
 
  private:

@@ -57,6 +57,7 @@ std::string ContrastiveConfig::Serialize() const {
   if (content_guard) {
     put("content_guard", "1");
     put("guard_strengths", absl::StrJoin(guard_strengths, ","));
+    if (guard_min_probability > 0) put("guard_min_probability", absl::StrCat(guard_min_probability));
   }
   if (average_from > 0) {
     put("average_from", absl::StrCat(average_from));
@@ -131,6 +132,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "detail_sigma") return e.Double(&c.detail_sigma, 0, 100);
     if (key == "content_guard") return e.Bool(&c.content_guard);
     if (key == "guard_strengths") return ParseGuardStrengths(e, &c.guard_strengths);
+    if (key == "guard_min_probability") return e.Double(&c.guard_min_probability, 0, 1);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "self_rec_weight") return e.Double(&c.self_rec_weight, 0, 1e6);

@@ -152,7 +152,10 @@ struct ContrastiveConfig {
   // when none is). The style is given up where the action would be lost
   // (docs/contrastive.md, session 14). Streams are not guarded.
   bool content_guard = false;
-  std::vector<double> guard_strengths = {1, 0.7, 0.4};
+  std::vector<double> guard_strengths = {1, 0.7, 0.4, 0.2};
+  // A transfer passes the guard when the guard's likeliest action for it is
+  // the content clip's, with at least this probability.
+  double guard_min_probability = 0;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

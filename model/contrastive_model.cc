@@ -2,6 +2,7 @@
 
 #include <torch/torch.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -210,7 +211,10 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
     if (!out.ok()) return out.status();
     absl::StatusOr<motion::FeatureClip> read = NormalizedFeatures(*out, "transfer");
     if (!read.ok()) return read.status();
-    if (impl_->guard->Classify(*read) == action || step == strengths.size()) {
+    const std::vector<double> p = impl_->guard->Probabilities(*read);
+    const bool kept = std::max_element(p.begin(), p.end()) - p.begin() == action &&
+                      p[action] >= config.guard_min_probability;
+    if (kept || step == strengths.size()) {
       ++impl_->guard_steps[step];
       break;
     }

@@ -26,7 +26,7 @@ struct LossRecord {
 
 struct TrainOptions {
   std::vector<std::string> data;  // Directories (training split) or .bvh files.
-  std::string out;                // Package directory, e.g. models/contrastive/v4.
+  std::string out;                // Package directory, e.g. models/contrastive/v5.
   ContrastiveConfig config;       // dim is filled from the data.
   bool resume = false;            // Continue from out/checkpoint if present.
   // A package whose weights.pt starts the networks (fine-tuning); its shapes

@@ -15,7 +15,7 @@
 namespace stylus::model {
 namespace {
 
-const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v4";
+const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v5";
 const std::string kJudges = std::string(STYLUS_SOURCE_DIR) + "/models/judges/v1";
 
 TEST(DefaultModelTest, TransfersTheShippedSamples) {

@@ -17,7 +17,7 @@ namespace {
 
 using testing::Frames;
 
-const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v4";
+const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v5";
 
 
 void Append(const motion::Motion& chunk, motion::Motion* all) {

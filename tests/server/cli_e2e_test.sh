@@ -23,7 +23,7 @@ addr=localhost:$(cat "$work/port")
 s=(--server "$addr")
 walk=$src/samples/walk_normal.bvh old=$src/samples/walk_old.bvh run=$src/samples/run.bvh
 
-check "models" 0 "contrastive/v4 \(default\)" -- "$cli" "${s[@]}" models
+check "models" 0 "contrastive/v5 \(default\)" -- "$cli" "${s[@]}" models
 check "models lists both families" 0 "cyclic/v1" -- "$cli" "${s[@]}" models
 check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrastive
 check "model-info cyclic" 0 "window 60" -- "$cli" "${s[@]}" model-info --model cyclic
@@ -32,14 +32,14 @@ check "transfer --model cyclic" 0 "wrote .*cyc.bvh \(120 frames\)" -- "$cli" "${
 check "stream --model cyclic" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${s[@]}" stream --model cyclic \
   --content "$walk" --style "$old" -o "$work/cyc_stream.bvh"
 check "model-info unknown" 1 "NOT_FOUND" -- "$cli" "${s[@]}" model-info --model nope/v1
-check "unload" 0 "unloaded contrastive/v4" -- "$cli" "${s[@]}" unload --model contrastive/v4
+check "unload" 0 "unloaded contrastive/v5" -- "$cli" "${s[@]}" unload --model contrastive/v5
 check "transfer without models" 1 "NOT_FOUND: no default model" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/x.bvh"
-check "load" 0 "loaded contrastive/v4 \(default\)" -- "$cli" "${s[@]}" load --model contrastive/v4
-check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model contrastive/v4
+check "load" 0 "loaded contrastive/v5 \(default\)" -- "$cli" "${s[@]}" load --model contrastive/v5
+check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model contrastive/v5
 check "transfer --postprocess none" 0 "wrote" -- "$cli" "${s[@]}" transfer --postprocess none --content "$walk" --style "$old" -o "$work/raw.bvh"
 check "transfer" 0 "wrote .*out.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/out.bvh"
 check "transfer output is BVH" 0 "HIERARCHY" -- head -1 "$work/out.bvh"
-check "transfer --model" 0 "wrote" -- "$cli" "${s[@]}" transfer --model contrastive/v4 --content "$walk" --style "$old" -o "$work/out2.bvh"
+check "transfer --model" 0 "wrote" -- "$cli" "${s[@]}" transfer --model contrastive/v5 --content "$walk" --style "$old" -o "$work/out2.bvh"
 check "interpolate" 0 "wrote .*mix_2.bvh \(weights 0:1\)" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,0.5,1 -o "$work/mix"
 check "interpolate files" 0 "mix_0.bvh" -- ls "$work/mix_0.bvh" "$work/mix_1.bvh" "$work/mix_2.bvh"
 check "stream" 0 "streamed 120 frames at 60.0 fps; got 120 back; latency p50 [0-9.]+ ms, p99 [0-9.]+ ms" -- "$cli" "${s[@]}" stream --content "$walk" --style "$old" --rate 60 -o "$work/stream.bvh"
@@ -54,7 +54,7 @@ check "missing -o" 1 "-o is required" -- "$cli" "${s[@]}" transfer --content "$w
 check "bad weights" 1 "'x' is not a number" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,x -o "$work/m"
 check "bad postprocess" 1 "--postprocess must be" -- "$cli" "${s[@]}" transfer --postprocess wobbly --content "$walk" --style "$old" -o "$work/x.bvh"
 check "unknown command" 2 "unknown command 'frobnicate'" -- "$cli" "${s[@]}" frobnicate
-check "server logs one line per call" 0 "rpc=Transfer model=contrastive/v4 frames=120 ms=[0-9.]+ status=OK" -- cat "$work/server.log"
+check "server logs one line per call" 0 "rpc=Transfer model=contrastive/v5 frames=120 ms=[0-9.]+ status=OK" -- cat "$work/server.log"
 
 kill -TERM "$pid"
 wait "$pid"

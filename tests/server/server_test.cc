@@ -23,7 +23,7 @@ using testing::Frames;
 using testing::LiveServer;
 using testing::Sample;
 
-const std::string kModel = testing::SourceDir() + "/models/contrastive/v4";
+const std::string kModel = testing::SourceDir() + "/models/contrastive/v5";
 
 
 motion::Motion BandaiClip(const std::string& dir, const std::string& name) {
@@ -82,7 +82,7 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   auto models = client().ListModels();
   ASSERT_TRUE(models.ok()) << models.status();
   ASSERT_EQ(models->size(), 2u);  // models/judges is not a servable family.
-  EXPECT_EQ((*models)[0].id(), "contrastive/v4");
+  EXPECT_EQ((*models)[0].id(), "contrastive/v5");
   EXPECT_EQ((*models)[1].id(), "cyclic/v1");
   EXPECT_EQ((*models)[1].family(), "cyclic");
   EXPECT_FALSE((*models)[1].is_default());
@@ -90,19 +90,19 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   EXPECT_EQ((*models)[0].skeleton().joints_size(), 22);
   EXPECT_EQ((*models)[0].window(), 32);
   EXPECT_NEAR((*models)[0].fps(), 30, 1e-3);
-  EXPECT_EQ(client().GetModel("contrastive")->id(), "contrastive/v4");
-  EXPECT_EQ(client().GetModel("")->id(), "contrastive/v4");
+  EXPECT_EQ(client().GetModel("contrastive")->id(), "contrastive/v5");
+  EXPECT_EQ(client().GetModel("")->id(), "contrastive/v5");
   EXPECT_EQ(client().GetModel("nope/v9").status().code(), absl::StatusCode::kNotFound);
-  EXPECT_EQ(client().LoadModel("contrastive/v4").status().code(),
+  EXPECT_EQ(client().LoadModel("contrastive/v5").status().code(),
             absl::StatusCode::kAlreadyExists);
   EXPECT_EQ(client().LoadModel("../etc").status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_EQ(client().LoadModel("contrastive/v404").status().code(), absl::StatusCode::kNotFound);
-  ASSERT_TRUE(client().UnloadModel("contrastive/v4").ok());
+  EXPECT_EQ(client().LoadModel("contrastive/v504").status().code(), absl::StatusCode::kNotFound);
+  ASSERT_TRUE(client().UnloadModel("contrastive/v5").ok());
   ASSERT_TRUE(client().UnloadModel("cyclic/v1").ok());
-  EXPECT_EQ(client().UnloadModel("contrastive/v4").code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(client().UnloadModel("contrastive/v5").code(), absl::StatusCode::kNotFound);
   const motion::Motion clip = Sample("walk_normal.bvh");
   EXPECT_EQ(client().Transfer(clip, {&clip, ""}).status().code(), absl::StatusCode::kNotFound);
-  auto loaded = client().LoadModel("contrastive/v4");
+  auto loaded = client().LoadModel("contrastive/v5");
   ASSERT_TRUE(loaded.ok()) << loaded.status();
   EXPECT_TRUE(loaded->is_default());
   EXPECT_TRUE(client().Transfer(clip, {&clip, ""}).ok());

@@ -61,6 +61,25 @@ check "train --channels" 0 "model written to $work/narrow" -- "$tool" train --da
 check "train --channels in the package" 0 "^channels = 24$" -- cat "$work/narrow/config.txt"
 check "the narrow package transfers" 0 "wrote .*narrow_out.bvh" -- "$tool" transfer --model "$work/narrow" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/narrow_out.bvh" --threads 1
+# The content guard on the narrow package, trained on the two clips under Bandai names.
+cp "$work/old.bvh" "$work/dataset-1_walk_old_1.bvh"
+cp "$work/proud.bvh" "$work/dataset-1_run_proud_1.bvh"
+check "train-guard --help" 0 "usage: stylus-tool train-guard" -- "$tool" train-guard --help
+check "train-guard needs --model" 2 "--model and --data are required" -- "$tool" train-guard \
+  --data "$work/old.bvh"
+check "train-guard on unlabelled clips" 1 "at least two content labels" -- "$tool" train-guard \
+  --model "$work/narrow" --data "$work/old.bvh" --data "$work/proud.bvh" --iters 2
+check "train-guard" 0 "2 guards written to .*narrow" -- "$tool" train-guard \
+  --model "$work/narrow" --data "$work/dataset-1_walk_old_1.bvh" \
+  --data "$work/dataset-1_run_proud_1.bvh" --iters 3 --guards 2 --threads 1
+check "train-guard files" 0 "^guards = 2$" -- cat "$work/narrow/guard.txt"
+printf 'content_guard = 1\nguard_strengths = 0.5,0\n' >> "$work/narrow/config.txt"
+check "the guarded package transfers" 0 "wrote .*guarded_out.bvh" -- "$tool" transfer \
+  --model "$work/narrow" --content "$work/old.bvh" --style "$work/proud.bvh" \
+  -o "$work/guarded_out.bvh" --threads 1
+rm "$work/narrow/guard_2.pt"
+check "a guarded package without its guard" 1 "guard_2.pt: missing" -- "$tool" transfer \
+  --model "$work/narrow" --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.bvh"
 check "bvh-mirror" 0 "max_mirror_error=(0|[0-9.]+e-(0[5-9]|1[0-9]))$" -- \
   "$tool" bvh-mirror "$work/old.bvh" "$work/old_mirrored.bvh"
 check "bvh-mirror output reads back" 0 "frames: 45" -- "$tool" bvh-info "$work/old_mirrored.bvh"

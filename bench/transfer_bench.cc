@@ -10,6 +10,7 @@
 #include <cstring>
 #include <string>
 
+#include "model/contrastive_model.h"
 #include "model/cyclic_model.h"
 #include "model/style_model.h"
 #include "model/runtime.h"
@@ -24,7 +25,7 @@ double Since(Clock::time_point t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v4";
+  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v5";
   int frames = 1000, reps = 5, kc = -1;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--help")) {
@@ -85,6 +86,16 @@ int main(int argc, char** argv) {
                 1.0);
     std::printf("%-34s %10d %14.4f %10.2f\n", "transfer (encode style + transfer)", threads,
                 transfer * k, transfer / base);
+  }
+  // A contrastive package's content guard makes a transfer again in each
+  // residual form until its action reads right: say where these ended.
+  if (const auto* c = dynamic_cast<const stylus::model::ContrastiveModel*>(model->get())) {
+    const std::vector<int64_t> steps = c->GuardSteps();
+    if (!steps.empty()) {
+      std::printf("content guard: transfers ending at each form (configured, then residual):");
+      for (int64_t n : steps) std::printf(" %lld", static_cast<long long>(n));
+      std::printf("\n");
+    }
   }
   return 0;
 }

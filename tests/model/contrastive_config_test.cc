@@ -51,6 +51,26 @@ TEST(ContrastiveConfigTest, ContentDetailRoundTrips) {
   EXPECT_DOUBLE_EQ(ContrastiveConfig::Parse(c.Serialize(), "c")->DetailSigma(), 3);
 }
 
+TEST(ContrastiveConfigTest, ContentGuardRoundTripsAndChecksItsStrengths) {
+  ContrastiveConfig c;
+  c.dim = 162, c.content_guard = true, c.guard_strengths = {0.9, 0.5, 0},
+  c.guard_min_probability = 0.4;
+  absl::StatusOr<ContrastiveConfig> back = ContrastiveConfig::Parse(c.Serialize(), "config.txt");
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->Serialize(), c.Serialize());
+  EXPECT_TRUE(back->content_guard);
+  EXPECT_EQ(back->guard_strengths, (std::vector<double>{0.9, 0.5, 0}));
+  EXPECT_DOUBLE_EQ(back->guard_min_probability, 0.4);
+  EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\n", "c")->content_guard);  // Off by default.
+  for (const char* bad : {"1,1", "0.4,0.7", "1,x", "1.5", "", "1,0.9,0.8,0.7,0.6,0.5,0.4,0.3,0.2"}) {
+    const absl::Status s =
+        ContrastiveConfig::Parse(std::string("dim = 10\nguard_strengths = ") + bad + "\n", "c.txt")
+            .status();
+    EXPECT_NE(s.message().find("c.txt:2: "), std::string::npos) << bad << ": " << s;
+  }
+  EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\nguard_min_probability = 2\n", "c").ok());
+}
+
 TEST(ContrastiveConfigTest, ErrorsNameTheLine) {
   const absl::Status unknown = ContrastiveConfig::Parse("dim = 10\nwings = 2\n", "c.txt").status();
   EXPECT_NE(unknown.message().find("c.txt:2: unknown key 'wings'"), std::string::npos) << unknown;

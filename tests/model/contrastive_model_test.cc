@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "gtest/gtest.h"
+#include "model/content_guard.h"
 #include "model/contrastive_trainer.h"
 #include "model/window_tensor.h"
 #include "motion/bvh.h"
@@ -279,6 +280,83 @@ TEST_F(TrainedModelTest, CorruptOrMissingFilesAreClearErrors) {
   text.replace(text.find("channels = 16"), 13, "channels = 12");
   std::ofstream(other + "/config.txt", std::ios::trunc) << text;
   EXPECT_EQ(ContrastiveModel::Load(other).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+// Appends `text` to the package's config.txt.
+void AppendConfig(const std::string& dir, const std::string& text) {
+  std::ofstream(dir + "/config.txt", std::ios::app) << text;
+}
+
+TEST_F(TrainedModelTest, ContentGuardLearnsTheLabelledClipsAndGuardsTransfers) {
+  const std::string dir = Dir("guarded");
+  fs::copy(*dir_, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  ContentGuardTrainOptions o;
+  o.model = dir;
+  o.data = testing::LabelledClips();
+  o.iterations = 150;
+  o.guards = 2;
+  o.log = [](const std::string&) {};
+  absl::StatusOr<ContentGuardAccuracy> acc = TrainContentGuard(o);
+  ASSERT_TRUE(acc.ok()) << acc.status();
+  EXPECT_EQ(acc->clips, 0);  // Single files: no held-out split.
+  for (const char* f : {"guard.txt", "guard_1.pt", "guard_2.pt"}) {
+    EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
+  }
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> plain = ContrastiveModel::Load(dir);
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  EXPECT_TRUE((*plain)->GuardSteps().empty());  // Off until config.txt turns it on.
+  const ContrastiveConfig& config = (*plain)->package().config;
+  absl::StatusOr<std::unique_ptr<ContentGuard>> guard =
+      ContentGuard::Load(dir, config.dim, config.window, config.hop);
+  ASSERT_TRUE(guard.ok()) << guard.status();
+  ASSERT_EQ((*guard)->contents(), (std::vector<std::string>{"run", "turn", "walk"}));
+  // The guards learned the four clips' actions (walk, walk, run, turn).
+  const int want[] = {2, 2, 0, 1};
+  for (int i = 0; i < 4; ++i) {
+    absl::StatusOr<motion::FeatureClip> f = (*plain)->NormalizedFeatures(Clip(i), "clip");
+    ASSERT_TRUE(f.ok()) << f.status();
+    const std::vector<double> p = (*guard)->Probabilities(*f);
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_NEAR(p[0] + p[1] + p[2], 1.0, 1e-6);
+    EXPECT_EQ((*guard)->Classify(*f), want[i]) << testing::LabelledClips()[i];
+  }
+  // Turned on, every transfer ends at one of the forms.
+  AppendConfig(dir, "content_guard = 1\nguard_strengths = 0.5,0\n");
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> guarded = ContrastiveModel::Load(dir);
+  ASSERT_TRUE(guarded.ok()) << guarded.status();
+  const StyleCode code = *(*guarded)->EncodeStyle(Clip(1));
+  for (int i : {0, 2, 3}) ASSERT_TRUE((*guarded)->Transfer(Clip(i), code).ok());
+  const std::vector<int64_t> steps = (*guarded)->GuardSteps();
+  ASSERT_EQ(steps.size(), 3u);
+  EXPECT_EQ(steps[0] + steps[1] + steps[2], 3);
+}
+
+TEST_F(TrainedModelTest, ContentGuardFilesAreCheckedOnLoad) {
+  const std::string dir = Dir("guard_files");
+  fs::copy(*dir_, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  AppendConfig(dir, "content_guard = 1\n");
+  auto error = [&](absl::StatusCode code, const std::string& text) {
+    const absl::Status s = ContrastiveModel::Load(dir).status();
+    EXPECT_EQ(s.code(), code) << s;
+    EXPECT_NE(s.message().find(text), std::string::npos) << s;
+  };
+  error(absl::StatusCode::kNotFound, "guard.txt: missing (train it with stylus-tool train-guard)");
+  std::ofstream(dir + "/guard.txt") << "styles = a,b\ncontents = c,d\nguards = 0\n";
+  error(absl::StatusCode::kInvalidArgument, "guard.txt:3: ");
+  std::ofstream(dir + "/guard.txt", std::ios::trunc) << "styles = a,b\nguards = 1\n";
+  error(absl::StatusCode::kInvalidArgument, "guard.txt: missing 'styles' or 'contents'");
+  std::ofstream(dir + "/guard.txt", std::ios::trunc) << "styles = a,b\ncontents = c,d\n";
+  error(absl::StatusCode::kNotFound, "guard_1.pt: missing");
+  std::ofstream(dir + "/guard_1.pt") << "not a torch archive";
+  error(absl::StatusCode::kInvalidArgument, "guard_1.pt: cannot load weights");
+  ContentGuardTrainOptions o;
+  o.model = dir;
+  o.data = testing::LabelledClips();
+  o.guards = 0;
+  EXPECT_EQ(TrainContentGuard(o).status().code(), absl::StatusCode::kInvalidArgument);
+  o.guards = 1;
+  o.data = FourClips();  // Not labelled.
+  EXPECT_EQ(TrainContentGuard(o).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

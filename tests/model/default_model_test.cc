@@ -1,9 +1,12 @@
 // The shipped default model and judges (models/) load and work on real input.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "gtest/gtest.h"
+#include "model/content_guard.h"
 #include "model/contrastive_model.h"
 #include "model/evaluation.h"
 #include "model/judges.h"
@@ -62,7 +65,7 @@ TEST(DefaultModelTest, JudgesRecognizeRealHeldOutClips) {
 }
 
 // The shipped model on the 94 held-out pairs of `eval --pairs-per-content 1`
-// (docs/eval_contrastive_v4.md): the style reaches the judges, more content
+// (docs/eval_contrastive_v5.md): the style reaches the judges, more content
 // stays than with copy-style, and after `full` post-processing the
 // kinematic targets of the post-processing issue hold against real data.
 TEST(DefaultModelTest, RestylesHeldOutPairsWithinTheKinematicTargets) {
@@ -76,7 +79,7 @@ TEST(DefaultModelTest, RestylesHeldOutPairsWithinTheKinematicTargets) {
   ASSERT_TRUE(pairs.ok()) << pairs.status();
   ASSERT_EQ(pairs->size(), 94u);
   absl::StatusOr<EvalReport> report =
-      Evaluate({{"v4", model->get(), /*postprocess=*/true}}, **judges, nullptr, {}, *pairs);
+      Evaluate({{"v5", model->get(), /*postprocess=*/true}}, **judges, nullptr, {}, *pairs);
   ASSERT_TRUE(report.ok()) << report.status();
   const EvalRow &raw = report->rows[0], &full = report->rows[1],
                 &real = report->rows[report->identity_row];
@@ -91,6 +94,91 @@ TEST(DefaultModelTest, RestylesHeldOutPairsWithinTheKinematicTargets) {
   EXPECT_LE(full.foot_skating, 1.2 * real.foot_skating);
   EXPECT_LE(full.jitter, 1.5 * real.jitter);
   EXPECT_LT(full.bone_length_error, 1e-3);
+}
+
+// A copy of the shipped package without its guard, in the configured form or
+// (strength >= 0) in the residual form at that strength.
+std::string Variant(const std::string& name, double strength) {
+  namespace fs = std::filesystem;
+  const std::string dir = ::testing::TempDir() + "/v5_variant_" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* f : {"norm.txt", "skeleton.bvh", "weights.pt"}) {
+    fs::copy_file(kModel + "/" + f, dir + "/" + f);
+  }
+  std::ifstream in(kModel + "/config.txt");
+  std::ofstream out(dir + "/config.txt");
+  for (std::string line; std::getline(in, line);) {
+    const std::string key = line.substr(0, line.find(' '));
+    if (key == "content_guard" || key == "guard_strengths") continue;
+    if (strength >= 0 && (key == "content_detail" || key == "detail_sigma")) continue;
+    out << line << "\n";
+  }
+  if (strength >= 0) out << "residual = 1\nstyle_strength = " << strength << "\n";
+  return dir;
+}
+
+// The shipped package's content guard: on held-out pairs whose actions the
+// transfers tend to lose (raised hands, turns), each guarded transfer is,
+// value for value, the configured transfer when the guard reads the content
+// clip's action in it, else the first residual form it reads the action in
+// (the last form when none).
+TEST(DefaultModelTest, ContentGuardBacksOffWhereTheActionWouldBeLost) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  auto model = ContrastiveModel::Load(kModel);
+  ASSERT_TRUE(model.ok()) << model.status();
+  const ContrastiveConfig& config = (*model)->package().config;
+  ASSERT_TRUE(config.content_guard);
+  auto guard = ContentGuard::Load(kModel, config.dim, config.window, config.hop);
+  ASSERT_TRUE(guard.ok()) << guard.status();
+  std::vector<std::unique_ptr<ContrastiveModel>> forms;
+  forms.push_back(*ContrastiveModel::Load(Variant("configured", -1)));
+  for (double k : config.guard_strengths) {
+    forms.push_back(*ContrastiveModel::Load(Variant(std::to_string(k), k)));
+  }
+  auto pairs = MakeEvalPairs({dir + "/dataset-1", dir + "/dataset-2"}, 1);
+  ASSERT_TRUE(pairs.ok()) << pairs.status();
+  int checked = 0, backed_off = 0;
+  for (const EvalPair& pair : *pairs) {
+    const std::string& name = pair.content_path;
+    if (name.find("raise-up") == std::string::npos && name.find("walk-turn") == std::string::npos)
+      continue;
+    const motion::Motion content = *motion::ReadBvhFile(pair.content_path);
+    const motion::Motion style = *motion::ReadBvhFile(pair.style_path);
+    const StyleCode code = *(*model)->EncodeStyle(style);
+    const std::vector<int64_t> before = (*model)->GuardSteps();
+    absl::StatusOr<motion::Motion> out =
+        (*model)->Transfer(content, code, motion::PostProcessMode::kNone);
+    ASSERT_TRUE(out.ok()) << out.status();
+    const std::vector<int64_t> after = (*model)->GuardSteps();
+    int step = -1;
+    for (size_t k = 0; k < after.size(); ++k) {
+      if (after[k] != before[k]) step = static_cast<int>(k);
+    }
+    ASSERT_GE(step, 0) << name;
+    auto read = [&](const motion::Motion& m) {
+      return (*guard)->Classify(*(*model)->NormalizedFeatures(m, "clip"));
+    };
+    const int action = read(content);
+    for (int k = 0; k <= step; ++k) {
+      const motion::Motion form =
+          *forms[k]->Transfer(content, code, motion::PostProcessMode::kNone);
+      if (k < step) {
+        EXPECT_NE(read(form), action) << name << " form " << k;
+      } else {
+        EXPECT_LT(motion::MaxPositionDifference(*out, form), 1e-3) << name << " form " << k;
+        if (k + 1 < static_cast<int>(forms.size())) {
+          EXPECT_EQ(read(form), action) << name;
+        }
+      }
+    }
+    ++checked;
+    backed_off += step > 0;
+  }
+  std::printf("%d pairs, %d backed off\n", checked, backed_off);
+  EXPECT_GE(checked, 10);
+  EXPECT_GT(backed_off, 0);
+  EXPECT_LT(backed_off, checked);
 }
 
 }  // namespace

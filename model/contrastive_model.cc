@@ -200,14 +200,16 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
   }
   const Impl::Knobs configured = impl_->Configured();
   if (!impl_->guard) return impl_->Render(content, *f, starts, codes, configured, post);
-  // The content guard: the first form whose action reads as the content's.
+  // The content guard: the first form whose action reads as the content's,
+  // judged before post-processing (as `eval` judges the raw rows), so only
+  // the chosen form is post-processed.
   const int action = impl_->guard->Classify(*f);
   const std::vector<double>& strengths = config.guard_strengths;
   absl::StatusOr<motion::Motion> out;
   for (size_t step = 0; step <= strengths.size(); ++step) {
     const Impl::Knobs knobs =
         step == 0 ? configured : Impl::Knobs{strengths[step - 1], /*residual=*/true, 0};
-    out = impl_->Render(content, *f, starts, codes, knobs, post);
+    out = impl_->Render(content, *f, starts, codes, knobs, motion::PostProcessMode::kNone);
     if (!out.ok()) return out.status();
     absl::StatusOr<motion::FeatureClip> read = NormalizedFeatures(*out, "transfer");
     if (!read.ok()) return read.status();
@@ -219,7 +221,8 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
       break;
     }
   }
-  return out;
+  if (post == motion::PostProcessMode::kNone) return out;
+  return motion::PostProcess(*out, content, impl_->package.roles, post);
 }
 
 absl::StatusOr<motion::Motion> ContrastiveModel::Impl::Render(

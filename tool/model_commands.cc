@@ -1,4 +1,5 @@
 // train and transfer.
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -6,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
+#include "model/contrastive_model.h"
 #include "model/contrastive_trainer.h"
 #include "model/runtime.h"
 #include "model/style_model.h"
@@ -244,9 +246,32 @@ namespace {
 
 std::string Stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
+// The content guard's steps so far (empty for a model without one).
+std::vector<int64_t> GuardSteps(const model::StyleModel& m) {
+  const auto* c = dynamic_cast<const model::ContrastiveModel*>(&m);
+  return c ? c->GuardSteps() : std::vector<int64_t>{};
+}
+
+// " (content guard: ...)" when the transfer since `before` was backed off.
+std::string GuardNote(const model::StyleModel& m, const std::vector<int64_t>& before) {
+  const std::vector<int64_t> after = GuardSteps(m);
+  for (size_t k = 1; k < after.size(); ++k) {
+    if (after[k] != before[k]) {
+      const auto& strengths =
+          dynamic_cast<const model::ContrastiveModel&>(m).package().config.guard_strengths;
+      return absl::StrFormat(
+          " (content guard: the configured transfer read as another action; residual form at "
+          "strength %g%s)",
+          strengths[k - 1], k == after.size() - 1 ? ", the last form" : "");
+    }
+  }
+  return "";
+}
+
+// Transfers one pair and writes it; `note` gets GuardNote's text.
 absl::Status TransferOne(const model::StyleModel& m, const std::string& content_path,
                          const std::string& style_path, const std::string& out_path,
-                         motion::PostProcessMode post) {
+                         motion::PostProcessMode post, std::string* note) {
   absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(content_path);
   if (!content.ok()) return content.status();
   absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(style_path);
@@ -255,10 +280,12 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
   if (!code.ok())
     return absl::Status(code.status().code(),
                         absl::StrCat(style_path, ": ", code.status().message()));
+  const std::vector<int64_t> before = GuardSteps(m);
   absl::StatusOr<motion::Motion> out = m.Transfer(*content, *code, post);
   if (!out.ok())
     return absl::Status(out.status().code(),
                         absl::StrCat(content_path, ": ", out.status().message()));
+  *note = GuardNote(m, before);
   return motion::WriteBvhFile(*out, out_path);
 }
 
@@ -298,12 +325,13 @@ int Transfer(const Argv& argv) {
   absl::StatusOr<std::unique_ptr<model::StyleModel>> m = model::LoadStyleModel(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {
-    if (absl::Status s =
-            TransferOne(**m, args->Get("content"), args->Get("style"), args->Get("out"), *post);
+    std::string note;
+    if (absl::Status s = TransferOne(**m, args->Get("content"), args->Get("style"),
+                                     args->Get("out"), *post, &note);
         !s.ok()) {
       return Fail("transfer", s);
     }
-    absl::PrintF("wrote %s\n", args->Get("out"));
+    absl::PrintF("wrote %s%s\n", args->Get("out"), note);
     return 0;
   }
   std::ifstream csv(args->Get("pairs"));
@@ -324,13 +352,14 @@ int Transfer(const Argv& argv) {
     }
     const std::string out =
         absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
-    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, *post); !s.ok()) {
+    std::string note;
+    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, *post, &note); !s.ok()) {
       std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
                    std::string(s.message()).c_str());
       ++failed;
       continue;
     }
-    absl::PrintF("wrote %s\n", out);
+    absl::PrintF("wrote %s%s\n", out, note);
     ++ok;
   }
   absl::PrintF("%d transferred, %d failed\n", ok, failed);

@@ -77,6 +77,10 @@ printf 'content_guard = 1\nguard_strengths = 0.5,0\n' >> "$work/narrow/config.tx
 check "the guarded package transfers" 0 "wrote .*guarded_out.bvh" -- "$tool" transfer \
   --model "$work/narrow" --content "$work/old.bvh" --style "$work/proud.bvh" \
   -o "$work/guarded_out.bvh" --threads 1
+echo "guard_min_probability = 1" >> "$work/narrow/config.txt"
+check "a transfer the guard backs off says so" 0 "wrote .*guarded_all.bvh \\(content guard: .*strength 0, the last form\\)" -- \
+  "$tool" transfer --model "$work/narrow" --content "$work/old.bvh" --style "$work/proud.bvh" \
+  -o "$work/guarded_all.bvh" --threads 1
 rm "$work/narrow/guard_2.pt"
 check "a guarded package without its guard" 1 "guard_2.pt: missing" -- "$tool" transfer \
   --model "$work/narrow" --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.bvh"

@@ -87,6 +87,7 @@ absl::StatusOr<motion::Motion> Client::Transfer(const motion::Motion& content, c
   v1::TransferResponse response;
   const grpc::Status s = styles_->Transfer(Context().get(), request, &response);
   if (!s.ok()) return FromGrpcStatus(s);
+  if (options.content_guard != nullptr) *options.content_guard = response.content_guard();
   return wire::ClipFromProto(response.output(), "server's output");
 }
 
@@ -122,6 +123,7 @@ absl::StatusOr<motion::Motion> Client::Interpolate(
   v1::TransferResponse response;
   const grpc::Status s = styles_->Interpolate(Context().get(), request, &response);
   if (!s.ok()) return FromGrpcStatus(s);
+  if (options.content_guard != nullptr) *options.content_guard = response.content_guard();
   return wire::ClipFromProto(response.output(), "server's output");
 }
 

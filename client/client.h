@@ -29,6 +29,9 @@ struct ClientOptions {
 struct CallOptions {
   std::string model;                                     // Empty: the server's default.
   v1::PostProcess postprocess = v1::POSTPROCESS_DEFAULT;
+  // Transfer and Interpolate: when set, receives how the model's content
+  // guard treated the call (left empty for a model without one).
+  v1::ContentGuardNote* content_guard = nullptr;
 };
 
 // A style: a clip to encode on the server, or a name saved with EncodeStyle.

@@ -130,12 +130,19 @@ int Transfer(stylus::Client& client, const Args& a) {
     ref.clip = &*style;
   }
   if (a.Get("out").empty()) return Fail("transfer", absl::InvalidArgumentError("-o is required"));
+  stylus::v1::ContentGuardNote guard;
+  opts->content_guard = &guard;
   auto out = client.Transfer(*content, ref, *opts);
   if (!out.ok()) return Fail("transfer", out.status());
   if (absl::Status s = stylus::motion::WriteBvhFile(*out, a.Get("out")); !s.ok()) {
     return Fail("transfer", s);
   }
-  absl::PrintF("wrote %s (%d frames)\n", a.Get("out"), out->num_frames);
+  absl::PrintF("wrote %s (%d frames)%s\n", a.Get("out"), out->num_frames,
+               guard.backed_off()
+                   ? absl::StrFormat(" (content guard: the configured transfer read as another "
+                                     "action; residual form at strength %g)",
+                                     guard.residual_strength())
+                   : "");
   return 0;
 }
 

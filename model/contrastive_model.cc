@@ -184,6 +184,12 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
                                                              const std::vector<StyleCode>& styles,
                                                              const StyleWeights& weights,
                                                              motion::PostProcessMode post) const {
+  return InterpolateNoted(content, styles, weights, post, nullptr);
+}
+
+absl::StatusOr<motion::Motion> ContrastiveModel::InterpolateNoted(
+    const motion::Motion& content, const std::vector<StyleCode>& styles,
+    const StyleWeights& weights, motion::PostProcessMode post, TransferNote* note) const {
   const ContrastiveConfig& config = impl_->package.config;
   if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, config.channels); !s.ok())
     return s;
@@ -218,6 +224,11 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Interpolate(const motion::Motio
                       p[action] >= config.guard_min_probability;
     if (kept || step == strengths.size()) {
       ++impl_->guard_steps[step];
+      if (note != nullptr) {
+        note->guarded = true;
+        note->backed_off = step > 0;
+        note->residual_strength = step > 0 ? strengths[step - 1] : 1;
+      }
       break;
     }
   }

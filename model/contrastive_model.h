@@ -46,6 +46,11 @@ class ContrastiveModel : public StyleModel {
       const motion::Motion& content, const std::vector<StyleCode>& styles,
       const StyleWeights& weights,
       motion::PostProcessMode post = motion::PostProcessMode::kFull) const override;
+  absl::StatusOr<motion::Motion> InterpolateNoted(const motion::Motion& content,
+                                                  const std::vector<StyleCode>& styles,
+                                                  const StyleWeights& weights,
+                                                  motion::PostProcessMode post,
+                                                  TransferNote* note) const override;
 
   // Lower-level steps of Transfer, for streaming (model/stream_transfer.h).
   // The clip's normalized features, checked as Transfer checks a content clip

@@ -32,6 +32,14 @@ struct StyleWeights {
   std::vector<std::vector<double>> per_frame;
 };
 
+// How a model's content guard treated one whole-clip transfer
+// (ContrastiveConfig::content_guard; docs/contrastive.md, session 14).
+struct TransferNote {
+  bool guarded = false;    // The model has a content guard.
+  bool backed_off = false;  // It read another action in the configured transfer...
+  double residual_strength = 1;  // ...and returned the residual form at this strength.
+};
+
 // What a client may want to know about a loaded model.
 struct ModelSummary {
   std::string family;
@@ -66,6 +74,23 @@ class StyleModel {
       const motion::Motion& content, const std::vector<StyleCode>& styles,
       const StyleWeights& weights,
       motion::PostProcessMode post = motion::PostProcessMode::kFull) const = 0;
+
+  // Interpolate that also fills `note` (when not null); a model without a
+  // content guard leaves it at its defaults.
+  virtual absl::StatusOr<motion::Motion> InterpolateNoted(const motion::Motion& content,
+                                                          const std::vector<StyleCode>& styles,
+                                                          const StyleWeights& weights,
+                                                          motion::PostProcessMode post,
+                                                          TransferNote* note) const {
+    (void)note;
+    return Interpolate(content, styles, weights, post);
+  }
+  absl::StatusOr<motion::Motion> TransferNoted(const motion::Motion& content,
+                                               const StyleCode& style,
+                                               motion::PostProcessMode post,
+                                               TransferNote* note) const {
+    return InterpolateNoted(content, {style}, StyleWeights{{1.0}, {}}, post, note);
+  }
 };
 
 // INVALID_ARGUMENT unless every code has `code_size` values and `weights`

@@ -11,8 +11,9 @@ void LogCall(const std::string& rpc, const CallOutcome& outcome, double ms) {
   const std::string status =
       outcome.status.ok() ? "OK" : std::string(absl::StatusCodeToString(outcome.status.code()));
   if (outcome.status.ok()) {
-    spdlog::info("rpc={} model={} frames={} ms={:.1f} status={}", rpc,
-                 outcome.model.empty() ? "-" : outcome.model, outcome.frames, ms, status);
+    spdlog::info("rpc={} model={} frames={} ms={:.1f} status={}{}{}", rpc,
+                 outcome.model.empty() ? "-" : outcome.model, outcome.frames, ms, status,
+                 outcome.note.empty() ? "" : " ", outcome.note);
   } else {
     spdlog::warn("rpc={} model={} frames={} ms={:.1f} status={} message=\"{}\"", rpc,
                  outcome.model.empty() ? "-" : outcome.model, outcome.frames, ms, status,

@@ -31,6 +31,7 @@ struct CallOutcome {
   absl::Status status;
   std::string model;
   int64_t frames = 0;
+  std::string note = {};  // Appended to the log line when not empty (e.g. "guard=configured").
 };
 
 // One spdlog line per call: rpc, model, frames, milliseconds, status.

@@ -40,6 +40,17 @@ absl::StatusOr<ContentCall> StartContentCall(const ServiceContext& service,
   return call;
 }
 
+// What a model's content guard did, in the response and the call's log line.
+void NoteGuard(const model::TransferNote& note, v1::TransferResponse* response,
+               CallOutcome* out) {
+  if (!note.guarded) return;
+  v1::ContentGuardNote* g = response->mutable_content_guard();
+  g->set_backed_off(note.backed_off);
+  g->set_residual_strength(note.backed_off ? note.residual_strength : 1);
+  out->note = note.backed_off ? absl::StrCat("guard=residual:", note.residual_strength)
+                              : "guard=configured";
+}
+
 }  // namespace
 
 absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
@@ -70,9 +81,11 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, call->model, request->style(), "style clip");
     if (!style.ok()) return out.status = style.status(), out;
+    model::TransferNote note;
     absl::StatusOr<motion::Motion> result =
-        call->model.model->Transfer(call->content, *style, call->post);
+        call->model.model->TransferNoted(call->content, *style, call->post, &note);
     if (!result.ok()) return out.status = result.status(), out;
+    NoteGuard(note, response, &out);
     wire::ClipToProto(*result, response->mutable_output());
     response->set_model(call->model.id);
     response->set_compute_ms(MsSince(t0));
@@ -131,9 +144,11 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
     } else {
       weights.fixed.assign(request->weights().values().begin(), request->weights().values().end());
     }
+    model::TransferNote note;
     absl::StatusOr<motion::Motion> result =
-        call->model.model->Interpolate(call->content, styles, weights, call->post);
+        call->model.model->InterpolateNoted(call->content, styles, weights, call->post, &note);
     if (!result.ok()) return out.status = result.status(), out;
+    NoteGuard(note, response, &out);
     wire::ClipToProto(*result, response->mutable_output());
     response->set_model(call->model.id);
     response->set_compute_ms(MsSince(t0));

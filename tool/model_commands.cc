@@ -246,26 +246,16 @@ namespace {
 
 std::string Stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
-// The content guard's steps so far (empty for a model without one).
-std::vector<int64_t> GuardSteps(const model::StyleModel& m) {
+// " (content guard: ...)" when the model's content guard backed the transfer off.
+std::string GuardNote(const model::TransferNote& note, const model::StyleModel& m) {
+  if (!note.backed_off) return "";
   const auto* c = dynamic_cast<const model::ContrastiveModel*>(&m);
-  return c ? c->GuardSteps() : std::vector<int64_t>{};
-}
-
-// " (content guard: ...)" when the transfer since `before` was backed off.
-std::string GuardNote(const model::StyleModel& m, const std::vector<int64_t>& before) {
-  const std::vector<int64_t> after = GuardSteps(m);
-  for (size_t k = 1; k < after.size(); ++k) {
-    if (after[k] != before[k]) {
-      const auto& strengths =
-          dynamic_cast<const model::ContrastiveModel&>(m).package().config.guard_strengths;
-      return absl::StrFormat(
-          " (content guard: the configured transfer read as another action; residual form at "
-          "strength %g%s)",
-          strengths[k - 1], k == after.size() - 1 ? ", the last form" : "");
-    }
-  }
-  return "";
+  const bool last = c != nullptr && c->package().config.guard_strengths.back() ==
+                                        note.residual_strength;
+  return absl::StrFormat(
+      " (content guard: the configured transfer read as another action; residual form at "
+      "strength %g%s)",
+      note.residual_strength, last ? ", the last form" : "");
 }
 
 // Transfers one pair and writes it; `note` gets GuardNote's text.
@@ -280,12 +270,12 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
   if (!code.ok())
     return absl::Status(code.status().code(),
                         absl::StrCat(style_path, ": ", code.status().message()));
-  const std::vector<int64_t> before = GuardSteps(m);
-  absl::StatusOr<motion::Motion> out = m.Transfer(*content, *code, post);
+  model::TransferNote guard;
+  absl::StatusOr<motion::Motion> out = m.TransferNoted(*content, *code, post, &guard);
   if (!out.ok())
     return absl::Status(out.status().code(),
                         absl::StrCat(content_path, ": ", out.status().message()));
-  *note = GuardNote(m, before);
+  *note = GuardNote(guard, m);
   return motion::WriteBvhFile(*out, out_path);
 }
 

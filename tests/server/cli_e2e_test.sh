@@ -54,7 +54,7 @@ check "missing -o" 1 "-o is required" -- "$cli" "${s[@]}" transfer --content "$w
 check "bad weights" 1 "'x' is not a number" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,x -o "$work/m"
 check "bad postprocess" 1 "--postprocess must be" -- "$cli" "${s[@]}" transfer --postprocess wobbly --content "$walk" --style "$old" -o "$work/x.bvh"
 check "unknown command" 2 "unknown command 'frobnicate'" -- "$cli" "${s[@]}" frobnicate
-check "server logs one line per call" 0 "rpc=Transfer model=contrastive/v5 frames=120 ms=[0-9.]+ status=OK" -- cat "$work/server.log"
+check "server logs one line per call" 0 "rpc=Transfer model=contrastive/v5 frames=120 ms=[0-9.]+ status=OK guard=configured" -- cat "$work/server.log"
 
 kill -TERM "$pid"
 wait "$pid"

@@ -2,6 +2,7 @@
 // called through stylus::Client and the raw generated stubs.
 #include <grpcpp/grpcpp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -250,6 +251,27 @@ TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
   // Stated tolerance (docs/service.md): 0.5 mm on any joint of any frame.
   EXPECT_LT(motion::MaxPositionDifference(streamed->output, *unary), 0.05);
   EXPECT_EQ(streamed->latency_s.size(), static_cast<size_t>(content.num_frames));
+}
+
+TEST_F(ServerTest, TransferSaysWhatTheContentGuardDid) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  // The default package's guard backs this pair off (see the test above) and
+  // keeps the sample walk's configured transfer.
+  v1::ContentGuardNote guard;
+  CallOptions options;
+  options.content_guard = &guard;
+  const motion::Motion content = BandaiClip(dir, "walk_normal_002");
+  const motion::Motion style = BandaiClip(dir, "walk_proud_001");
+  ASSERT_TRUE(client().Transfer(content, {&style, ""}, options).ok());
+  EXPECT_TRUE(guard.backed_off());
+  const std::vector<double> strengths = {1, 0.7, 0.4, 0.2};
+  EXPECT_NE(std::find(strengths.begin(), strengths.end(), guard.residual_strength()),
+            strengths.end())
+      << guard.residual_strength();
+  const motion::Motion walk = Sample("walk_normal.bvh"), old = Sample("walk_old.bvh");
+  ASSERT_TRUE(client().Transfer(walk, {&old, ""}, options).ok());
+  EXPECT_FALSE(guard.backed_off());
+  EXPECT_EQ(guard.residual_strength(), 1);
 }
 
 TEST_F(ServerTest, MetricsOfAClipAgainstItsContent) {

@@ -89,6 +89,8 @@ try:
     q = out.output.frames[10].rotations[5]
     check("Transfer unit quaternions", abs(math.sqrt(q.w**2 + q.x**2 + q.y**2 + q.z**2) - 1) < 1e-6, q)
     check("Transfer names its model", out.model == "contrastive/v5", out.model)
+    check("Transfer says what the content guard did", out.HasField("content_guard") and
+          (out.content_guard.residual_strength in (1, 0.7, 0.4, 0.2)), out.content_guard)
 
     bad = stylus_pb2.TransferRequest()
     bad.CopyFrom(request)

@@ -35,17 +35,25 @@ struct ContrastiveModel::Impl {
   Knobs Configured() const {
     return {package.config.style_strength, package.config.residual, package.config.content_detail};
   }
+  // The network passes every form of one clip's transfer shares: its
+  // windows, their content codes, their own style codes and the generator's
+  // output for those (the residual form's subtrahend). Filled on first use.
+  struct SharedPasses {
+    torch::Tensor x, content, own_style, own_decode;
+  };
+  // `shared` (may be null) carries passes from one form to the next.
   absl::StatusOr<std::vector<float>> Generate(const motion::FeatureClip& features,
                                               const std::vector<int>& starts,
                                               const std::vector<StyleCode>& codes,
-                                              const Knobs& knobs);
+                                              const Knobs& knobs, SharedPasses* shared = nullptr);
   // Windows generated for `codes` at `starts`, cross-faded into a motion on
   // `content`'s skeleton and post-processed.
   absl::StatusOr<motion::Motion> Render(const motion::Motion& content,
                                         const motion::FeatureClip& features,
                                         const std::vector<int>& starts,
                                         const std::vector<StyleCode>& codes, const Knobs& knobs,
-                                        motion::PostProcessMode post);
+                                        motion::PostProcessMode post,
+                                        SharedPasses* shared = nullptr);
 
   absl::Status Internal(const std::exception& e) const {
     return absl::InternalError(absl::StrCat("model ", dir, ": ", e.what()));
@@ -123,7 +131,7 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
 
 absl::StatusOr<std::vector<float>> ContrastiveModel::Impl::Generate(
     const motion::FeatureClip& features, const std::vector<int>& starts,
-    const std::vector<StyleCode>& codes, const Knobs& knobs) {
+    const std::vector<StyleCode>& codes, const Knobs& knobs, SharedPasses* shared) {
   const ContrastiveConfig& config = package.config;
   if (codes.size() != starts.size()) {
     return absl::InvalidArgumentError("one style code per window is needed");
@@ -147,18 +155,29 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::Impl::Generate(
       code_tensor[w].copy_(torch::from_blob(const_cast<float*>(codes[w].values.data()),
                                             {config.channels}, torch::kFloat32));
     }
-    const torch::Tensor x = Windows(features, starts);
-    const torch::Tensor content = net->content(x);
-    torch::Tensor own_style;
-    if (knobs.strength < 1 || knobs.residual) own_style = net->style(x);
+    SharedPasses local;
+    SharedPasses& passes = shared != nullptr ? *shared : local;
+    if (!passes.x.defined()) {
+      passes.x = Windows(features, starts);
+      passes.content = net->content(passes.x);
+    }
+    const torch::Tensor& x = passes.x;
+    if ((knobs.strength < 1 || knobs.residual) && !passes.own_style.defined()) {
+      passes.own_style = net->style(x);
+    }
     if (knobs.strength < 1) {
       const double k = knobs.strength;
-      code_tensor = k * code_tensor + (1 - k) * own_style;
+      code_tensor = k * code_tensor + (1 - k) * passes.own_style;
     }
-    torch::Tensor y = net->decode(content, code_tensor);
+    torch::Tensor y = net->decode(passes.content, code_tensor);
     // residual: the content window plus what the style changes in the
     // generator's output; what the generator loses of any window cancels.
-    if (knobs.residual) y = y - net->decode(content, own_style);
+    if (knobs.residual) {
+      if (!passes.own_decode.defined()) {
+        passes.own_decode = net->decode(passes.content, passes.own_style);
+      }
+      y = y - passes.own_decode;
+    }
     // Channels [0, path) pose the body; [path, dim) are the root trajectory
     // and foot contacts (motion/features.h).
     const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
@@ -212,10 +231,12 @@ absl::StatusOr<motion::Motion> ContrastiveModel::InterpolateNoted(
   const int action = impl_->guard->Classify(*f);
   const std::vector<double>& strengths = config.guard_strengths;
   absl::StatusOr<motion::Motion> out;
+  Impl::SharedPasses shared;
   for (size_t step = 0; step <= strengths.size(); ++step) {
     const Impl::Knobs knobs =
         step == 0 ? configured : Impl::Knobs{strengths[step - 1], /*residual=*/true, 0};
-    out = impl_->Render(content, *f, starts, codes, knobs, motion::PostProcessMode::kNone);
+    out = impl_->Render(content, *f, starts, codes, knobs, motion::PostProcessMode::kNone,
+                        &shared);
     if (!out.ok()) return out.status();
     absl::StatusOr<motion::FeatureClip> read = NormalizedFeatures(*out, "transfer");
     if (!read.ok()) return read.status();
@@ -238,9 +259,10 @@ absl::StatusOr<motion::Motion> ContrastiveModel::InterpolateNoted(
 
 absl::StatusOr<motion::Motion> ContrastiveModel::Impl::Render(
     const motion::Motion& content, const motion::FeatureClip& f, const std::vector<int>& starts,
-    const std::vector<StyleCode>& codes, const Knobs& knobs, motion::PostProcessMode post) {
+    const std::vector<StyleCode>& codes, const Knobs& knobs, motion::PostProcessMode post,
+    SharedPasses* shared) {
   const ContrastiveConfig& config = package.config;
-  absl::StatusOr<std::vector<float>> y = Generate(f, starts, codes, knobs);
+  absl::StatusOr<std::vector<float>> y = Generate(f, starts, codes, knobs, shared);
   if (!y.ok()) return y.status();
   WindowBlender blender(config.window, config.window - config.hop, f.dim);
   const size_t per_window = static_cast<size_t>(f.dim) * config.window;

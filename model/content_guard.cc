@@ -156,7 +156,9 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
         probabilities[i] = probabilities[i].defined() ? probabilities[i] + p : p;
       }
       acc.each.push_back(acc.clips ? static_cast<double>(right) / acc.clips : 0);
-      torch::save(net, GuardPath(o.model, g));
+      // Written aside and moved into place once every guard is trained, so a
+      // run that fails half-way leaves the package's guard as it was.
+      torch::save(net, GuardPath(o.model, g) + ".tmp");
     }
     int right = 0;
     for (size_t i = 0; i < test->clips.size(); ++i) {
@@ -165,6 +167,15 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
     if (acc.clips > 0) acc.content = static_cast<double>(right) / acc.clips;
   } catch (const std::exception& e) {
     return absl::InternalError(absl::StrCat("training the content guard: ", e.what()));
+  }
+  for (int g = 1; g <= o.guards; ++g) {
+    std::error_code ec;
+    std::filesystem::rename(GuardPath(o.model, g) + ".tmp", GuardPath(o.model, g), ec);
+    if (ec) {
+      return absl::InternalError(
+          absl::StrCat("content guard: cannot move ", GuardPath(o.model, g), " into place: ",
+                       ec.message()));
+    }
   }
   const std::string info = absl::StrFormat(
       "styles = %s\ncontents = %s\nguards = %d\niterations = %d\nseed = %d\ndata = %s\n"

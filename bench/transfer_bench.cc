@@ -10,7 +10,6 @@
 #include <cstring>
 #include <string>
 
-#include "model/contrastive_model.h"
 #include "model/cyclic_model.h"
 #include "model/style_model.h"
 #include "model/runtime.h"
@@ -66,6 +65,7 @@ int main(int argc, char** argv) {
               (*model)->summary().family.c_str(),
               kc >= 0 ? (", kc " + std::to_string(kc)).c_str() : "", frames, reps);
   std::printf("%-34s %10s %14s %10s\n", "stage", "threads", "s/1000 frames", "x baseline");
+  stylus::model::TransferNote note;
   for (int threads : {1, 2}) {
     stylus::model::SetComputeThreads(threads);
     double base = 1e9, transfer = 1e9;
@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
       base = std::min(base, Since(t0));
       t0 = Clock::now();
       const auto code = *(*model)->EncodeStyle(style_clip);
-      const auto out = *(*model)->Transfer(content, code);
+      const auto out =
+          *(*model)->TransferNoted(content, code, stylus::motion::PostProcessMode::kFull, &note);
       transfer = std::min(transfer, Since(t0));
       if (out.num_frames != m.num_frames) return 1;
     }
@@ -87,14 +88,14 @@ int main(int argc, char** argv) {
     std::printf("%-34s %10d %14.4f %10.2f\n", "transfer (encode style + transfer)", threads,
                 transfer * k, transfer / base);
   }
-  // A contrastive package's content guard makes a transfer again in each
-  // residual form until its action reads right: say where these ended.
-  if (const auto* c = dynamic_cast<const stylus::model::ContrastiveModel*>(model->get())) {
-    const std::vector<int64_t> steps = c->GuardSteps();
-    if (!steps.empty()) {
-      std::printf("content guard: transfers ending at each form (configured, then residual):");
-      for (int64_t n : steps) std::printf(" %lld", static_cast<long long>(n));
-      std::printf("\n");
+  // A package's content guard makes a transfer again in each residual form
+  // until its action reads right: say which form the timed transfer was.
+  if (note.guarded) {
+    if (note.backed_off) {
+      std::printf("content guard: residual form at strength %g%s\n", note.residual_strength,
+                  note.last_form ? " (the last form)" : "");
+    } else {
+      std::printf("content guard: the configured form\n");
     }
   }
   return 0;

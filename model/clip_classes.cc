@@ -34,7 +34,7 @@ absl::StatusOr<ClipClasses> ClipClasses::FromPaths(const std::vector<std::string
     std::optional<motion::ClipLabel> label = motion::ParseClipName(p);
     if (!label) {
       return absl::InvalidArgumentError(
-          p + ": label-guided training needs labelled clip names "
+          p + ": labels are read from clip names, and this one has none "
               "(dataset-N_{content}_{style}_{take}.bvh)");
     }
     labels.push_back(*label);

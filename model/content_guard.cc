@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <random>
 #include <sstream>
 
@@ -14,6 +13,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "model/clip_classes.h"
 #include "model/config_text.h"
 #include "model/label_critic_net.h"
 #include "model/package.h"
@@ -31,17 +31,6 @@ constexpr char kInfo[] = "/guard.txt";
 
 std::string GuardPath(const std::string& dir, int k) {
   return absl::StrCat(dir, "/guard_", k, ".pt");
-}
-
-// The sorted, unique style or content labels of `paths` (Bandai names).
-std::vector<std::string> Labels(const std::vector<std::string>& paths, bool style) {
-  std::map<std::string, int> seen;
-  for (const std::string& p : paths) {
-    if (auto l = motion::ParseClipName(p)) seen[style ? l->style : l->content] = 0;
-  }
-  std::vector<std::string> out;
-  for (const auto& [label, unused] : seen) out.push_back(label);
-  return out;
 }
 
 int IndexOf(const std::vector<std::string>& labels, const std::string& label) {
@@ -81,37 +70,39 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
   for (const std::string& d : o.data) {
     if (std::filesystem::is_directory(d)) dirs.push_back(d);
   }
-  TrainingSet held_out;
+  TrainingSet test;
   if (!dirs.empty()) {
     absl::StatusOr<TrainingSet> loaded =
         LoadTrainingSet(dirs, {window, hop}, {}, /*test=*/true, &package->norm);
     if (!loaded.ok()) return loaded.status();
-    held_out = *std::move(loaded);
+    test = *std::move(loaded);
   }
-  const TrainingSet* test = &held_out;
   if (train->windows.empty()) {
     return absl::InvalidArgumentError("content guard: no training clip is a window long");
   }
-  const std::vector<std::string> styles = Labels(train->paths, true),
-                                 contents = Labels(train->paths, false);
+  absl::StatusOr<ClipClasses> classes = ClipClasses::FromPaths(train->paths, {});
+  if (!classes.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("content guard: ", classes.status().message()));
+  }
+  const std::vector<std::string>& styles = classes->styles;
+  const std::vector<std::string>& contents = classes->contents;
   if (contents.size() < 2) {
     return absl::InvalidArgumentError(
-        "content guard: the training clips need at least two content labels (Bandai names)");
+        "content guard: the training clips need at least two content labels");
   }
-  auto label_of = [&](const TrainingSet& set, int clip, bool style) {
-    const auto l = motion::ParseClipName(set.paths[clip]);
-    if (!l) return -1;
-    return IndexOf(style ? styles : contents, style ? l->style : l->content);
+  // A held-out clip's content label: -1 when training has no such action.
+  auto test_content = [&](int clip) {
+    const auto l = motion::ParseClipName(test.paths[clip]);
+    return l ? IndexOf(contents, l->content) : -1;
   };
   // Batches balanced over actions: an action uniformly, then one of its windows.
   std::vector<std::vector<int>> windows_of(contents.size());
   for (size_t w = 0; w < train->windows.size(); ++w) {
-    const int c = label_of(*train, train->windows[w].clip, false);
-    if (c >= 0) windows_of[c].push_back(static_cast<int>(w));
+    windows_of[classes->content_of[train->windows[w].clip]].push_back(static_cast<int>(w));
   }
   ContentGuardAccuracy acc;
-  acc.clips = static_cast<int>(test->clips.size());
-  std::vector<torch::Tensor> probabilities(test->clips.size());  // Summed over guards.
+  acc.clips = static_cast<int>(test.clips.size());
+  std::vector<torch::Tensor> probabilities(test.clips.size());  // Summed over guards.
   try {
     for (int g = 1; g <= o.guards; ++g) {
       const uint64_t seed = o.seed + g - 1;
@@ -133,7 +124,7 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
               train->windows[windows_of[c][rng() % windows_of[c].size()]];
           x[b] = WindowTensor(train->clips[w.clip], {w.start}, window)[0];
           content[b] = c;
-          style[b] = label_of(*train, w.clip, true);
+          style[b] = classes->style_of[w.clip];
         }
         // Noise, so that the verdict does not hinge on exact values. The style
         // head is trained too (the critic's design); only the content is read.
@@ -150,9 +141,9 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
       net->eval();
       c10::InferenceMode guard;
       int right = 0;
-      for (size_t i = 0; i < test->clips.size(); ++i) {
-        const torch::Tensor p = ClipProbabilities(net, test->clips[i], window, hop);
-        right += p.argmax().item<int64_t>() == label_of(*test, static_cast<int>(i), false);
+      for (size_t i = 0; i < test.clips.size(); ++i) {
+        const torch::Tensor p = ClipProbabilities(net, test.clips[i], window, hop);
+        right += p.argmax().item<int64_t>() == test_content(static_cast<int>(i));
         probabilities[i] = probabilities[i].defined() ? probabilities[i] + p : p;
       }
       acc.each.push_back(acc.clips ? static_cast<double>(right) / acc.clips : 0);
@@ -161,8 +152,8 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
       torch::save(net, GuardPath(o.model, g) + ".tmp");
     }
     int right = 0;
-    for (size_t i = 0; i < test->clips.size(); ++i) {
-      right += probabilities[i].argmax().item<int64_t>() == label_of(*test, static_cast<int>(i), false);
+    for (size_t i = 0; i < test.clips.size(); ++i) {
+      right += probabilities[i].argmax().item<int64_t>() == test_content(static_cast<int>(i));
     }
     if (acc.clips > 0) acc.content = static_cast<double>(right) / acc.clips;
   } catch (const std::exception& e) {

@@ -3,7 +3,6 @@
 #include <torch/torch.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -22,9 +21,6 @@ struct ContrastiveModel::Impl {
   PackageContents package;
   ContrastiveNet net{nullptr};
   std::unique_ptr<ContentGuard> guard;  // With config.content_guard.
-  // How many guarded transfers ended at each step: [0] as configured, [k]
-  // at guard_strengths[k - 1].
-  mutable std::vector<std::atomic<int64_t>> guard_steps;
 
   // What GenerateWindows takes from the config, so the guard can vary it.
   struct Knobs {
@@ -93,7 +89,6 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(const s
         ContentGuard::Load(dir, config.dim, config.window, config.hop);
     if (!guard.ok()) return guard.status();
     impl->guard = *std::move(guard);
-    impl->guard_steps = std::vector<std::atomic<int64_t>>(config.guard_strengths.size() + 1);
   }
   return std::unique_ptr<ContrastiveModel>(new ContrastiveModel(std::move(impl)));
 }
@@ -244,11 +239,11 @@ absl::StatusOr<motion::Motion> ContrastiveModel::InterpolateNoted(
     const bool kept = std::max_element(p.begin(), p.end()) - p.begin() == action &&
                       p[action] >= config.guard_min_probability;
     if (kept || step == strengths.size()) {
-      ++impl_->guard_steps[step];
       if (note != nullptr) {
         note->guarded = true;
         note->backed_off = step > 0;
         note->residual_strength = step > 0 ? strengths[step - 1] : 1;
+        note->last_form = step == strengths.size();
       }
       break;
     }
@@ -274,12 +269,6 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Impl::Render(
                                  motion::RootAt(content, package.roles, 0));
   if (!raw.ok()) return raw.status();
   return motion::PostProcess(*raw, content, package.roles, post);
-}
-
-std::vector<int64_t> ContrastiveModel::GuardSteps() const {
-  std::vector<int64_t> out;
-  for (const auto& n : impl_->guard_steps) out.push_back(n.load());
-  return out;
 }
 
 }  // namespace stylus::model

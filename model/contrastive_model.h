@@ -9,7 +9,6 @@
 #ifndef STYLUS_MODEL_CONTRASTIVE_MODEL_H_
 #define STYLUS_MODEL_CONTRASTIVE_MODEL_H_
 
-#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,11 +65,6 @@ class ContrastiveModel : public StyleModel {
   absl::StatusOr<std::vector<float>> GenerateWindows(const motion::FeatureClip& features,
                                                      const std::vector<int>& starts,
                                                      const std::vector<StyleCode>& codes) const;
-
-  // With `content_guard` in config.txt: how many whole-clip transfers since
-  // Load ended at each step, [0] in the configured form, [k] in the residual
-  // form at guard_strengths[k - 1]. Empty without the guard.
-  std::vector<int64_t> GuardSteps() const;
 
  private:
   struct Impl;

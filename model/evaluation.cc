@@ -96,9 +96,15 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     for (const EvalModel& m : models) {
       absl::StatusOr<StyleCode> code = m.model->EncodeStyle(m.own_style ? *content : *style);
       if (!code.ok()) return code.status();
+      TransferNote note;
       absl::StatusOr<motion::Motion> raw =
-          m.model->Transfer(*content, *code, motion::PostProcessMode::kNone);
+          m.model->TransferNoted(*content, *code, motion::PostProcessMode::kNone, &note);
       if (!raw.ok()) return raw.status();
+      if (note.guarded) {
+        EvalRow& row = report.rows[outputs.size()];  // This model's raw row.
+        ++row.guarded;
+        if (note.backed_off) ++row.backed_off_at[note.residual_strength];
+      }
       outputs.push_back(*raw);
       if (m.postprocess) {
         absl::StatusOr<motion::Motion> full =
@@ -293,6 +299,21 @@ std::string EvalReport::Markdown() const {
                           "distances to the style and the content clip (low D_S: the output's "
                           "style is the style clip's).\n",
                           reference_clips, real_diversity);
+  }
+  for (const EvalRow& r : rows) {
+    if (r.guarded == 0) continue;
+    int backed_off = 0;
+    std::string where;
+    for (const auto& [strength, n] : r.backed_off_at) {
+      backed_off += n;
+      absl::StrAppendFormat(&where, "%s%d at strength %g", where.empty() ? "" : ", ", n, strength);
+    }
+    absl::StrAppendFormat(&s,
+                          "\nContent guard (%s): of %d transfers, %d kept the configured form; "
+                          "the residual form was returned for %d (%s; the smallest strength also "
+                          "when no form kept the action).\n",
+                          r.name, r.guarded, r.guarded - backed_off, backed_off,
+                          where.empty() ? "none" : where);
   }
   if (second_judges) {
     s +=

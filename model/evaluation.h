@@ -5,6 +5,7 @@
 #define STYLUS_MODEL_EVALUATION_H_
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,11 @@ struct EvalRow {
     return content_accuracy + second_content_accuracy - content_by_both;
   }
   int pairs = 0;
+  // A model row of a model with a content guard (model/content_guard.h): how
+  // many transfers it checked, and of those, how many it backed off to the
+  // residual form at each strength (the full row post-processes these).
+  int guarded = 0;
+  std::map<double, int> backed_off_at = {};
 };
 
 // A model to evaluate; `postprocess` adds a second row with `full`

@@ -37,7 +37,8 @@ struct StyleWeights {
 struct TransferNote {
   bool guarded = false;    // The model has a content guard.
   bool backed_off = false;  // It read another action in the configured transfer...
-  double residual_strength = 1;  // ...and returned the residual form at this strength.
+  double residual_strength = 1;  // ...and returned the residual form at this strength,
+  bool last_form = false;        // the last one it tries (returned even if it fails too).
 };
 
 // What a client may want to know about a loaded model.

@@ -46,7 +46,7 @@ void NoteGuard(const model::TransferNote& note, v1::TransferResponse* response,
   if (!note.guarded) return;
   v1::ContentGuardNote* g = response->mutable_content_guard();
   g->set_backed_off(note.backed_off);
-  g->set_residual_strength(note.backed_off ? note.residual_strength : 1);
+  g->set_residual_strength(note.residual_strength);
   out->note = note.backed_off ? absl::StrCat("guard=residual:", note.residual_strength)
                               : "guard=configured";
 }

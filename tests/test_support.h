@@ -2,9 +2,13 @@
 #ifndef STYLUS_TESTS_TEST_SUPPORT_H_
 #define STYLUS_TESTS_TEST_SUPPORT_H_
 
+#include <algorithm>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "gtest/gtest.h"
 #include "motion/dataset.h"
@@ -25,6 +29,29 @@ inline motion::Motion Frames(const motion::Motion& m, int begin, int end) {
   out.values.assign(m.values.begin() + static_cast<size_t>(begin) * c,
                     m.values.begin() + static_cast<size_t>(end) * c);
   return out;
+}
+
+// Copies the model package `from` (config.txt, norm.txt, skeleton.bvh,
+// weights.pt) into a fresh directory `name` under the test temp dir, leaving
+// out the config lines whose key is in `drop` and appending `append`.
+inline std::string CopyPackage(const std::string& from, const std::string& name,
+                               const std::vector<std::string>& drop,
+                               const std::string& append = "") {
+  namespace fs = std::filesystem;
+  const std::string dir = ::testing::TempDir() + "/" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* f : {"norm.txt", "skeleton.bvh", "weights.pt"}) {
+    fs::copy_file(from + "/" + f, dir + "/" + f);
+  }
+  std::ifstream in(from + "/config.txt");
+  std::ofstream out(dir + "/config.txt");
+  for (std::string line; std::getline(in, line);) {
+    const std::string key = line.substr(0, line.find(' '));
+    if (std::find(drop.begin(), drop.end(), key) == drop.end()) out << line << "\n";
+  }
+  out << append;
+  return dir;
 }
 
 inline bool UnderCi() {

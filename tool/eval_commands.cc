@@ -4,7 +4,6 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "model/contrastive_model.h"
 #include "model/evaluation.h"
 #include "model/feature_judge.h"
 #include "model/judge_swap.h"
@@ -87,27 +86,6 @@ int TrainJudges(const Argv& argv) {
 }
 
 namespace {
-
-// Where a model's content guard sent its transfers (model/content_guard.h):
-// a Markdown paragraph, empty for a model without one.
-std::string GuardSummary(const model::StyleModel& m) {
-  const auto* c = dynamic_cast<const model::ContrastiveModel*>(&m);
-  if (c == nullptr) return "";
-  const std::vector<int64_t> steps = c->GuardSteps();
-  if (steps.empty()) return "";
-  int64_t total = 0;
-  for (int64_t n : steps) total += n;
-  std::string out = absl::StrFormat(
-      "Content guard: of the model's %d whole-clip transfers in this evaluation, %d kept the "
-      "configured form",
-      total, steps[0]);
-  const std::vector<double>& strengths = c->package().config.guard_strengths;
-  for (size_t k = 1; k < steps.size(); ++k) {
-    absl::StrAppendFormat(&out, ", %d took the residual form at strength %g", steps[k],
-                          strengths[k - 1]);
-  }
-  return out + " (the last also when no form kept the action).\n\n";
-}
 
 // "label 0.93, other 0.05": the judge's most likely labels, best first.
 std::string TopLabels(const std::vector<std::string>& labels, const std::vector<double>& p,
@@ -296,10 +274,10 @@ int Eval(const Argv& argv) {
   const std::string second_name =
       second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
   const std::string text = absl::StrFormat(
-      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d.\n\n%s\n%sStyle / content "
+      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d.\n\n%s\nStyle / content "
       "accuracy by dataset (the labels in the clips' names):\n\n%s",
       args->Get("model"), args->Get("judges"), second_name, pairs->size(), report->Markdown(),
-      GuardSummary(**m), report->ByDatasetMarkdown(*pairs));
+      report->ByDatasetMarkdown(*pairs));
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
   if (args->Has("verdicts")) {

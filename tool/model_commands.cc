@@ -1,5 +1,4 @@
 // train and transfer.
-#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -7,7 +6,6 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
-#include "model/contrastive_model.h"
 #include "model/contrastive_trainer.h"
 #include "model/runtime.h"
 #include "model/style_model.h"
@@ -247,15 +245,12 @@ namespace {
 std::string Stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
 // " (content guard: ...)" when the model's content guard backed the transfer off.
-std::string GuardNote(const model::TransferNote& note, const model::StyleModel& m) {
+std::string GuardNote(const model::TransferNote& note) {
   if (!note.backed_off) return "";
-  const auto* c = dynamic_cast<const model::ContrastiveModel*>(&m);
-  const bool last = c != nullptr && c->package().config.guard_strengths.back() ==
-                                        note.residual_strength;
   return absl::StrFormat(
       " (content guard: the configured transfer read as another action; residual form at "
       "strength %g%s)",
-      note.residual_strength, last ? ", the last form" : "");
+      note.residual_strength, note.last_form ? ", the last form" : "");
 }
 
 // Transfers one pair and writes it; `note` gets GuardNote's text.
@@ -275,7 +270,7 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
   if (!out.ok())
     return absl::Status(out.status().code(),
                         absl::StrCat(content_path, ": ", out.status().message()));
-  *note = GuardNote(guard, m);
+  *note = GuardNote(guard);
   return motion::WriteBvhFile(*out, out_path);
 }
 

@@ -304,7 +304,6 @@ TEST_F(TrainedModelTest, ContentGuardLearnsTheLabelledClipsAndGuardsTransfers) {
   }
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> plain = ContrastiveModel::Load(dir);
   ASSERT_TRUE(plain.ok()) << plain.status();
-  EXPECT_TRUE((*plain)->GuardSteps().empty());  // Off until config.txt turns it on.
   const ContrastiveConfig& config = (*plain)->package().config;
   absl::StatusOr<std::unique_ptr<ContentGuard>> guard =
       ContentGuard::Load(dir, config.dim, config.window, config.hop);
@@ -325,10 +324,18 @@ TEST_F(TrainedModelTest, ContentGuardLearnsTheLabelledClipsAndGuardsTransfers) {
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> guarded = ContrastiveModel::Load(dir);
   ASSERT_TRUE(guarded.ok()) << guarded.status();
   const StyleCode code = *(*guarded)->EncodeStyle(Clip(1));
-  for (int i : {0, 2, 3}) ASSERT_TRUE((*guarded)->Transfer(Clip(i), code).ok());
-  const std::vector<int64_t> steps = (*guarded)->GuardSteps();
-  ASSERT_EQ(steps.size(), 3u);
-  EXPECT_EQ(steps[0] + steps[1] + steps[2], 3);
+  for (int i : {0, 2, 3}) {
+    TransferNote note;
+    ASSERT_TRUE((*guarded)->TransferNoted(Clip(i), code, motion::PostProcessMode::kFull, &note).ok());
+    EXPECT_TRUE(note.guarded);
+    EXPECT_EQ(note.residual_strength, note.backed_off ? (note.last_form ? 0 : 0.5) : 1) << i;
+    EXPECT_TRUE(!note.last_form || note.backed_off) << i;
+  }
+  // Off until config.txt turns it on.
+  TransferNote plain_note;
+  ASSERT_TRUE(
+      (*plain)->TransferNoted(Clip(0), code, motion::PostProcessMode::kFull, &plain_note).ok());
+  EXPECT_FALSE(plain_note.guarded);
 }
 
 TEST_F(TrainedModelTest, ContentGuardFilesAreCheckedOnLoad) {

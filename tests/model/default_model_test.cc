@@ -1,8 +1,6 @@
 // The shipped default model and judges (models/) load and work on real input.
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "gtest/gtest.h"
@@ -99,23 +97,13 @@ TEST(DefaultModelTest, RestylesHeldOutPairsWithinTheKinematicTargets) {
 // A copy of the shipped package without its guard, in the configured form or
 // (strength >= 0) in the residual form at that strength.
 std::string Variant(const std::string& name, double strength) {
-  namespace fs = std::filesystem;
-  const std::string dir = ::testing::TempDir() + "/v5_variant_" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  for (const char* f : {"norm.txt", "skeleton.bvh", "weights.pt"}) {
-    fs::copy_file(kModel + "/" + f, dir + "/" + f);
+  if (strength < 0) {
+    return testing::CopyPackage(kModel, "v5_" + name, {"content_guard", "guard_strengths"});
   }
-  std::ifstream in(kModel + "/config.txt");
-  std::ofstream out(dir + "/config.txt");
-  for (std::string line; std::getline(in, line);) {
-    const std::string key = line.substr(0, line.find(' '));
-    if (key == "content_guard" || key == "guard_strengths") continue;
-    if (strength >= 0 && (key == "content_detail" || key == "detail_sigma")) continue;
-    out << line << "\n";
-  }
-  if (strength >= 0) out << "residual = 1\nstyle_strength = " << strength << "\n";
-  return dir;
+  return testing::CopyPackage(
+      kModel, "v5_" + name,
+      {"content_guard", "guard_strengths", "content_detail", "detail_sigma"},
+      "residual = 1\nstyle_strength = " + std::to_string(strength) + "\n");
 }
 
 // The shipped package's content guard: on held-out pairs whose actions the
@@ -146,16 +134,21 @@ TEST(DefaultModelTest, ContentGuardBacksOffWhereTheActionWouldBeLost) {
     const motion::Motion content = *motion::ReadBvhFile(pair.content_path);
     const motion::Motion style = *motion::ReadBvhFile(pair.style_path);
     const StyleCode code = *(*model)->EncodeStyle(style);
-    const std::vector<int64_t> before = (*model)->GuardSteps();
+    TransferNote note;
     absl::StatusOr<motion::Motion> out =
-        (*model)->Transfer(content, code, motion::PostProcessMode::kNone);
+        (*model)->TransferNoted(content, code, motion::PostProcessMode::kNone, &note);
     ASSERT_TRUE(out.ok()) << out.status();
-    const std::vector<int64_t> after = (*model)->GuardSteps();
-    int step = -1;
-    for (size_t k = 0; k < after.size(); ++k) {
-      if (after[k] != before[k]) step = static_cast<int>(k);
-    }
-    ASSERT_GE(step, 0) << name;
+    ASSERT_TRUE(note.guarded);
+    // The form the guard chose: 0 the configured one, k the residual form at
+    // guard_strengths[k - 1].
+    const std::vector<double>& strengths = config.guard_strengths;
+    const int step =
+        note.backed_off ? static_cast<int>(std::find(strengths.begin(), strengths.end(),
+                                                     note.residual_strength) -
+                                           strengths.begin()) + 1
+                        : 0;
+    ASSERT_LE(step, static_cast<int>(strengths.size())) << name;
+    EXPECT_EQ(note.last_form, step == static_cast<int>(strengths.size())) << name;
     auto read = [&](const motion::Motion& m) {
       return (*guard)->Classify(*(*model)->NormalizedFeatures(m, "clip"));
     };

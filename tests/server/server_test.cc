@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <future>
 #include <limits>
 #include <thread>
@@ -211,26 +209,6 @@ TEST_F(ServerTest, InterpolationEndpointsEqualTransfersAndSchedulesWork) {
             absl::StatusCode::kInvalidArgument);
 }
 
-// A copy of the default package without its content guard: the configured
-// form, which streams always get (docs/service.md).
-std::string UnguardedCopy() {
-  namespace fs = std::filesystem;
-  const std::string dir = ::testing::TempDir() + "/unguarded_v5";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  for (const char* f : {"norm.txt", "skeleton.bvh", "weights.pt"}) {
-    fs::copy_file(kModel + "/" + f, dir + "/" + f);
-  }
-  std::ifstream in(kModel + "/config.txt");
-  std::ofstream out(dir + "/config.txt");
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("content_guard", 0) != 0 && line.rfind("guard_strengths", 0) != 0) {
-      out << line << "\n";
-    }
-  }
-  return dir;
-}
-
 TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
   STYLUS_REQUIRE_BANDAI(dir);
   const motion::Motion content = BandaiClip(dir, "walk_normal_002");
@@ -243,7 +221,8 @@ TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
   for (int f = 0; f < content.num_frames; ++f) ASSERT_EQ(streamed->indices[f], f);
   // The unary transfer of the configured form (the default package's guard
   // backs off on this pair: its configured transfer reads as a wave).
-  auto model = model::ContrastiveModel::Load(UnguardedCopy());
+  auto model = model::ContrastiveModel::Load(
+      testing::CopyPackage(kModel, "unguarded_v5", {"content_guard", "guard_strengths"}));
   ASSERT_TRUE(model.ok()) << model.status();
   auto unary = (*model)->Transfer(content, *(*model)->EncodeStyle(style),
                                   motion::PostProcessMode::kNone);

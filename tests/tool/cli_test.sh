@@ -67,7 +67,7 @@ cp "$work/proud.bvh" "$work/dataset-1_run_proud_1.bvh"
 check "train-guard --help" 0 "usage: stylus-tool train-guard" -- "$tool" train-guard --help
 check "train-guard needs --model" 2 "--model and --data are required" -- "$tool" train-guard \
   --data "$work/old.bvh"
-check "train-guard on unlabelled clips" 1 "at least two content labels" -- "$tool" train-guard \
+check "train-guard on unlabelled clips" 1 "old.bvh: labels are read from clip names" -- "$tool" train-guard \
   --model "$work/narrow" --data "$work/old.bvh" --data "$work/proud.bvh" --iters 2
 check "train-guard" 0 "2 guards written to .*narrow" -- "$tool" train-guard \
   --model "$work/narrow" --data "$work/dataset-1_walk_old_1.bvh" \
@@ -127,7 +127,7 @@ check "the full-rate residual package transfers" 0 "wrote .*tuned_out.bvh" -- "$
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/tuned_out.bvh" --threads 1
 check "train --smooth-sigma negative" 1 "--smooth-sigma must be a number in \\[0, 100\\]" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --smooth-sigma -1
-check "train --guided on unlabelled names" 1 "old.bvh: label-guided training needs labelled clip names" -- \
+check "train --guided on unlabelled names" 1 "old.bvh: labels are read from clip names, and this one has none" -- \
   "$tool" train --guided --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/guided" --iters 2
 check "train cyclic --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \
   "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/unguided" --content-class-weight 3

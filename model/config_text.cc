@@ -5,7 +5,9 @@
 #include <sstream>
 
 #include "absl/strings/numbers.h"
+#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
 
@@ -95,6 +97,43 @@ absl::StatusOr<std::string> ReadConfigFamily(const std::string& dir) {
   if (!s.ok()) return s;
   if (family.empty()) return absl::InvalidArgumentError(dir + "/config.txt: no 'family' line");
   return family;
+}
+
+namespace {
+
+absl::Status ParseGuardStrengths(const ConfigEntry& e, std::vector<double>* out) {
+  std::vector<double> values;
+  for (absl::string_view part : absl::StrSplit(e.value, ',')) {
+    double v;
+    if (!absl::SimpleAtod(absl::StripAsciiWhitespace(part), &v) || !(v >= 0 && v <= 1)) {
+      return e.Error("guard_strengths must be numbers in [0, 1] separated by commas");
+    }
+    if (!values.empty() && v >= values.back()) {
+      return e.Error("guard_strengths must fall from one to the next");
+    }
+    values.push_back(v);
+  }
+  if (values.empty() || values.size() > 8) return e.Error("guard_strengths takes 1 to 8 values");
+  *out = std::move(values);
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+std::optional<absl::Status> ParseGuardKey(const ConfigEntry& e, GuardKeys* keys) {
+  if (e.key == "content_guard") return e.Bool(&keys->content_guard);
+  if (e.key == "guard_strengths") return ParseGuardStrengths(e, &keys->guard_strengths);
+  if (e.key == "guard_min_probability") return e.Double(&keys->guard_min_probability, 0, 1);
+  return std::nullopt;
+}
+
+void AppendGuardKeys(const GuardKeys& keys, std::string* out) {
+  if (!keys.content_guard) return;
+  AppendConfigLine(out, "content_guard", "1");
+  AppendConfigLine(out, "guard_strengths", absl::StrJoin(keys.guard_strengths, ","));
+  if (keys.guard_min_probability > 0) {
+    AppendConfigLine(out, "guard_min_probability", absl::StrCat(keys.guard_min_probability));
+  }
 }
 
 }  // namespace stylus::model

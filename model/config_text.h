@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
@@ -41,6 +42,29 @@ struct TrainingKeys {
 // When `e` is one of those keys, parses it into `keys` and returns the
 // status; nullopt for any other key.
 std::optional<absl::Status> ParseTrainingKey(const ConfigEntry& e, const TrainingKeys& keys);
+
+// The content guard's inference keys (model/content_guard.h), which both
+// families' configs have. With `content_guard`, the package's content guard
+// (guard_K.pt; `stylus-tool train-guard`) reads the action of the content
+// clip and of each whole-clip transfer. When they differ, the transfer is
+// made again with a weaker style change at each of `guard_strengths` in
+// turn (each family says what a strength is), and the first whose action
+// the guard reads as the content's is returned (the last one when none is).
+// The style is given up where the action would be lost (docs/contrastive.md,
+// session 14; docs/cyclic.md). Streams are not guarded.
+struct GuardKeys {
+  bool content_guard = false;
+  std::vector<double> guard_strengths = {1, 0.7, 0.4, 0.2};
+  // A transfer passes the guard when the guard's likeliest action for it is
+  // the content clip's, with at least this probability.
+  double guard_min_probability = 0;
+};
+// When `e` is one of those keys, parses it into `keys` and returns the
+// status; nullopt for any other key. guard_strengths: 1 to 8 numbers in
+// [0, 1], each below the one before, separated by commas.
+std::optional<absl::Status> ParseGuardKey(const ConfigEntry& e, GuardKeys* keys);
+// Appends the keys (nothing when the guard is off).
+void AppendGuardKeys(const GuardKeys& keys, std::string* out);
 
 // Calls `handle` for every non-empty, non-comment line; stops at the first
 // error (a line without '=' is one).

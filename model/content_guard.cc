@@ -15,6 +15,7 @@
 #include "absl/strings/str_split.h"
 #include "model/clip_classes.h"
 #include "model/config_text.h"
+#include "model/cyclic_config.h"
 #include "model/label_critic_net.h"
 #include "model/package.h"
 #include "model/training_set.h"
@@ -31,6 +32,34 @@ constexpr char kInfo[] = "/guard.txt";
 
 std::string GuardPath(const std::string& dir, int k) {
   return absl::StrCat(dir, "/guard_", k, ".pt");
+}
+
+// What the guard needs of a package of either family: its statistics and
+// how it windows clips.
+struct GuardedPackage : DataFiles {
+  int window = 0, hop = 0;
+};
+
+absl::StatusOr<GuardedPackage> ReadGuardedPackage(const std::string& dir) {
+  absl::StatusOr<std::string> family = ReadConfigFamily(dir);
+  if (!family.ok()) return family.status();
+  GuardedPackage out;
+  if (*family == "cyclic") {
+    absl::StatusOr<std::string> text = ReadConfigText(dir);
+    if (!text.ok()) return text.status();
+    absl::StatusOr<CyclicConfig> config = CyclicConfig::Parse(*text, dir + "/config.txt");
+    if (!config.ok()) return config.status();
+    absl::StatusOr<DataFiles> data = ReadDataFiles(dir);
+    if (!data.ok()) return data.status();
+    static_cast<DataFiles&>(out) = *std::move(data);
+    out.window = config->window, out.hop = config->hop;
+    return out;
+  }
+  absl::StatusOr<PackageContents> package = ReadPackage(dir);
+  if (!package.ok()) return package.status();
+  out.window = package->config.window, out.hop = package->config.hop;
+  static_cast<DataFiles&>(out) = *std::move(package);
+  return out;
 }
 
 int IndexOf(const std::vector<std::string>& labels, const std::string& label) {
@@ -59,9 +88,9 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
   if (o.guards < 1 || o.guards > 16) {
     return absl::InvalidArgumentError("content guard: the number of guards must be in [1, 16]");
   }
-  absl::StatusOr<PackageContents> package = ReadPackage(o.model);
+  absl::StatusOr<GuardedPackage> package = ReadGuardedPackage(o.model);
   if (!package.ok()) return package.status();
-  const int window = package->config.window, hop = package->config.hop;
+  const int window = package->window, hop = package->hop;
   absl::StatusOr<TrainingSet> train =
       LoadTrainingSet(o.data, {window, hop}, {}, /*test=*/false, &package->norm);
   if (!train.ok()) return train.status();
@@ -242,6 +271,12 @@ std::vector<double> ContentGuard::Probabilities(const motion::FeatureClip& norma
   }
   const torch::Tensor mean = (sum / static_cast<double>(impl_->nets.size())).contiguous();
   return std::vector<double>(mean.data_ptr<double>(), mean.data_ptr<double>() + mean.numel());
+}
+
+bool ContentGuard::Keeps(const motion::FeatureClip& normalized, int action,
+                         double min_probability) const {
+  const std::vector<double> p = Probabilities(normalized);
+  return std::max_element(p.begin(), p.end()) - p.begin() == action && p[action] >= min_probability;
 }
 
 int ContentGuard::Classify(const motion::FeatureClip& normalized) const {

@@ -1,4 +1,4 @@
-// The content guard of a contrastive package: a classifier of the action
+// The content guard of a package (either family): a classifier of the action
 // (content label) trained on the package's own normalized features of real
 // training clips, and used at inference to check that a transfer still reads
 // as the action its content clip reads as. When it does not, the model backs
@@ -69,6 +69,9 @@ class ContentGuard {
   std::vector<double> Probabilities(const motion::FeatureClip& normalized) const;
   // Index into contents() of the likeliest action.
   int Classify(const motion::FeatureClip& normalized) const;
+  // Whether the likeliest action of the clip is `action`, with at least
+  // `min_probability` (GuardKeys::guard_min_probability).
+  bool Keeps(const motion::FeatureClip& normalized, int action, double min_probability) const;
 
  private:
   struct Impl;

@@ -54,11 +54,7 @@ std::string ContrastiveConfig::Serialize() const {
   if (residual) put("residual", "1");
   if (content_detail > 0) put("content_detail", absl::StrCat(content_detail));
   if (detail_sigma > 0) put("detail_sigma", absl::StrCat(detail_sigma));
-  if (content_guard) {
-    put("content_guard", "1");
-    put("guard_strengths", absl::StrJoin(guard_strengths, ","));
-    if (guard_min_probability > 0) put("guard_min_probability", absl::StrCat(guard_min_probability));
-  }
+  AppendGuardKeys(*this, &s);
   if (average_from > 0) {
     put("average_from", absl::StrCat(average_from));
     put("average_every", absl::StrCat(average_every));
@@ -72,28 +68,6 @@ std::string ContrastiveConfig::Serialize() const {
   put("commit", commit);
   return s;
 }
-
-namespace {
-
-// A comma-separated list of 1 to 8 strengths in [0, 1], each below the one before.
-absl::Status ParseGuardStrengths(const ConfigEntry& e, std::vector<double>* out) {
-  std::vector<double> values;
-  for (absl::string_view part : absl::StrSplit(e.value, ',')) {
-    double v;
-    if (!absl::SimpleAtod(absl::StripAsciiWhitespace(part), &v) || !(v >= 0 && v <= 1)) {
-      return e.Error("guard_strengths must be numbers in [0, 1] separated by commas");
-    }
-    if (!values.empty() && v >= values.back()) {
-      return e.Error("guard_strengths must fall from one to the next");
-    }
-    values.push_back(v);
-  }
-  if (values.empty() || values.size() > 8) return e.Error("guard_strengths takes 1 to 8 values");
-  *out = std::move(values);
-  return absl::OkStatus();
-}
-
-}  // namespace
 
 absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& text,
                                                            const std::string& source) {
@@ -130,9 +104,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "residual") return e.Bool(&c.residual);
     if (key == "content_detail") return e.Double(&c.content_detail, 0, 1);
     if (key == "detail_sigma") return e.Double(&c.detail_sigma, 0, 100);
-    if (key == "content_guard") return e.Bool(&c.content_guard);
-    if (key == "guard_strengths") return ParseGuardStrengths(e, &c.guard_strengths);
-    if (key == "guard_min_probability") return e.Double(&c.guard_min_probability, 0, 1);
+    if (std::optional<absl::Status> s = ParseGuardKey(e, &c)) return *s;
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "self_rec_weight") return e.Double(&c.self_rec_weight, 0, 1e6);

@@ -9,10 +9,14 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "model/config_text.h"
 
 namespace stylus::model {
 
-struct ContrastiveConfig {
+// The content guard's keys (GuardKeys, model/config_text.h): a weaker
+// style is the residual form (the content plus the change the style makes)
+// at that strength.
+struct ContrastiveConfig : GuardKeys {
   // Data and architecture.
   int window = 32;     // T frames per window.
   int hop = 24;        // Window stride (overlap T/4).
@@ -143,19 +147,6 @@ struct ContrastiveConfig {
   // `residual`, whose output already carries the whole content window.
   double content_detail = 0;
   double detail_sigma = 0;
-  // Inference: with `content_guard`, the package's content guard (guard.pt,
-  // model/content_guard.h; `stylus-tool train-guard`) reads the action of the
-  // content clip and of each whole-clip transfer. When they differ, the
-  // transfer is made again in the residual form (the content plus the change
-  // the style makes) at each of `guard_strengths` in turn, and the first
-  // whose action the guard reads as the content's is returned (the last one
-  // when none is). The style is given up where the action would be lost
-  // (docs/contrastive.md, session 14). Streams are not guarded.
-  bool content_guard = false;
-  std::vector<double> guard_strengths = {1, 0.7, 0.4, 0.2};
-  // A transfer passes the guard when the guard's likeliest action for it is
-  // the content clip's, with at least this probability.
-  double guard_min_probability = 0;
   // Optimization.
   int batch = 16;
   double lr = 1e-4;

@@ -235,16 +235,9 @@ absl::StatusOr<motion::Motion> ContrastiveModel::InterpolateNoted(
     if (!out.ok()) return out.status();
     absl::StatusOr<motion::FeatureClip> read = NormalizedFeatures(*out, "transfer");
     if (!read.ok()) return read.status();
-    const std::vector<double> p = impl_->guard->Probabilities(*read);
-    const bool kept = std::max_element(p.begin(), p.end()) - p.begin() == action &&
-                      p[action] >= config.guard_min_probability;
-    if (kept || step == strengths.size()) {
-      if (note != nullptr) {
-        note->guarded = true;
-        note->backed_off = step > 0;
-        note->residual_strength = step > 0 ? strengths[step - 1] : 1;
-        note->last_form = step == strengths.size();
-      }
+    if (impl_->guard->Keeps(*read, action, config.guard_min_probability) ||
+        step == strengths.size()) {
+      if (note != nullptr) *note = TransferNote::Guarded(step, strengths);
       break;
     }
   }

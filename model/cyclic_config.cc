@@ -32,9 +32,11 @@ std::string CyclicConfig::Serialize() const {
     num("blocks", blocks);
     if (adain_skip) put("adain_skip", "1");
   }
+  if (rotations) put("rotations", "1");
   if (random_starts) put("random_starts", "1");
   if (mirror) put("mirror", "1");
   if (keep_path) put("keep_path", "1");
+  AppendGuardKeys(*this, &s);
   put("use_cycle", use_cycle ? "1" : "0");
   put("use_kc", use_kc ? "1" : "0");
   if (guided) {
@@ -104,6 +106,8 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "keep_path") return e.Bool(&c.keep_path);
     if (key == "residual") return e.Bool(&c.residual);
     if (key == "adain_skip") return e.Bool(&c.adain_skip);
+    if (key == "rotations") return e.Bool(&c.rotations);
+    if (std::optional<absl::Status> s = ParseGuardKey(e, &c)) return *s;
     if (key == "use_kc") return e.Bool(&c.use_kc);
     if (key == "guided") return e.Bool(&c.guided);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);

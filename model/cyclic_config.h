@@ -7,10 +7,14 @@
 #include <string>
 
 #include "absl/status/statusor.h"
+#include "model/config_text.h"
 
 namespace stylus::model {
 
-struct CyclicConfig {
+// The content guard's keys (GuardKeys, model/config_text.h): a weaker style
+// at strength k restyles the hidden features k of the way (the content's
+// own features plus k times the change the style transform makes).
+struct CyclicConfig : GuardKeys {
   // Data and architecture.
   int window = 60;      // Training window (2 s at 30 fps).
   int hop = 30;         // Window stride (50% overlap).
@@ -39,6 +43,14 @@ struct CyclicConfig {
   // blocks' skip path. The style code then holds those statistics after the
   // style encoder's values.
   bool adain_skip = false;
+  // The joints' rotations join the network's channels (after the path
+  // channels; docs/cyclic.md, "Rotations in the network"). Joint positions
+  // fix each bone's direction but not its twist, nor the orientation of a
+  // joint without a child joint (head, hands, toes); without this option the
+  // output takes those from the content clip, and with them part of the
+  // content's style. With it, the generated rotations supply them, and the
+  // kinematic terms still read the positions.
+  bool rotations = false;
   // Loss weights. The generator: reconstruction of C and G(C, C) = C,
   // Gram style loss and content loss in hidden space, adversarial, cycle
   // ||F(G(C,S), C) - C||^2, and the kinematic constraints on generated joint
@@ -107,8 +119,9 @@ struct CyclicConfig {
   int trained_iterations = 0;
 
   // Channels the network sees (a subset of the features): joint positions,
-  // root trajectory, foot contacts.
-  int net_channels(int joints) const { return 3 * joints + 8; }
+  // root trajectory, foot contacts, and with `rotations` the joint rotations
+  // (CyclicChannels).
+  int net_channels(int joints) const { return 3 * joints + 8 + (rotations ? 4 * joints : 0); }
   // Values in a style code.
   int code_size() const {
     return style_dim > 0 ? style_dim + (adain_skip ? 2 * hidden : 0) : 2 * hidden;

@@ -49,6 +49,12 @@ class CyclicModel : public StyleModel {
       const motion::Motion& content, const std::vector<StyleCode>& styles,
       const StyleWeights& weights,
       motion::PostProcessMode post = motion::PostProcessMode::kFull) const override;
+  // With a content guard (CyclicConfig::content_guard), says what it did.
+  absl::StatusOr<motion::Motion> InterpolateNoted(const motion::Motion& content,
+                                                  const std::vector<StyleCode>& styles,
+                                                  const StyleWeights& weights,
+                                                  motion::PostProcessMode post,
+                                                  TransferNote* note) const override;
 
  private:
   struct Impl;

@@ -9,12 +9,15 @@ namespace stylus::model {
 
 namespace nn = torch::nn;
 
-std::vector<int64_t> CyclicChannels(int joints) {
+std::vector<int64_t> CyclicChannels(int joints, bool rotations) {
   const motion::FeatureLayout layout(joints);
   std::vector<int64_t> channels(3 * joints);
   std::iota(channels.begin(), channels.end(), 0);
   for (int c = 0; c < motion::FeatureLayout::kPathChannels; ++c)
     channels.push_back(layout.trajectory() + c);
+  if (rotations) {
+    for (int c = 0; c < 4 * joints; ++c) channels.push_back(layout.rotation(0) + c);
+  }
   return channels;
 }
 
@@ -167,7 +170,7 @@ torch::Tensor Gram(const torch::Tensor& h) {
 KinematicLoss::KinematicLoss(const motion::Skeleton& skeleton, const motion::HumanoidRoles& roles,
                              const motion::NormStats& norm, double frame_time)
     : joints_(skeleton.num_joints()), leg_(roles.leg_length), fps_(1.0 / frame_time) {
-  const std::vector<int64_t> channels = CyclicChannels(joints_);
+  const std::vector<int64_t> channels = CyclicChannels(joints_, /*rotations=*/false);
   std::vector<float> mean, sd;
   for (int64_t c : channels) mean.push_back(norm.mean[c]), sd.push_back(norm.std[c]);
   const int64_t n = static_cast<int64_t>(channels.size());
@@ -191,8 +194,12 @@ KinematicLoss::KinematicLoss(const motion::Skeleton& skeleton, const motion::Hum
                                              roles.right_toe});
 }
 
+torch::Tensor KinematicLoss::Own(const torch::Tensor& x) const {
+  return x.slice(1, 0, mean_.size(1));
+}
+
 torch::Tensor KinematicLoss::Positions(const torch::Tensor& x) const {
-  const torch::Tensor real = x * std_ + mean_;
+  const torch::Tensor real = Own(x) * std_ + mean_;
   return real.slice(1, 0, 3 * joints_).reshape({x.size(0), joints_, 3, x.size(2)}) / leg_;
 }
 
@@ -233,7 +240,7 @@ KinematicLoss::Terms KinematicLoss::Compute(const torch::Tensor& out,
   // equals the content's (leg lengths/s), so with the content's trajectory
   // it stays on the ground where the content's does.
   const torch::Tensor contact =
-      ((content * std_ + mean_).slice(1, tr + 4, tr + 8) > 0.5).to(torch::kFloat32);  // (B,4,T)
+      ((Own(content) * std_ + mean_).slice(1, tr + 4, tr + 8) > 0.5).to(torch::kFloat32);  // (B,4,T)
   const int64_t n = out.size(2);
   const torch::Tensor both = contact.slice(2, 0, n - 1) * contact.slice(2, 1, n);
   auto foot_velocity = [&](const torch::Tensor& p) {

@@ -97,6 +97,9 @@ class KinematicLoss {
   torch::Tensor BoneError(const torch::Tensor& out) const;
 
  private:
+  // The channels the terms read: positions and path (rotations, when the
+  // network has them, come after and are not constrained).
+  torch::Tensor Own(const torch::Tensor& x) const;
   torch::Tensor Positions(const torch::Tensor& x) const;  // (B, J, 3, T), leg lengths.
   // Relative bone length errors (B, bones, T) of positions `p`.
   torch::Tensor BoneErrors(const torch::Tensor& p) const;
@@ -121,8 +124,10 @@ KinematicFit OptimizeHidden(CyclicNet& net, const KinematicLoss& loss, const Cyc
                             const torch::Tensor& content, const torch::Tensor& offset,
                             torch::Tensor* h);
 
-// Indices of the network's channels in the full feature layout.
-std::vector<int64_t> CyclicChannels(int joints);
+// Indices of the network's channels in the full feature layout: joint
+// positions (3J), the path (root trajectory 4, foot contacts 4), then with
+// `rotations` the joint rotations (4J).
+std::vector<int64_t> CyclicChannels(int joints, bool rotations);
 
 }  // namespace stylus::model
 

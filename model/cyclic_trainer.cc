@@ -258,7 +258,7 @@ struct CyclicTrainer {
     config.data = absl::StrJoin(opt.data, ";");
     config.commit = opt.commit;
     const int joints = data.skeleton.num_joints();
-    channels = torch::tensor(CyclicChannels(joints));
+    channels = torch::tensor(CyclicChannels(joints, config.rotations));
     keep_mask = KeepMask();
     kinematic = std::make_unique<KinematicLoss>(data.skeleton, data.roles, data.norm,
                                                 data.frame_time);

@@ -39,6 +39,12 @@ struct TransferNote {
   bool backed_off = false;  // It read another action in the configured transfer...
   double residual_strength = 1;  // ...and returned the residual form at this strength,
   bool last_form = false;        // the last one it tries (returned even if it fails too).
+
+  // The note of a guarded transfer that returned form `step` (0: the
+  // configured one, k: strengths[k - 1]).
+  static TransferNote Guarded(size_t step, const std::vector<double>& strengths) {
+    return {true, step > 0, step > 0 ? strengths[step - 1] : 1, step == strengths.size()};
+  }
 };
 
 // What a client may want to know about a loaded model.

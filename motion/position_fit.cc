@@ -151,7 +151,7 @@ double HingeAngle(const Vec3& offset, const Vec3& child_offset, const Vec3& axis
 }  // namespace
 
 void FitRotationsToPositions(const Skeleton& skeleton, const HumanoidRoles& roles,
-                             FeatureClip* features) {
+                             FeatureClip* features, const FeatureClip* hinge_reference) {
   const int joints = skeleton.num_joints();
   const FeatureLayout layout(joints);
   // Joints at or below the pelvis, parents first (file order is depth-first).
@@ -173,7 +173,7 @@ void FitRotationsToPositions(const Skeleton& skeleton, const HumanoidRoles& role
     if (!below[j] || p <= roles.pelvis || skeleton.children(j).size() != 1 ||
         skeleton.children(p).size() != 1 || hinge[p].is)
       continue;
-    hinge[j] = FindHinge(*features, layout, j);
+    hinge[j] = FindHinge(hinge_reference != nullptr ? *hinge_reference : *features, layout, j);
   }
   std::vector<Quat> global(joints), previous(joints), hinge_local(joints);
   std::vector<Vec3> position(joints);

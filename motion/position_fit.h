@@ -27,9 +27,13 @@ namespace stylus::motion {
 // rotation channels then hold the fitted rotations (each frame in the
 // previous frame's hemisphere) and the position channels of the pelvis's
 // descendants the positions forward kinematics gives with the skeleton's
-// offsets. Other channels are untouched.
+// offsets. Other channels are untouched. With `hinge_reference` (features of
+// as many frames, e.g. the content clip's), hinges and their axes are found
+// in its rotations instead of the starting ones (generated rotations, which
+// turn about a knee's axis only nearly).
 void FitRotationsToPositions(const Skeleton& skeleton, const HumanoidRoles& roles,
-                             FeatureClip* features);
+                             FeatureClip* features,
+                             const FeatureClip* hinge_reference = nullptr);
 
 }  // namespace stylus::motion
 

@@ -16,7 +16,7 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--no-cycle] [--no-kc] [--no-residual] [--kc-iters 100]\n"
       "         [--style-weight W] [--content-weight W] [--gan-weight W] [--cycle-weight W]\n"
       "         [--smooth-weight W] [--bone-weight W] [--traj-weight W] [--foot-weight W]\n"
-      "         [--keep-weight 0] [--random-starts] [--mirror] [--keep-path]\n"
+      "         [--keep-weight 0] [--random-starts] [--mirror] [--keep-path] [--rotations]\n"
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
       "         [--style-dim 0 [--blocks 4] [--adain-skip]] [--pair-gan]\n"
@@ -58,6 +58,10 @@ int TrainCyclicModel(const Argv& argv) {
       "autoencoder). --adain-skip (with --style-dim) first gives the content's\n"
       "hidden features the style clip's per-channel mean and spread (AdaIN), so\n"
       "the content's own statistics do not pass the blocks' skip path.\n"
+      "--rotations adds the joints' rotations to the network's channels, so the\n"
+      "output's bone twists and head, hand and toe orientations are generated\n"
+      "instead of taken from the content clip (a new network: train the\n"
+      "autoencoder stage too; docs/cyclic.md).\n"
       "--average-from K: the package holds the mean of the network's weights\n"
       "sampled every --average-every iterations from iteration K on.\n";
   int code = 0;
@@ -70,7 +74,7 @@ int TrainCyclicModel(const Argv& argv) {
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
                 "style-dim", "blocks", "average-from", "average-every", "critics"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan",
-                "random-starts", "mirror", "keep-path", "adain-skip"}};
+                "random-starts", "mirror", "keep-path", "adain-skip", "rotations"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
@@ -148,6 +152,7 @@ int TrainCyclicModel(const Argv& argv) {
   c.use_kc = !args->switches.count("no-kc");
   c.residual = !args->switches.count("no-residual");
   c.adain_skip = args->switches.count("adain-skip") > 0;
+  c.rotations = args->switches.count("rotations") > 0;
   if (c.adain_skip && c.style_dim == 0) {
     return Fail("train", absl::InvalidArgumentError("--adain-skip needs --style-dim"));
   }

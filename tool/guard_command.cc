@@ -12,16 +12,16 @@ int TrainGuard(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool train-guard --model DIR --data DIR... [--iters 3000]\n"
       "         [--batch 32] [--guards 3] [--seed S] [--threads N]\n\n"
-      "Trains the content guard of the contrastive package DIR: --guards\n"
+      "Trains the content guard of the package DIR (either family): --guards\n"
       "classifiers of the action (seeds S, S+1, ...; their probabilities are\n"
       "averaged), on the labelled training split of the --data directories in\n"
       "the package's own features, and writes guard_K.pt and guard.txt into DIR.\n"
       "Prints the clip-level accuracy on the held-out split.\n"
       "The package uses it when its config.txt says `content_guard = 1`: a\n"
       "whole-clip transfer the guard reads as another action than its content\n"
-      "clip is made again in the residual form at each of `guard_strengths`\n"
-      "(default 1,0.7,0.4), giving up style until the action reads right\n"
-      "(docs/contrastive.md).\n";
+      "clip is made again with a weaker style at each of `guard_strengths`\n"
+      "(default 1,0.7,0.4,0.2), giving up style until the action reads right\n"
+      "(docs/contrastive.md; for cyclic packages docs/cyclic.md).\n";
   int code = 0;
   auto args = ParseOrExit("train-guard", argv,
                           {{"model", "data", "iters", "batch", "seed", "threads", "guards"}, {}}, kHelp,

@@ -9,7 +9,9 @@
 #include <fstream>
 
 #include "gtest/gtest.h"
+#include "absl/strings/str_cat.h"
 #include "model/chunked_stream.h"
+#include "model/content_guard.h"
 #include "model/cyclic_net.h"
 #include "model/cyclic_trainer.h"
 #include "model/package.h"
@@ -75,7 +77,7 @@ ClipChannels MakeClipChannels(int i) {
   s.norm = *motion::NormStats::Compute({&f});
   s.norm.Normalize(&f);
   s.x = torch::from_blob(f.values.data(), {f.frames, f.dim}, torch::kFloat32)
-            .index_select(1, torch::tensor(CyclicChannels(s.clip.skeleton.num_joints())))
+            .index_select(1, torch::tensor(CyclicChannels(s.clip.skeleton.num_joints(), false)))
             .t()
             .unsqueeze(0)
             .clone();
@@ -476,6 +478,99 @@ TEST(CyclicModelTest, AdaInSkipPackageTrainsLoadsAndTransfers) {
             absl::StatusCode::kInvalidArgument);
 }
 
+// With `rotations`, the joints' rotations are network channels: the output's
+// twists and the orientation of joints without a child joint (head, hands,
+// toes) are generated. Without it they are the content clip's, exactly.
+TEST(CyclicModelTest, RotationsPackageGeneratesWhatPositionsLeaveOpen) {
+  const motion::Motion content = Clip(0), style = Clip(2);
+  const motion::HumanoidRoles roles = *motion::FindHumanoidRoles(content.skeleton);
+  const int joints = content.skeleton.num_joints();
+  const motion::FeatureLayout layout(joints);
+  std::vector<int> leaves;
+  for (int j = 0; j < joints; ++j)
+    if (content.skeleton.children(j).empty()) leaves.push_back(j);
+  ASSERT_FALSE(leaves.empty());
+  // The largest change of a leaf's rotation from the content's, over frames.
+  auto leaf_change = [&](const motion::Motion& out) {
+    const motion::FeatureClip a = *motion::ExtractFeatures(content, roles);
+    const motion::FeatureClip b = *motion::ExtractFeatures(out, roles);
+    double worst = 0;
+    for (int f = 0; f < a.frames; ++f)
+      for (int j : leaves) {
+        const float* p = a.row(f) + layout.rotation(j);
+        const float* q = b.row(f) + layout.rotation(j);
+        worst = std::max(worst, motion::AngleBetween(motion::Quat{p[0], p[1], p[2], p[3]},
+                                                     motion::Quat{q[0], q[1], q[2], q[3]}));
+      }
+    return worst;
+  };
+  std::map<bool, double> change;
+  for (bool rotations : {false, true}) {
+    CyclicTrainOptions o = TinyOptions(Dir(rotations ? "rotations" : "rotations_off"));
+    o.config.rotations = rotations;
+    o.config.iterations = 120;
+    ASSERT_TRUE(TrainCyclic(o).ok());
+    absl::StatusOr<std::unique_ptr<CyclicModel>> m = CyclicModel::Load(o.out, {0});
+    ASSERT_TRUE(m.ok()) << m.status();
+    EXPECT_EQ((*m)->config().rotations, rotations);
+    EXPECT_EQ((*m)->config().net_channels(joints), rotations ? 7 * joints + 8 : 3 * joints + 8);
+    absl::StatusOr<motion::Motion> out =
+        (*m)->Transfer(content, *(*m)->EncodeStyle(style), motion::PostProcessMode::kNone);
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_LT(motion::BoneLengthError(*out, roles), 1e-4);
+    change[rotations] = leaf_change(*out);
+  }
+  std::printf("largest leaf rotation change from the content: %.2g rad without, %.2g with\n",
+              change[false], change[true]);
+  EXPECT_LT(change[false], 1e-3);
+  EXPECT_GT(change[true], 1e-2);
+  const std::vector<int64_t> channels = CyclicChannels(joints, true);
+  ASSERT_EQ(channels.size(), static_cast<size_t>(7 * joints + 8));
+  EXPECT_EQ(channels[3 * joints], layout.trajectory());  // The path stays where it was.
+  EXPECT_EQ(channels[3 * joints + 8], layout.rotation(0));
+  EXPECT_EQ(channels.back(), layout.rotation(joints - 1) + 3);
+}
+
+// The content guard works for this family too: a weaker form restyles the
+// hidden features part of the way, and strength 0 gives the content back.
+TEST(CyclicModelTest, ContentGuardBacksOffTheRestyledFeatures) {
+  CyclicTrainOptions o = TinyOptions(Dir("guarded"));
+  o.data = testing::LabelledClips();
+  o.config.iterations = 100;
+  ASSERT_TRUE(TrainCyclic(o).ok());
+  ContentGuardTrainOptions g;
+  g.model = o.out;
+  g.data = testing::LabelledClips();
+  g.iterations = 1;  // Untrained: near-even probabilities, none reaches 0.99.
+  g.guards = 2;
+  g.log = [](const std::string&) {};
+  ASSERT_TRUE(TrainContentGuard(g).ok());
+  const motion::Motion content = Clip(0);
+  const double leg = motion::FindHumanoidRoles(content.skeleton)->leg_length;
+  auto transfer = [&](const std::string& keys, TransferNote* note) {
+    const std::string dir = Dir(absl::StrCat("guarded_", keys.size()));
+    fs::copy(o.out, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+    std::ofstream(dir + "/config.txt", std::ios::app) << keys;
+    absl::StatusOr<std::unique_ptr<CyclicModel>> m = CyclicModel::Load(dir, {0});
+    EXPECT_TRUE(m.ok()) << m.status();
+    return (*m)->TransferNoted(content, *(*m)->EncodeStyle(Clip(2)), motion::PostProcessMode::kNone,
+                               note);
+  };
+  // No form can pass (probability 0.99): the last form, strength 0, is returned.
+  TransferNote note;
+  absl::StatusOr<motion::Motion> out =
+      transfer("content_guard = 1\nguard_strengths = 0.5,0\nguard_min_probability = 0.99\n", &note);
+  ASSERT_TRUE(out.ok()) << out.status();
+  EXPECT_TRUE(note.guarded && note.backed_off && note.last_form);
+  EXPECT_EQ(note.residual_strength, 0);
+  EXPECT_LT(motion::MaxPositionDifference(*out, content), 0.01 * leg);
+  // Any probability: one of the forms, as the note says.
+  TransferNote any;
+  ASSERT_TRUE(transfer("content_guard = 1\nguard_strengths = 0.5,0\n", &any).ok());
+  EXPECT_TRUE(any.guarded);
+  EXPECT_EQ(any.residual_strength, any.backed_off ? (any.last_form ? 0 : 0.5) : 1);
+}
+
 TEST(CyclicModelTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabelCritic) {
   CyclicTrainOptions o = StyleNetworkAfterAutoencoder("style_net", 150);
   o.config.pair_gan = true;
@@ -648,7 +743,7 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   c.style_dim = 32, c.blocks = 3, c.guided = true, c.pair_gan = true, c.content_class_weight = 3;
   c.keep_weight = 2, c.average_from = 100, c.average_every = 25;
   c.random_starts = true, c.keep_path = true, c.critics = 2, c.content_balance = 0.5;
-  c.adain_skip = true, c.mirror = true;
+  c.adain_skip = true, c.mirror = true, c.rotations = true;
   absl::StatusOr<CyclicConfig> back = CyclicConfig::Parse(c.Serialize(), "x");
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->Serialize(), c.Serialize());
@@ -658,6 +753,8 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   EXPECT_DOUBLE_EQ(back->content_balance, 0.5);
   EXPECT_TRUE(back->adain_skip);
   EXPECT_TRUE(back->mirror);
+  EXPECT_TRUE(back->rotations);
+  EXPECT_FALSE(CyclicConfig::Parse("dim = 5\n", "cfg.txt")->rotations);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\ncritics = 0\n", "cfg.txt").status().code(),
             absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\nkernel = 4\n", "cfg.txt").status().message(),

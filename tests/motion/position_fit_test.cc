@@ -147,5 +147,41 @@ TEST(PositionFitTest, KneesStayHingesWhenTheAnkleMoves) {
   EXPECT_LT(other, 2e-3 * leg);
 }
 
+// Generated rotations turn a knee about its axis only nearly; the hinge is
+// then found in a reference clip's rotations (the content's), and the knee
+// still bends about that axis alone.
+TEST(PositionFitTest, HingesComeFromTheReferenceWhenTheStartingRotationsAreGenerated) {
+  STYLUS_REQUIRE_BANDAI(data);
+  absl::StatusOr<Motion> m = ReadBvhFile(data + "/dataset-2/dataset-2_walk_normal_001.bvh");
+  ASSERT_TRUE(m.ok()) << m.status();
+  const HumanoidRoles roles = *FindHumanoidRoles(m->skeleton);
+  const FeatureClip truth = *ExtractFeatures(*m, roles);
+  const FeatureLayout layout(m->skeleton.num_joints());
+  const int knee = m->skeleton.children(roles.left_hip)[0];
+  // Every knee rotation turned 6 degrees off its axis, as a network might.
+  FeatureClip generated = truth;
+  for (int f = 0; f < generated.frames; ++f) {
+    float* q = generated.row(f) + layout.rotation(knee);
+    const Quat off = Normalized(Quat{q[0], q[1], q[2], q[3]}) * AxisAngle({1, 0, 0}, 0.1);
+    q[0] = off.w, q[1] = off.x, q[2] = off.y, q[3] = off.z;
+  }
+  auto worst_off_axis = [&](const FeatureClip& fitted) {
+    double worst = 0;
+    for (int f = 0; f < fitted.frames; ++f) {
+      const float* q = fitted.row(f) + layout.rotation(knee);
+      worst = std::max({worst, std::fabs(double(q[1])), std::fabs(double(q[3]))});
+    }
+    return worst;
+  };
+  FeatureClip alone = generated, referenced = generated;
+  FitRotationsToPositions(m->skeleton, roles, &alone);
+  FitRotationsToPositions(m->skeleton, roles, &referenced, &truth);
+  std::printf("knee off-axis: %.4f without the reference, %.4f with it\n", worst_off_axis(alone),
+              worst_off_axis(referenced));
+  EXPECT_GT(worst_off_axis(alone), 0.04);  // No hinge found: the knee twists.
+  EXPECT_LT(worst_off_axis(referenced), 0.02);
+  EXPECT_LT(MaxPositionGap(referenced, truth, m->skeleton.num_joints()), 0.01 * roles.leg_length);
+}
+
 }  // namespace
 }  // namespace stylus::motion

@@ -45,9 +45,7 @@ absl::StatusOr<GuardedPackage> ReadGuardedPackage(const std::string& dir) {
   if (!family.ok()) return family.status();
   GuardedPackage out;
   if (*family == "cyclic") {
-    absl::StatusOr<std::string> text = ReadConfigText(dir);
-    if (!text.ok()) return text.status();
-    absl::StatusOr<CyclicConfig> config = CyclicConfig::Parse(*text, dir + "/config.txt");
+    absl::StatusOr<CyclicConfig> config = CyclicConfig::Read(dir);
     if (!config.ok()) return config.status();
     absl::StatusOr<DataFiles> data = ReadDataFiles(dir);
     if (!data.ok()) return data.status();

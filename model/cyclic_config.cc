@@ -134,4 +134,10 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
   return c;
 }
 
+absl::StatusOr<CyclicConfig> CyclicConfig::Read(const std::string& dir) {
+  absl::StatusOr<std::string> text = ReadConfigText(dir);
+  if (!text.ok()) return text.status();
+  return Parse(*text, dir + "/config.txt");
+}
+
 }  // namespace stylus::model

@@ -131,6 +131,8 @@ struct CyclicConfig : GuardKeys {
   // INVALID_ARGUMENT naming `source` and the line of a malformed or
   // out-of-range entry; unknown keys are errors too.
   static absl::StatusOr<CyclicConfig> Parse(const std::string& text, const std::string& source);
+  // Reads and parses <dir>/config.txt (NOT_FOUND when missing).
+  static absl::StatusOr<CyclicConfig> Read(const std::string& dir);
 };
 
 }  // namespace stylus::model

@@ -73,9 +73,7 @@ ModelSummary CyclicModel::summary() const {
 
 absl::StatusOr<std::unique_ptr<CyclicModel>> CyclicModel::Load(const std::string& dir,
                                                                CyclicOptions options) {
-  absl::StatusOr<std::string> text = ReadConfigText(dir);
-  if (!text.ok()) return text.status();
-  absl::StatusOr<CyclicConfig> config = CyclicConfig::Parse(*text, dir + "/config.txt");
+  absl::StatusOr<CyclicConfig> config = CyclicConfig::Read(dir);
   if (!config.ok()) return config.status();
   absl::StatusOr<DataFiles> data = ReadDataFiles(dir);
   if (!data.ok()) return data.status();

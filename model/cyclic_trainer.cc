@@ -83,9 +83,7 @@ struct CyclicTrainer {
   // also has is copied (a style network can start from a v1 autoencoder);
   // logs how many. INVALID_ARGUMENT when a shared tensor has another shape.
   absl::Status InitFrom(const std::string& dir, int width) {
-    absl::StatusOr<std::string> text = ReadConfigText(dir);
-    if (!text.ok()) return text.status();
-    absl::StatusOr<CyclicConfig> source = CyclicConfig::Parse(*text, dir + "/config.txt");
+    absl::StatusOr<CyclicConfig> source = CyclicConfig::Read(dir);
     if (!source.ok()) return source.status();
     CyclicNet from(*source, width);
     if (absl::Status s = LoadWeights(from, dir + "/weights.pt"); !s.ok()) return s;

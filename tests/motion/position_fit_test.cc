@@ -97,38 +97,52 @@ TEST(PositionFitTest, KeepsBoneLengthsWhenTargetsAreOutOfReach) {
 namespace stylus::motion {
 namespace {
 
+// A real walk (Bandai), its features and its left knee: the set-up of the
+// knee tests.
+class KneeFitTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    STYLUS_REQUIRE_BANDAI(data);
+    absl::StatusOr<Motion> m = ReadBvhFile(data + "/dataset-2/dataset-2_walk_normal_001.bvh");
+    ASSERT_TRUE(m.ok()) << m.status();
+    walk_ = *std::move(m);
+    roles_ = *FindHumanoidRoles(walk_.skeleton);
+    truth_ = *ExtractFeatures(walk_, roles_);
+    layout_ = FeatureLayout(walk_.skeleton.num_joints());
+    knee_ = walk_.skeleton.children(roles_.left_hip)[0];
+    ASSERT_EQ(walk_.skeleton.children(knee_)[0], roles_.left_ankle);
+  }
+  Motion walk_;
+  HumanoidRoles roles_;
+  FeatureClip truth_;
+  FeatureLayout layout_{0};
+  int knee_ = -1;
+};
+
 // Knees are hinges in captured motion (Bandai: the local rotation's x and z
 // parts vary by ~0.002). A generated pose whose ankle moves off the content's
 // (closer to the hip and sideways) is fitted by bending the knee about its
 // own axis and turning the hip, never by twisting the knee sideways, which
 // would give rotation features dozens of the data's standard deviations off.
-TEST(PositionFitTest, KneesStayHingesWhenTheAnkleMoves) {
-  STYLUS_REQUIRE_BANDAI(data);
-  absl::StatusOr<Motion> m = ReadBvhFile(data + "/dataset-2/dataset-2_walk_normal_001.bvh");
-  ASSERT_TRUE(m.ok()) << m.status();
-  const HumanoidRoles roles = *FindHumanoidRoles(m->skeleton);
-  const FeatureClip truth = *ExtractFeatures(*m, roles);
-  const FeatureLayout layout(m->skeleton.num_joints());
-  const int knee = m->skeleton.children(roles.left_hip)[0];
-  ASSERT_EQ(m->skeleton.children(knee)[0], roles.left_ankle);
-  FeatureClip moved = truth;
-  const double leg = roles.leg_length;
+TEST_F(KneeFitTest, KneesStayHingesWhenTheAnkleMoves) {
+  FeatureClip moved = truth_;
+  const double leg = roles_.leg_length;
   for (int f = 0; f < moved.frames; ++f) {
-    float* ankle = moved.row(f) + layout.position(roles.left_ankle);
-    const float* hip = truth.row(f) + layout.position(roles.left_hip);
+    float* ankle = moved.row(f) + layout_.position(roles_.left_ankle);
+    const float* hip = truth_.row(f) + layout_.position(roles_.left_hip);
     for (int a = 0; a < 3; ++a) ankle[a] = hip[a] + 0.93f * (ankle[a] - hip[a]);
     ankle[0] += static_cast<float>(0.05 * leg);  // Sideways.
   }
   const FeatureClip targets = moved;
-  FitRotationsToPositions(m->skeleton, roles, &moved);
+  FitRotationsToPositions(walk_.skeleton, roles_, &moved);
   double off_axis = 0, ankle_error = 0, bend_change = 0;
   for (int f = 0; f < moved.frames; ++f) {
-    const float* q = moved.row(f) + layout.rotation(knee);
+    const float* q = moved.row(f) + layout_.rotation(knee_);
     off_axis = std::max({off_axis, std::fabs(double(q[1])), std::fabs(double(q[3]))});
-    const float* before = truth.row(f) + layout.rotation(knee);
+    const float* before = truth_.row(f) + layout_.rotation(knee_);
     bend_change = std::max(bend_change, std::fabs(double(q[2]) - before[2]));
-    const float* got = moved.row(f) + layout.position(roles.left_ankle);
-    const float* want = targets.row(f) + layout.position(roles.left_ankle);
+    const float* got = moved.row(f) + layout_.position(roles_.left_ankle);
+    const float* want = targets.row(f) + layout_.position(roles_.left_ankle);
     ankle_error = std::max(ankle_error, std::hypot(double(got[0] - want[0]),
                                                    double(got[1] - want[1]),
                                                    double(got[2] - want[2])));
@@ -142,45 +156,38 @@ TEST(PositionFitTest, KneesStayHingesWhenTheAnkleMoves) {
   double other = 0;
   for (int f = 0; f < moved.frames; ++f)
     for (int a = 0; a < 3; ++a)
-      other = std::max(other, std::fabs(double(moved.row(f)[layout.position(roles.right_ankle) + a]) -
-                                        truth.row(f)[layout.position(roles.right_ankle) + a]));
+      other = std::max(other, std::fabs(double(moved.row(f)[layout_.position(roles_.right_ankle) + a]) -
+                                        truth_.row(f)[layout_.position(roles_.right_ankle) + a]));
   EXPECT_LT(other, 2e-3 * leg);
 }
 
 // Generated rotations turn a knee about its axis only nearly; the hinge is
 // then found in a reference clip's rotations (the content's), and the knee
 // still bends about that axis alone.
-TEST(PositionFitTest, HingesComeFromTheReferenceWhenTheStartingRotationsAreGenerated) {
-  STYLUS_REQUIRE_BANDAI(data);
-  absl::StatusOr<Motion> m = ReadBvhFile(data + "/dataset-2/dataset-2_walk_normal_001.bvh");
-  ASSERT_TRUE(m.ok()) << m.status();
-  const HumanoidRoles roles = *FindHumanoidRoles(m->skeleton);
-  const FeatureClip truth = *ExtractFeatures(*m, roles);
-  const FeatureLayout layout(m->skeleton.num_joints());
-  const int knee = m->skeleton.children(roles.left_hip)[0];
+TEST_F(KneeFitTest, HingesComeFromTheReferenceWhenTheStartingRotationsAreGenerated) {
   // Every knee rotation turned 6 degrees off its axis, as a network might.
-  FeatureClip generated = truth;
+  FeatureClip generated = truth_;
   for (int f = 0; f < generated.frames; ++f) {
-    float* q = generated.row(f) + layout.rotation(knee);
+    float* q = generated.row(f) + layout_.rotation(knee_);
     const Quat off = Normalized(Quat{q[0], q[1], q[2], q[3]}) * AxisAngle({1, 0, 0}, 0.1);
     q[0] = off.w, q[1] = off.x, q[2] = off.y, q[3] = off.z;
   }
   auto worst_off_axis = [&](const FeatureClip& fitted) {
     double worst = 0;
     for (int f = 0; f < fitted.frames; ++f) {
-      const float* q = fitted.row(f) + layout.rotation(knee);
+      const float* q = fitted.row(f) + layout_.rotation(knee_);
       worst = std::max({worst, std::fabs(double(q[1])), std::fabs(double(q[3]))});
     }
     return worst;
   };
   FeatureClip alone = generated, referenced = generated;
-  FitRotationsToPositions(m->skeleton, roles, &alone);
-  FitRotationsToPositions(m->skeleton, roles, &referenced, &truth);
+  FitRotationsToPositions(walk_.skeleton, roles_, &alone);
+  FitRotationsToPositions(walk_.skeleton, roles_, &referenced, &truth_);
   std::printf("knee off-axis: %.4f without the reference, %.4f with it\n", worst_off_axis(alone),
               worst_off_axis(referenced));
   EXPECT_GT(worst_off_axis(alone), 0.04);  // No hinge found: the knee twists.
   EXPECT_LT(worst_off_axis(referenced), 0.02);
-  EXPECT_LT(MaxPositionGap(referenced, truth, m->skeleton.num_joints()), 0.01 * roles.leg_length);
+  EXPECT_LT(MaxPositionGap(referenced, truth_, walk_.skeleton.num_joints()), 0.01 * roles_.leg_length);
 }
 
 }  // namespace

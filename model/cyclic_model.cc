@@ -54,9 +54,9 @@ struct CyclicModel::Impl {
                                         const StyleWeights& weights, int frames);
   // The motion of restyled hidden features `h` of the content clip (real
   // features `real`, network input `x`, own hidden features `hx`): the
-  // kinematic optimization when on, the output channels in real units,
-  // rotations fitted to the positions. Not post-processed.
-  absl::StatusOr<motion::Motion> Render(const motion::Motion& content,
+  // kinematic optimization when on (and `optimize`), the output channels in
+  // real units, rotations fitted to the positions. Not post-processed.
+  absl::StatusOr<motion::Motion> Render(bool optimize, const motion::Motion& content,
                                         const motion::FeatureClip& real, const torch::Tensor& x,
                                         const torch::Tensor& hx, torch::Tensor h);
 };
@@ -156,7 +156,8 @@ absl::StatusOr<torch::Tensor> CyclicModel::Impl::Restyle(const torch::Tensor& hx
          style.slice(1, 0, n);
 }
 
-absl::StatusOr<motion::Motion> CyclicModel::Impl::Render(const motion::Motion& content,
+absl::StatusOr<motion::Motion> CyclicModel::Impl::Render(bool optimize,
+                                                         const motion::Motion& content,
                                                          const motion::FeatureClip& real,
                                                          const torch::Tensor& x,
                                                          const torch::Tensor& hx,
@@ -164,7 +165,7 @@ absl::StatusOr<motion::Motion> CyclicModel::Impl::Render(const motion::Motion& c
   const int frames = real.frames;
   motion::FeatureClip out = real;  // Rotations: the content's, as the fit's twist.
   try {
-    if (config.use_kc && kc_iters > 0) {
+    if (optimize && config.use_kc && kc_iters > 0) {
       CyclicConfig run = config;
       run.kc_iters = kc_iters;
       const torch::Tensor offset = config.residual ? (x - net->decode(hx)) : torch::zeros_like(x);
@@ -222,19 +223,22 @@ absl::StatusOr<motion::Motion> CyclicModel::InterpolateNoted(const motion::Motio
   }
   absl::StatusOr<motion::Motion> out;
   if (!impl_->guard) {
-    out = impl_->Render(content, real, x, hx, restyled);
+    out = impl_->Render(true, content, real, x, hx, restyled);
   } else {
     // The content guard: the configured transfer, then the hidden features
     // restyled a strength k of the way, for each of guard_strengths, until
-    // the guard reads the content's action (before post-processing, as
-    // `eval` judges raw rows).
+    // the guard reads the content's action. The guard reads each form
+    // before the kinematic optimization and post-processing (`eval` judges
+    // raw rows); only the form it passes is optimized, so a guarded
+    // transfer costs one optimization, not one per form.
     motion::FeatureClip normalized = real;
     impl_->data.norm.Normalize(&normalized);
     const int action = impl_->guard->Classify(normalized);
     const std::vector<double>& strengths = config.guard_strengths;
     for (size_t step = 0; step <= strengths.size(); ++step) {
       const double k = step == 0 ? 1.0 : strengths[step - 1];
-      out = impl_->Render(content, real, x, hx, step == 0 ? restyled : hx + k * (restyled - hx));
+      const torch::Tensor h = step == 0 ? restyled : hx + k * (restyled - hx);
+      out = impl_->Render(false, content, real, x, hx, h);
       if (!out.ok()) return out.status();
       absl::StatusOr<motion::FeatureClip> read = motion::ExtractFeatures(*out, impl_->data.roles);
       if (!read.ok()) return read.status();
@@ -242,6 +246,7 @@ absl::StatusOr<motion::Motion> CyclicModel::InterpolateNoted(const motion::Motio
       if (impl_->guard->Keeps(*read, action, config.guard_min_probability) ||
           step == strengths.size()) {
         if (note != nullptr) *note = TransferNote::Guarded(step, strengths);
+        if (config.use_kc && impl_->kc_iters > 0) out = impl_->Render(true, content, real, x, hx, h);
         break;
       }
     }

@@ -547,11 +547,11 @@ TEST(CyclicModelTest, ContentGuardBacksOffTheRestyledFeatures) {
   ASSERT_TRUE(TrainContentGuard(g).ok());
   const motion::Motion content = Clip(0);
   const double leg = motion::FindHumanoidRoles(content.skeleton)->leg_length;
-  auto transfer = [&](const std::string& keys, TransferNote* note) {
+  auto transfer = [&](const std::string& keys, TransferNote* note, int kc_iters = 0) {
     const std::string dir = Dir(absl::StrCat("guarded_", keys.size()));
     fs::copy(o.out, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
     std::ofstream(dir + "/config.txt", std::ios::app) << keys;
-    absl::StatusOr<std::unique_ptr<CyclicModel>> m = CyclicModel::Load(dir, {0});
+    absl::StatusOr<std::unique_ptr<CyclicModel>> m = CyclicModel::Load(dir, {kc_iters});
     EXPECT_TRUE(m.ok()) << m.status();
     return (*m)->TransferNoted(content, *(*m)->EncodeStyle(Clip(2)), motion::PostProcessMode::kNone,
                                note);
@@ -569,6 +569,18 @@ TEST(CyclicModelTest, ContentGuardBacksOffTheRestyledFeatures) {
   ASSERT_TRUE(transfer("content_guard = 1\nguard_strengths = 0.5,0\n", &any).ok());
   EXPECT_TRUE(any.guarded);
   EXPECT_EQ(any.residual_strength, any.backed_off ? (any.last_form ? 0 : 0.5) : 1);
+  // The guard reads the forms before the kinematic optimization, and the
+  // form it returns is then optimized: with every form at full strength,
+  // the guarded transfer is the unguarded one, optimization included.
+  TransferNote full;
+  absl::StatusOr<motion::Motion> guarded =
+      transfer("content_guard = 1\nguard_strengths = 1\n", &full, 20);
+  absl::StatusOr<motion::Motion> plain = transfer("", nullptr, 20);
+  absl::StatusOr<motion::Motion> unoptimized = transfer("", nullptr, 0);
+  ASSERT_TRUE(guarded.ok() && plain.ok() && unoptimized.ok());
+  EXPECT_TRUE(full.guarded);
+  EXPECT_GT(motion::MaxPositionDifference(*plain, *unoptimized), 1e-4);  // The optimization acts.
+  EXPECT_LT(motion::MaxPositionDifference(*guarded, *plain), 1e-5);
 }
 
 TEST(CyclicModelTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabelCritic) {

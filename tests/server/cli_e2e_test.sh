@@ -24,7 +24,7 @@ s=(--server "$addr")
 walk=$src/samples/walk_normal.bvh old=$src/samples/walk_old.bvh run=$src/samples/run.bvh
 
 check "models" 0 "contrastive/v5 \(default\)" -- "$cli" "${s[@]}" models
-check "models lists both families" 0 "cyclic/v1" -- "$cli" "${s[@]}" models
+check "models lists both families" 0 "cyclic/v2" -- "$cli" "${s[@]}" models
 check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrastive
 check "model-info cyclic" 0 "window 60" -- "$cli" "${s[@]}" model-info --model cyclic
 check "transfer --model cyclic" 0 "wrote .*cyc.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --model cyclic \

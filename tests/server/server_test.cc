@@ -82,16 +82,20 @@ class ServerTest : public ::testing::Test {
 TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   auto models = client().ListModels();
   ASSERT_TRUE(models.ok()) << models.status();
-  ASSERT_EQ(models->size(), 2u);  // models/judges is not a servable family.
+  ASSERT_EQ(models->size(), 3u);  // models/judges is not a servable family.
   EXPECT_EQ((*models)[0].id(), "contrastive/v5");
   EXPECT_EQ((*models)[1].id(), "cyclic/v1");
+  EXPECT_EQ((*models)[2].id(), "cyclic/v2");
   EXPECT_EQ((*models)[1].family(), "cyclic");
+  EXPECT_EQ((*models)[2].family(), "cyclic");
   EXPECT_FALSE((*models)[1].is_default());
+  EXPECT_FALSE((*models)[2].is_default());
   EXPECT_TRUE((*models)[0].is_default());
   EXPECT_EQ((*models)[0].skeleton().joints_size(), 22);
   EXPECT_EQ((*models)[0].window(), 32);
   EXPECT_NEAR((*models)[0].fps(), 30, 1e-3);
   EXPECT_EQ(client().GetModel("contrastive")->id(), "contrastive/v5");
+  EXPECT_EQ(client().GetModel("cyclic")->id(), "cyclic/v2");  // A bare name: its highest version.
   EXPECT_EQ(client().GetModel("")->id(), "contrastive/v5");
   EXPECT_EQ(client().GetModel("nope/v9").status().code(), absl::StatusCode::kNotFound);
   EXPECT_EQ(client().LoadModel("contrastive/v5").status().code(),
@@ -100,6 +104,7 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   EXPECT_EQ(client().LoadModel("contrastive/v504").status().code(), absl::StatusCode::kNotFound);
   ASSERT_TRUE(client().UnloadModel("contrastive/v5").ok());
   ASSERT_TRUE(client().UnloadModel("cyclic/v1").ok());
+  ASSERT_TRUE(client().UnloadModel("cyclic/v2").ok());
   EXPECT_EQ(client().UnloadModel("contrastive/v5").code(), absl::StatusCode::kNotFound);
   const motion::Motion clip = Sample("walk_normal.bvh");
   EXPECT_EQ(client().Transfer(clip, {&clip, ""}).status().code(), absl::StatusCode::kNotFound);
@@ -125,21 +130,24 @@ TEST_F(ServerTest, BothFamiliesServeSideBySide) {
   ASSERT_TRUE(by_contrastive.ok()) << by_contrastive.status();
   ASSERT_EQ(by_cyclic->num_frames, content.num_frames);
   EXPECT_GT(motion::MaxPositionDifference(*by_cyclic, *by_contrastive), 1.0);
-  // The server's cyclic output is the model's, in process.
-  auto local_model = model::LoadStyleModel(testing::SourceDir() + "/models/cyclic/v1");
+  // The server's cyclic output is the model's (the bare name's highest
+  // version, v2), in process.
+  auto local_model = model::LoadStyleModel(testing::SourceDir() + "/models/cyclic/v2");
   ASSERT_TRUE(local_model.ok()) << local_model.status();
-  const motion::Motion local =
-      *(*local_model)->Transfer(content, *(*local_model)->EncodeStyle(style));
+  const absl::StatusOr<model::StyleCode> local_code = (*local_model)->EncodeStyle(style);
+  ASSERT_TRUE(local_code.ok()) << local_code.status();
+  const motion::Motion local = *(*local_model)->Transfer(content, *local_code);
   EXPECT_LT(motion::MaxPositionDifference(*by_cyclic, local), 1e-3);
-  // Style codes are per model: a cyclic code has 2 x 256 values.
+  // Style codes are per model: v2's style network gives its own code size.
   auto code = client().EncodeStyle(style, "old-cyclic", cyclic);
   ASSERT_TRUE(code.ok()) << code.status();
-  EXPECT_EQ(code->size(), 512u);
+  EXPECT_EQ(code->size(), local_code->values.size());
+  EXPECT_NE(code->size(), 144u);  // Not the contrastive model's.
   auto named = client().Transfer(content, {nullptr, "old-cyclic"}, cyclic);
   ASSERT_TRUE(named.ok()) << named.status();
   EXPECT_LT(motion::MaxPositionDifference(*named, *by_cyclic), 1e-3);
   EXPECT_EQ(client().Transfer(content, {nullptr, "old-cyclic"}).status().code(),
-            absl::StatusCode::kNotFound);  // Saved for cyclic/v1 only.
+            absl::StatusCode::kNotFound);  // Saved for cyclic/v2 only.
   // Streaming a cyclic model goes in chunks through its Transfer: every frame
   // comes back, in order, close to the unary output and without root jumps.
   const motion::Motion part = Frames(content, 0, 100);

@@ -1,5 +1,7 @@
 #include "server/registry.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -28,6 +30,21 @@ bool ValidId(const std::string& id) {
     if (p.empty() || p == "." || p == ".." || p.find('\\') != std::string::npos) return false;
   }
   return true;
+}
+
+// Whether version `a` comes before `b`: "v<number>" versions by their
+// number (v2 before v10), anything else in string order, after them.
+bool VersionBefore(const std::string& a, const std::string& b) {
+  auto number = [](const std::string& v) -> int64_t {
+    if (v.size() < 2 || v[0] != 'v' || v.size() > 18) return -1;
+    for (size_t i = 1; i < v.size(); ++i)
+      if (v[i] < '0' || v[i] > '9') return -1;
+    return std::stoll(v.substr(1));
+  };
+  const int64_t na = number(a), nb = number(b);
+  if (na >= 0 && nb >= 0) return na != nb ? na < nb : a < b;
+  if ((na >= 0) != (nb >= 0)) return na >= 0;
+  return a < b;
 }
 
 }  // namespace
@@ -70,10 +87,12 @@ absl::StatusOr<HostedModel> ModelRegistry::Get(const std::string& id) const {
   absl::MutexLock lock(&mu_);
   std::string key = id.empty() ? default_id_ : id;
   if (!key.empty() && key.find('/') == std::string::npos) {
-    // A bare name: its highest version in sorted order.
+    // A bare name: its highest version (v10 after v2).
     std::string best;
     for (const auto& [k, v] : models_) {
-      if (absl::StartsWith(k, key + "/")) best = k;
+      if (absl::StartsWith(k, key + "/") &&
+          (best.empty() || VersionBefore(best.substr(key.size() + 1), k.substr(key.size() + 1))))
+        best = k;
     }
     key = best.empty() ? key : best;
   }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <future>
 #include <limits>
 #include <thread>
@@ -13,6 +14,7 @@
 #include "model/contrastive_model.h"
 #include "model/style_model.h"
 #include "motion/kinematics.h"
+#include "server/registry.h"
 #include "server/status.h"
 #include "tests/server/server_test_support.h"
 
@@ -78,6 +80,25 @@ class ServerTest : public ::testing::Test {
   Client& client() { return *live_->client; }
   std::unique_ptr<LiveServer> live_;
 };
+
+// A bare model name picks its highest version by number, not by spelling:
+// v10 after v9 and v2 (both packages here are cyclic/v1, linked).
+TEST(RegistryTest, BareNameTakesTheHighestVersionByNumber) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / "stylus_registry_versions";
+  fs::remove_all(root);
+  fs::create_directories(root / "cyclic");
+  const fs::path v1 = fs::path(testing::SourceDir()) / "models/cyclic/v1";
+  for (const char* v : {"v2", "v9", "v10"}) fs::create_directory_symlink(v1, root / "cyclic" / v);
+  auto registry = server::ModelRegistry::Create(root.string(), "");
+  ASSERT_TRUE(registry.ok()) << registry.status();
+  auto bare = (*registry)->Get("cyclic");
+  ASSERT_TRUE(bare.ok()) << bare.status();
+  EXPECT_EQ(bare->id, "cyclic/v10");
+  ASSERT_TRUE((*registry)->Unload("cyclic/v10").ok());
+  EXPECT_EQ((*registry)->Get("cyclic")->id, "cyclic/v9");
+  fs::remove_all(root);
+}
 
 TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   auto models = client().ListModels();

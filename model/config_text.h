@@ -51,7 +51,9 @@ std::optional<absl::Status> ParseTrainingKey(const ConfigEntry& e, const Trainin
 // turn (each family says what a strength is), and the first whose action
 // the guard reads as the content's is returned (the last one when none is).
 // The style is given up where the action would be lost (docs/contrastive.md,
-// session 14; docs/cyclic.md). Streams are not guarded.
+// session 14; docs/cyclic.md). Contrastive streams are not guarded; a
+// cyclic stream goes through whole-clip transfers chunk by chunk, so each
+// chunk is guarded on its own.
 struct GuardKeys {
   bool content_guard = false;
   std::vector<double> guard_strengths = {1, 0.7, 0.4, 0.2};

@@ -33,7 +33,8 @@ bool ValidId(const std::string& id) {
 }
 
 // Whether version `a` comes before `b`: "v<number>" versions by their
-// number (v2 before v10), anything else in string order, after them.
+// number (v2 before v10) and after any other name (e.g. "dev"), which
+// sort among themselves in string order.
 bool VersionBefore(const std::string& a, const std::string& b) {
   auto number = [](const std::string& v) -> int64_t {
     if (v.size() < 2 || v[0] != 'v' || v.size() > 18) return -1;
@@ -43,7 +44,7 @@ bool VersionBefore(const std::string& a, const std::string& b) {
   };
   const int64_t na = number(a), nb = number(b);
   if (na >= 0 && nb >= 0) return na != nb ? na < nb : a < b;
-  if ((na >= 0) != (nb >= 0)) return na >= 0;
+  if ((na >= 0) != (nb >= 0)) return nb >= 0;
   return a < b;
 }
 

@@ -36,8 +36,8 @@ class ModelRegistry {
                                                                const std::string& default_id);
 
   // The model `id` names: "<name>/<version>", or "<name>" for its highest
-  // version (versions "v<number>" by number: v10 after v2), or "" for the
-  // default. NOT_FOUND names what is available.
+  // version (versions "v<number>" by number, v10 after v2, and after other
+  // names), or "" for the default. NOT_FOUND names what is available.
   absl::StatusOr<HostedModel> Get(const std::string& id) const;
   std::vector<HostedModel> List() const;
   std::string default_id() const;

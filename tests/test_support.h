@@ -31,9 +31,9 @@ inline motion::Motion Frames(const motion::Motion& m, int begin, int end) {
   return out;
 }
 
-// Copies the model package `from` (config.txt, norm.txt, skeleton.bvh,
-// weights.pt) into a fresh directory `name` under the test temp dir, leaving
-// out the config lines whose key is in `drop` and appending `append`.
+// Copies the model package `from` (every file: weights, statistics,
+// skeleton, guards) into a fresh directory `name` under the test temp dir,
+// its config.txt without the lines whose key is in `drop` and with `append`.
 inline std::string CopyPackage(const std::string& from, const std::string& name,
                                const std::vector<std::string>& drop,
                                const std::string& append = "") {
@@ -41,8 +41,10 @@ inline std::string CopyPackage(const std::string& from, const std::string& name,
   const std::string dir = ::testing::TempDir() + "/" + name;
   fs::remove_all(dir);
   fs::create_directories(dir);
-  for (const char* f : {"norm.txt", "skeleton.bvh", "weights.pt"}) {
-    fs::copy_file(from + "/" + f, dir + "/" + f);
+  for (const fs::directory_entry& f : fs::directory_iterator(from)) {
+    if (f.is_regular_file() && f.path().filename() != "config.txt") {
+      fs::copy_file(f.path(), dir + "/" + f.path().filename().string());
+    }
   }
   std::ifstream in(from + "/config.txt");
   std::ofstream out(dir + "/config.txt");

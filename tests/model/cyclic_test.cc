@@ -548,9 +548,8 @@ TEST(CyclicModelTest, ContentGuardBacksOffTheRestyledFeatures) {
   const motion::Motion content = Clip(0);
   const double leg = motion::FindHumanoidRoles(content.skeleton)->leg_length;
   auto transfer = [&](const std::string& keys, TransferNote* note, int kc_iters = 0) {
-    const std::string dir = Dir(absl::StrCat("guarded_", keys.size()));
-    fs::copy(o.out, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
-    std::ofstream(dir + "/config.txt", std::ios::app) << keys;
+    const std::string dir =
+        testing::CopyPackage(o.out, absl::StrCat("guarded_", keys.size(), "_", kc_iters), {}, keys);
     absl::StatusOr<std::unique_ptr<CyclicModel>> m = CyclicModel::Load(dir, {kc_iters});
     EXPECT_TRUE(m.ok()) << m.status();
     return (*m)->TransferNoted(content, *(*m)->EncodeStyle(Clip(2)), motion::PostProcessMode::kNone,

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "client/client.h"
-#include "model/contrastive_model.h"
+#include "model/family_registry.h"
 #include "model/runtime.h"
 #include "motion/synth.h"
 
@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
 
   // Baseline: the same transfer in this process, 1 LibTorch thread (as the server runs it).
   stylus::model::SetComputeThreads(1);
-  auto model = stylus::model::ContrastiveModel::Load(models + "/contrastive/v5");
+  auto model = stylus::model::LoadStyleModel(models + "/contrastive/v5");
   const auto code = *(*model)->EncodeStyle(style);
   std::vector<double> local, unary;
   for (int r = 0; r < reps; ++r) {

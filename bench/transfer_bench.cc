@@ -10,7 +10,7 @@
 #include <cstring>
 #include <string>
 
-#include "model/cyclic_model.h"
+#include "model/family_registry.h"
 #include "model/style_model.h"
 #include "model/runtime.h"
 #include "motion/features.h"
@@ -41,17 +41,10 @@ int main(int argc, char** argv) {
       dir = argv[i];
     }
   }
-  absl::StatusOr<std::unique_ptr<stylus::model::StyleModel>> model;
-  if (kc >= 0) {
-    auto cyclic = stylus::model::CyclicModel::Load(dir, stylus::model::CyclicOptions{kc});
-    if (cyclic.ok()) {
-      model = std::unique_ptr<stylus::model::StyleModel>(*std::move(cyclic));
-    } else {
-      model = cyclic.status();
-    }
-  } else {
-    model = stylus::model::LoadStyleModel(dir);
-  }
+  stylus::model::ConfigOverrides overrides;
+  if (kc >= 0) overrides.emplace_back("kc_iters", std::to_string(kc));
+  absl::StatusOr<std::unique_ptr<stylus::model::StyleModel>> model =
+      stylus::model::LoadStyleModel(dir, overrides);
   if (!model.ok()) {
     std::fprintf(stderr, "transfer_bench: %s\n", std::string(model.status().message()).c_str());
     return 1;
@@ -77,8 +70,10 @@ int main(int argc, char** argv) {
       base = std::min(base, Since(t0));
       t0 = Clock::now();
       const auto code = *(*model)->EncodeStyle(style_clip);
-      const auto out =
-          *(*model)->TransferNoted(content, code, stylus::motion::PostProcessMode::kFull, &note);
+      const stylus::model::TransferResult result =
+          *(*model)->Transfer(content, code, stylus::motion::PostProcessMode::kFull);
+      note = result.note;
+      const stylus::motion::Motion& out = result.motion;
       transfer = std::min(transfer, Since(t0));
       if (out.num_frames != m.num_frames) return 1;
     }

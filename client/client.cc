@@ -6,7 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/synchronization/mutex.h"
-#include "client/wire.h"
+#include "wire/wire.h"
 
 namespace stylus {
 

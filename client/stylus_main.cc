@@ -1,5 +1,8 @@
 // stylus: the command-line client of a Stylus server.
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <set>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -11,33 +14,25 @@
 #include "absl/strings/numbers.h"
 #include "client/client.h"
 #include "motion/bvh.h"
-#include "tool/args.h"
+#include "cli/args.h"
 
 namespace {
 
-using stylus::tool::Args;
+using stylus::cli::Args;
 
 constexpr char kUsage[] =
-    "usage: stylus [--server ADDR] [--deadline-s S] COMMAND [options]\n\n"
-    "Calls a Stylus server (default localhost:50051).\n\n"
+    "usage: stylus COMMAND [options]   (stylus COMMAND --help for a command's options)\n\n"
+    "Calls a Stylus server.\n\n"
     "commands:\n"
-    "  models                                   list the server's models\n"
-    "  model-info [--model M]                   one model (default: the default)\n"
-    "  load --model NAME/VERSION                load models/NAME/VERSION on the server\n"
-    "  unload --model NAME/VERSION              unload it\n"
-    "  transfer --content C.bvh (--style S.bvh | --style-name N) -o OUT.bvh\n"
-    "  interpolate --content C.bvh --style A.bvh --style B.bvh [--style ...]\n"
-    "              --weights 0,0.5,1 -o PREFIX  one output per weight of the\n"
-    "              first style against the second (two styles), or\n"
-    "              --weights w1:w2:...,...  one mix per comma-separated group\n"
-    "  stream --content C.bvh --style S.bvh [--rate 30] -o OUT.bvh\n"
-    "                                           streams frames at --rate fps,\n"
-    "                                           prints per-frame latency p50/p99\n"
-    "  metrics --output O.bvh [--content C.bvh] [--style S.bvh]   JSON\n"
-    "  encode-style --style S.bvh [--save-as NAME]\n\n"
-    "common options: --model NAME[/VERSION] (default: the server's default)\n"
-    "                --postprocess default|none|feet|full\n"
-    "Run `stylus COMMAND --help` for a command's options.\n";
+    "%s\n"
+    "global options (before or after the command):\n"
+    "  --server ADDR      the server (default $STYLUS_SERVER, else localhost:50051)\n"
+    "  --deadline-s S     give up on a call after S seconds (default 60)\n";
+
+constexpr char kCallOptions[] =
+    "  --model NAME[/VERSION]   the model (default: the server's default)\n"
+    "  --postprocess default|none|feet|full   clean-up of the output (default: the\n"
+    "                           server's, full)\n";
 
 int Fail(const std::string& command, const absl::Status& status) {
   std::fprintf(stderr, "stylus %s: %s: %s\n", command.c_str(),
@@ -260,61 +255,124 @@ int EncodeStyle(stylus::Client& client, const Args& a) {
   return 0;
 }
 
+struct Command {
+  const char* name;
+  const char* summary;
+  const char* usage;  // Its options, after "usage: stylus NAME ".
+  std::set<std::string> options;
+  bool call_options;  // Takes --model and --postprocess.
+  int (*run)(stylus::Client&, const Args&);
+};
+
+const std::vector<Command>& Commands() {
+  static const std::vector<Command>* commands = new std::vector<Command>{
+      {"models", "list the server's models", "", {}, false,
+       [](stylus::Client& c, const Args&) { return Models(c); }},
+      {"model-info", "one model (default: the server's default)", "[--model M]", {"model"}, false,
+       ModelInfo},
+      {"load", "load models/NAME/VERSION on the server", "--model NAME/VERSION", {"model"}, false,
+       Load},
+      {"unload", "unload a model", "--model NAME/VERSION", {"model"}, false, Unload},
+      {"transfer", "restyle a clip",
+       "--content C.bvh (--style S.bvh | --style-name N) -o OUT.bvh",
+       {"content", "style", "style-name", "out"}, true, Transfer},
+      {"interpolate", "restyle a clip with blends of styles",
+       "--content C.bvh --style A.bvh --style B.bvh [--style ...] --weights W -o PREFIX\n\n"
+       "  --weights 0,0.5,1        one output per weight of the first style against\n"
+       "                           the second (two styles), or\n"
+       "  --weights w1:w2:...,...  one mix per comma-separated group",
+       {"content", "style", "out", "weights"}, true, Interpolate},
+      {"stream", "stream a clip's frames at a rate; per-frame latency p50/p99",
+       "--content C.bvh --style S.bvh [--rate FPS] [-o OUT.bvh]\n\n"
+       "  --rate FPS               frames sent per second (default: the clip's rate)",
+       {"content", "style", "rate", "out"}, true, Stream},
+      {"metrics", "kinematic and style metrics of a clip (JSON)",
+       "--output O.bvh [--content C.bvh] [--style S.bvh]", {"output", "content", "style"}, false,
+       Metrics},
+      {"encode-style", "a style clip's code, optionally saved under a name",
+       "--style S.bvh [--save-as NAME] [--model M]", {"style", "save-as", "model"}, false,
+       EncodeStyle},
+  };
+  return *commands;
+}
+
+std::string CommandList() {
+  std::string out;
+  for (const Command& c : Commands()) absl::StrAppendFormat(&out, "  %-14s %s\n", c.name, c.summary);
+  return out;
+}
+
+void PrintCommandHelp(const Command& c, FILE* f) {
+  absl::FPrintF(f, "usage: stylus %s %s\n\n%s.\n", c.name, c.usage, c.summary);
+  if (c.call_options) absl::FPrintF(f, "\n%s", kCallOptions);
+  absl::FPrintF(f,
+                "\nglobal options: --server ADDR (default $STYLUS_SERVER, else "
+                "localhost:50051), --deadline-s S\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
-  stylus::ClientOptions options;
-  // Global options come before the command.
-  size_t i = 0;
-  for (; i < args.size() && args[i].rfind("--", 0) == 0; ++i) {
-    if (args[i] == "--help" || args[i] == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (i + 1 >= args.size()) break;
-    if (args[i] == "--server") {
-      options.address = args[++i];
-    } else if (args[i] == "--deadline-s") {
-      double s;
-      if (!absl::SimpleAtod(args[++i], &s) || s <= 0) {
-        std::fprintf(stderr, "stylus: --deadline-s needs a positive number\n");
-        return 2;
-      }
-      options.deadline = std::chrono::milliseconds(static_cast<int64_t>(s * 1000));
-    } else {
-      break;
-    }
-  }
-  if (i >= args.size()) {
-    std::fprintf(stderr, "stylus: no command\n\n%s", kUsage);
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty()) {
+    absl::FPrintF(stderr, kUsage, CommandList());
     return 2;
   }
-  const std::string command = args[i];
-  const std::vector<std::string> rest(args.begin() + i + 1, args.end());
-  const stylus::tool::ArgSpec spec{{"content", "style", "style-name", "out", "model", "weights",
-                                    "rate", "output", "postprocess", "save-as"},
-                                   {}};
-  absl::StatusOr<Args> a = stylus::tool::ParseArgs(rest, spec);
+  // The command is the first argument that is not a global option or its value.
+  const std::set<std::string> global = {"--server", "--deadline-s"};
+  size_t at = 0;
+  while (at < args.size() && global.count(args[at])) at += 2;
+  if (at < args.size() && (args[at] == "--help" || args[at] == "-h")) {
+    absl::PrintF(kUsage, CommandList());
+    return 0;
+  }
+  if (at >= args.size()) {
+    absl::FPrintF(stderr, "stylus: no command\n\n");
+    absl::FPrintF(stderr, kUsage, CommandList());
+    return 2;
+  }
+  const std::string name = args[at];
+  const Command* command = nullptr;
+  for (const Command& c : Commands()) {
+    if (name == c.name) command = &c;
+  }
+  if (command == nullptr) {
+    absl::FPrintF(stderr, "stylus: unknown command '%s'\n\n", name);
+    absl::FPrintF(stderr, kUsage, CommandList());
+    return 2;
+  }
+  std::vector<std::string> rest(args.begin(), args.begin() + at);
+  rest.insert(rest.end(), args.begin() + at + 1, args.end());
+  stylus::cli::ArgSpec spec{command->options, {}};
+  spec.options.insert({"server", "deadline-s"});
+  if (command->call_options) spec.options.insert({"model", "postprocess"});
+  absl::StatusOr<Args> a = stylus::cli::ParseArgs(rest, spec);
   if (!a.ok()) {
-    std::fprintf(stderr, "stylus %s: %s\n\n%s", command.c_str(),
-                 std::string(a.status().message()).c_str(), kUsage);
+    absl::FPrintF(stderr, "stylus %s: %s\n\n", name, a.status().message());
+    PrintCommandHelp(*command, stderr);
     return 2;
   }
   if (a->help) {
-    std::fputs(kUsage, stdout);
+    PrintCommandHelp(*command, stdout);
     return 0;
   }
+  if (!a->positional.empty()) {
+    absl::FPrintF(stderr, "stylus %s: unexpected argument '%s'\n\n", name, a->positional[0]);
+    PrintCommandHelp(*command, stderr);
+    return 2;
+  }
+  stylus::ClientOptions options;
+  const char* env_server = std::getenv("STYLUS_SERVER");
+  if (env_server != nullptr && *env_server != '\0') options.address = env_server;
+  if (a->Has("server")) options.address = a->Get("server");
+  if (a->Has("deadline-s")) {
+    double s;
+    if (!absl::SimpleAtod(a->Get("deadline-s"), &s) || !(s > 0)) {
+      absl::FPrintF(stderr, "stylus %s: --deadline-s needs a positive number\n", name);
+      return 2;
+    }
+    options.deadline = std::chrono::milliseconds(static_cast<int64_t>(s * 1000));
+  }
   stylus::Client client(options);
-  if (command == "models") return Models(client);
-  if (command == "model-info") return ModelInfo(client, *a);
-  if (command == "load") return Load(client, *a);
-  if (command == "unload") return Unload(client, *a);
-  if (command == "transfer") return Transfer(client, *a);
-  if (command == "interpolate") return Interpolate(client, *a);
-  if (command == "stream") return Stream(client, *a);
-  if (command == "metrics") return Metrics(client, *a);
-  if (command == "encode-style") return EncodeStyle(client, *a);
-  std::fprintf(stderr, "stylus: unknown command '%s'\n\n%s", command.c_str(), kUsage);
-  return 2;
+  return command->run(client, *a);
 }

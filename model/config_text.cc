@@ -136,4 +136,16 @@ void AppendGuardKeys(const GuardKeys& keys, std::string* out) {
   }
 }
 
+std::optional<absl::Status> RefuseRemovedKey(const ConfigEntry& e,
+                                             const std::vector<std::string>& removed) {
+  for (const std::string& key : removed) {
+    if (e.key == key) {
+      return e.Error(absl::StrCat("'", key,
+                                  "' was an experiment this version no longer has (docs/config.md, "
+                                  "removed keys); delete the line"));
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace stylus::model

@@ -50,10 +50,8 @@ std::optional<absl::Status> ParseTrainingKey(const ConfigEntry& e, const Trainin
 // made again with a weaker style change at each of `guard_strengths` in
 // turn (each family says what a strength is), and the first whose action
 // the guard reads as the content's is returned (the last one when none is).
-// The style is given up where the action would be lost (docs/contrastive.md,
-// session 14; docs/cyclic.md). Contrastive streams are not guarded; a
-// cyclic stream goes through whole-clip transfers chunk by chunk, so each
-// chunk is guarded on its own.
+// The style is given up where the action would be lost (docs/families.md).
+// Streams are not guarded, in either family.
 struct GuardKeys {
   bool content_guard = false;
   std::vector<double> guard_strengths = {1, 0.7, 0.4, 0.2};
@@ -67,6 +65,12 @@ struct GuardKeys {
 std::optional<absl::Status> ParseGuardKey(const ConfigEntry& e, GuardKeys* keys);
 // Appends the keys (nothing when the guard is off).
 void AppendGuardKeys(const GuardKeys& keys, std::string* out);
+
+// INVALID_ARGUMENT naming the line when `e` is one of `removed`: keys of
+// experiments that no shipped package used and that were taken out
+// (docs/config.md lists them and what they gave); nullopt otherwise.
+std::optional<absl::Status> RefuseRemovedKey(const ConfigEntry& e,
+                                             const std::vector<std::string>& removed);
 
 // Calls `handle` for every non-empty, non-comment line; stops at the first
 // error (a line without '=' is one).

@@ -1,9 +1,9 @@
-// The content guard of a package (either family): a classifier of the action
+// The content guard of a package (any family): a classifier of the action
 // (content label) trained on the package's own normalized features of real
-// training clips, and used at inference to check that a transfer still reads
-// as the action its content clip reads as. When it does not, the model backs
-// off the style (ContrastiveConfig::content_guard, docs/contrastive.md,
-// session 14). Its design is the label critic's (model/label_critic_net.h),
+// training clips (train/guard_trainer.h), and used at inference to check
+// that a transfer still reads as the action its content clip reads as. When
+// it does not, StyleModel::Interpolate backs off the style (GuardKeys,
+// model/config_text.h; docs/families.md). Its network is model/guard_net.h,
 // deliberately unlike the evaluation judges. The header is torch-free.
 //
 // It is an ensemble of `guards` such classifiers, trained alike from
@@ -15,8 +15,6 @@
 #ifndef STYLUS_MODEL_CONTENT_GUARD_H_
 #define STYLUS_MODEL_CONTENT_GUARD_H_
 
-#include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,30 +24,10 @@
 
 namespace stylus::model {
 
-struct ContentGuardTrainOptions {
-  std::string model;              // The package the guard is trained for and written into.
-  std::vector<std::string> data;  // Labelled dataset directories (their training split).
-  int iterations = 3000;
-  int batch = 32;
-  double lr = 1e-3;
-  uint64_t seed = 1;  // Guard k (1-based) uses seed + k - 1.
-  int guards = 3;
-  std::function<void(const std::string&)> log;  // Default: stderr.
-};
-
-struct ContentGuardAccuracy {
-  // Clip-level accuracy on the held-out split: the ensemble's content
-  // verdict, and each guard's own.
-  double content = 0;
-  std::vector<double> each;
-  int clips = 0;
-};
-
-// Trains the guards on the training split of `data`, normalized with the
-// package's statistics, writes their files into the package and returns
-// their held-out accuracy. NOT_FOUND / INVALID_ARGUMENT as for loading
-// the package or the data.
-absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOptions& options);
+// The guard's files in the package `dir`: guard.txt (labels, provenance,
+// held-out accuracy) and the weights of guard k (1-based).
+std::string ContentGuardInfoPath(const std::string& dir);
+std::string ContentGuardWeightsPath(const std::string& dir, int k);
 
 class ContentGuard {
  public:

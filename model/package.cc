@@ -48,38 +48,18 @@ absl::Status WriteDataFiles(const std::string& dir, const motion::NormStats& nor
   return motion::WriteBvhFile(motion::RestMotion(skeleton, 1, frame_time), dir + "/skeleton.bvh");
 }
 
-absl::StatusOr<PackageContents> ReadPackage(const std::string& dir) {
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    return absl::NotFoundError(absl::StrCat(dir, ": no such model directory"));
-  PackageContents p;
-  const std::string config_path = dir + "/config.txt";
-  std::ifstream f(config_path);
-  if (!f) return absl::NotFoundError(absl::StrCat(config_path, ": missing"));
-  std::stringstream ss;
-  ss << f.rdbuf();
-  absl::StatusOr<ContrastiveConfig> config = ContrastiveConfig::Parse(ss.str(), config_path);
-  if (!config.ok()) return config.status();
-  p.config = *config;
+absl::StatusOr<DataFiles> ReadPackageData(const std::string& dir, int config_dim) {
   absl::StatusOr<DataFiles> data = ReadDataFiles(dir);
   if (!data.ok()) return data.status();
-  static_cast<DataFiles&>(p) = *std::move(data);
-  if (p.config.dim != p.norm.dim()) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        dir, ": config.txt says ", p.config.dim, " feature channels, norm.txt has ", p.norm.dim()));
+  if (config_dim != data->norm.dim()) {
+    return absl::InvalidArgumentError(absl::StrCat(dir, ": config.txt says ", config_dim,
+                                                   " feature channels, norm.txt has ",
+                                                   data->norm.dim()));
   }
-  p.weights_path = dir + "/weights.pt";
-  if (!fs::is_regular_file(p.weights_path, ec)) {
-    return absl::NotFoundError(absl::StrCat(p.weights_path, ": missing"));
-  }
-  return p;
-}
-
-absl::Status WritePackageFiles(const std::string& dir, const ContrastiveConfig& config,
-                               const motion::NormStats& norm, const motion::Skeleton& skeleton,
-                               double frame_time) {
-  if (absl::Status s = WriteDataFiles(dir, norm, skeleton, frame_time); !s.ok()) return s;
-  return WriteFileAtomically(dir + "/config.txt", config.Serialize());
+  const std::string weights = dir + "/weights.pt";
+  std::error_code ec;
+  if (!fs::is_regular_file(weights, ec)) return absl::NotFoundError(weights + ": missing");
+  return data;
 }
 
 absl::Status CheckClipFitsModel(const motion::Motion& clip, const DataFiles& package,

@@ -1,5 +1,6 @@
 // Model packages on disk: models/<name>/<version>/ holding
-//   config.txt   family, window, channel layout, data, iterations, commit
+//   config.txt   family, architecture, inference and training keys
+//                (docs/config.md)
 //   norm.txt     per-channel feature normalization (motion::NormStats)
 //   skeleton.bvh the skeleton trained on (one rest frame; its frame time is the
 //                model's frame rate)
@@ -12,7 +13,6 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
-#include "model/contrastive_config.h"
 #include "motion/humanoid.h"
 #include "motion/motion.h"
 #include "motion/normalization.h"
@@ -36,20 +36,11 @@ absl::StatusOr<DataFiles> ReadDataFiles(const std::string& dir);
 absl::Status WriteDataFiles(const std::string& dir, const motion::NormStats& norm,
                             const motion::Skeleton& skeleton, double frame_time);
 
-struct PackageContents : DataFiles {
-  ContrastiveConfig config;
-  std::string weights_path;
-};
-
-// Reads and cross-checks everything but the weights: NOT_FOUND for a missing
-// file, INVALID_ARGUMENT (naming the file) for a malformed one or when the
-// feature width of config, statistics and skeleton disagree.
-absl::StatusOr<PackageContents> ReadPackage(const std::string& dir);
-
-// Writes config.txt, norm.txt and skeleton.bvh into `dir` (created if needed).
-absl::Status WritePackageFiles(const std::string& dir, const ContrastiveConfig& config,
-                               const motion::NormStats& norm, const motion::Skeleton& skeleton,
-                               double frame_time);
+// The data files of the package in `dir` (ReadDataFiles), checked against
+// the feature width `config_dim` its config.txt states, and that its
+// weights.pt exists. NOT_FOUND for a missing file; INVALID_ARGUMENT naming
+// the file for a malformed or mismatched one.
+absl::StatusOr<DataFiles> ReadPackageData(const std::string& dir, int config_dim);
 
 // INVALID_ARGUMENT unless `clip` can be fed to a model of `package`: same joint
 // names, hierarchy and channel layout, the same frame rate (within 1%), finite

@@ -1,7 +1,13 @@
 // What every model family serves: encode a style, transfer it onto a content
-// clip of any length, interpolate between styles. The server, the offline
-// tool and the evaluation drive models through this interface only;
-// LoadStyleModel picks the family from the package's config.txt.
+// clip of any length, interpolate between styles, stream. The server, the
+// offline tool and the evaluation drive models through this interface only;
+// model/family_registry.h loads a package with the family its config.txt
+// names.
+//
+// A family implements EncodeStyle, PrepareTransfer (the transfer of one clip
+// in the forms the content guard may choose from) and, when it streams in its
+// own way, OpenStream. The content guard's loop and the post-processing are
+// this class's, the same for every family.
 //
 // Thread-safety: after loading, all const methods may be called concurrently.
 #ifndef STYLUS_MODEL_STYLE_MODEL_H_
@@ -13,11 +19,15 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "model/config_text.h"
+#include "model/frame_streamer.h"
 #include "model/package.h"
 #include "motion/motion.h"
 #include "motion/postprocess.h"
 
 namespace stylus::model {
+
+class ContentGuard;
 
 // A style vector from EncodeStyle; style codes of one model can be blended
 // linearly.
@@ -32,12 +42,12 @@ struct StyleWeights {
   std::vector<std::vector<double>> per_frame;
 };
 
-// How a model's content guard treated one whole-clip transfer
-// (ContrastiveConfig::content_guard; docs/contrastive.md, session 14).
+// How a model's content guard (GuardKeys, model/config_text.h) treated one
+// whole-clip transfer.
 struct TransferNote {
-  bool guarded = false;    // The model has a content guard.
-  bool backed_off = false;  // It read another action in the configured transfer...
-  double residual_strength = 1;  // ...and returned the residual form at this strength,
+  bool guarded = false;          // The transfer went through a content guard.
+  bool backed_off = false;       // It read another action in the configured transfer...
+  double residual_strength = 1;  // ...and returned the weaker form at this strength,
   bool last_form = false;        // the last one it tries (returned even if it fails too).
 
   // The note of a guarded transfer that returned form `step` (0: the
@@ -47,57 +57,103 @@ struct TransferNote {
   }
 };
 
-// What a client may want to know about a loaded model.
+// A transfer's motion and what the content guard did to it.
+struct TransferResult {
+  motion::Motion motion;
+  TransferNote note;
+};
+
+struct TransferOptions {
+  // Implicit, so that a post-processing mode alone is a set of options.
+  TransferOptions(motion::PostProcessMode post = motion::PostProcessMode::kFull)  // NOLINT
+      : post(post) {}
+  motion::PostProcessMode post;
+  // With a guarded package: false returns the configured form without
+  // asking the guard (as streams do; docs/service.md).
+  bool content_guard = true;
+};
+
+// What every package says of itself, whatever its family (config.txt).
 struct ModelSummary {
   std::string family;
   int window = 0, hop = 0;  // Training windows (frames).
+  int dim = 0;              // Feature channels (motion/features.h).
   int trained_iterations = 0;
 };
 
-class StyleModel {
+// A stream's fixed settings: the style, the skeleton and frame rate of the
+// frames that will arrive, and their post-processing.
+struct StreamSpec {
+  StyleCode style;
+  motion::Skeleton skeleton;
+  double frame_time = 1.0 / 30;
+  motion::PostProcessMode post = motion::PostProcessMode::kFull;
+};
+
+class StyleModel : public std::enable_shared_from_this<StyleModel> {
  public:
-  virtual ~StyleModel() = default;
+  virtual ~StyleModel();
 
   virtual const std::string& dir() const = 0;
   // The skeleton, frame rate and feature statistics input clips must match.
   virtual const DataFiles& data() const = 0;
   virtual ModelSummary summary() const = 0;
+  // Values in each of this model's style codes.
+  virtual int code_size() const = 0;
 
   // INVALID_ARGUMENT for a clip the model cannot take (another skeleton or
   // frame rate, non-finite values, no frames); INTERNAL when LibTorch fails.
   virtual absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const = 0;
 
-  // The content clip re-generated with `style`: same skeleton, channel layout,
-  // frame count and frame rate, the root starting where the content's does.
-  // `post` cleans the result (motion/postprocess.h).
-  absl::StatusOr<motion::Motion> Transfer(
-      const motion::Motion& content, const StyleCode& style,
-      motion::PostProcessMode post = motion::PostProcessMode::kFull) const {
-    return Interpolate(content, {style}, StyleWeights{{1.0}, {}}, post);
-  }
+  // The content clip re-generated with a blend sum_k w_k s_k of `styles`,
+  // fixed or per frame: same skeleton, channel layout, frame count and frame
+  // rate, the root starting where the content's does, cleaned by
+  // `options.post` (motion/postprocess.h). With a content guard, the first of
+  // the package's forms whose action reads as the content's (the note says
+  // which). INVALID_ARGUMENT for a clip, codes or weights the model cannot
+  // take; INTERNAL when LibTorch fails.
+  absl::StatusOr<TransferResult> Interpolate(const motion::Motion& content,
+                                             const std::vector<StyleCode>& styles,
+                                             const StyleWeights& weights,
+                                             const TransferOptions& options = {}) const;
+  // Interpolate with one style.
+  absl::StatusOr<TransferResult> Transfer(const motion::Motion& content, const StyleCode& style,
+                                          const TransferOptions& options = {}) const;
 
-  // Transfer with a blend sum_k w_k s_k of `styles`, fixed or per frame.
-  virtual absl::StatusOr<motion::Motion> Interpolate(
+  // A streamer for frames on `spec.skeleton` at `spec.frame_time`
+  // (model/frame_streamer.h); it shares ownership of the model. The default
+  // streams in chunks through whole-clip transfers (model/chunked_streamer.h);
+  // a family may stream in its own way. Streams are never guarded.
+  // INVALID_ARGUMENT when such frames or the style cannot feed the model;
+  // FAILED_PRECONDITION when the model is not owned by a std::shared_ptr.
+  virtual absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenStream(const StreamSpec& spec) const;
+
+ protected:
+  // One content clip's transfer, prepared once, rendered in the forms the
+  // content guard chooses from: form 0 is the configured transfer, form k
+  // the weaker one at guard_strengths[k - 1] (each family says what a
+  // strength is). Used by one thread.
+  class Forms {
+   public:
+    virtual ~Forms() = default;
+    // Form `step` as the guard reads it, not post-processed.
+    virtual absl::StatusOr<motion::Motion> Draft(size_t step) = 0;
+    // Form `step` as returned, not post-processed; `draft` is Draft(step)
+    // when the guard read it, else null. A family that refines the chosen
+    // form only (an optimization) does it here.
+    virtual absl::StatusOr<motion::Motion> Final(size_t step, const motion::Motion* draft) {
+      if (draft != nullptr) return *draft;
+      return Draft(step);
+    }
+  };
+  // `styles` and `weights` are already checked against the clip and
+  // code_size(); the clip is not.
+  virtual absl::StatusOr<std::unique_ptr<Forms>> PrepareTransfer(
       const motion::Motion& content, const std::vector<StyleCode>& styles,
-      const StyleWeights& weights,
-      motion::PostProcessMode post = motion::PostProcessMode::kFull) const = 0;
-
-  // Interpolate that also fills `note` (when not null); a model without a
-  // content guard leaves it at its defaults.
-  virtual absl::StatusOr<motion::Motion> InterpolateNoted(const motion::Motion& content,
-                                                          const std::vector<StyleCode>& styles,
-                                                          const StyleWeights& weights,
-                                                          motion::PostProcessMode post,
-                                                          TransferNote* note) const {
-    (void)note;
-    return Interpolate(content, styles, weights, post);
-  }
-  absl::StatusOr<motion::Motion> TransferNoted(const motion::Motion& content,
-                                               const StyleCode& style,
-                                               motion::PostProcessMode post,
-                                               TransferNote* note) const {
-    return InterpolateNoted(content, {style}, StyleWeights{{1.0}, {}}, post, note);
-  }
+      const StyleWeights& weights) const = 0;
+  // The package's content guard and its keys (null when it has none).
+  virtual const ContentGuard* content_guard() const { return nullptr; }
+  virtual const GuardKeys& guard_keys() const = 0;
 };
 
 // INVALID_ARGUMENT unless every code has `code_size` values and `weights`
@@ -106,13 +162,6 @@ absl::Status CheckStyleMix(const std::vector<StyleCode>& styles, const StyleWeig
                            int frames, int code_size);
 // The weighted sum of `styles` with `mix`.
 StyleCode MixStyles(const std::vector<StyleCode>& styles, const std::vector<double>& mix);
-
-// Whether LoadStyleModel can load packages of `family`.
-bool IsServedFamily(const std::string& family);
-
-// Loads the package in `dir` with the family its config.txt names.
-// INVALID_ARGUMENT for an unknown family; otherwise the family's own errors.
-absl::StatusOr<std::unique_ptr<StyleModel>> LoadStyleModel(const std::string& dir);
 
 }  // namespace stylus::model
 

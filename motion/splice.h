@@ -2,7 +2,7 @@
 // (an animator's layering: the legs of one take under the arms of another).
 // Evaluation uses it to ask whether a content judge reads an action from the
 // body part that performs it, or also from the rest of the body
-// (docs/contrastive.md, session 13).
+// (docs/notes/contrastive.md).
 #ifndef STYLUS_MOTION_SPLICE_H_
 #define STYLUS_MOTION_SPLICE_H_
 

@@ -25,6 +25,16 @@ void Executor::Shutdown() {
   stopping_ = true;
 }
 
+int Executor::queued() const {
+  absl::MutexLock lock(&mu_);
+  return static_cast<int>(tasks_.size());
+}
+
+int Executor::running() const {
+  absl::MutexLock lock(&mu_);
+  return running_;
+}
+
 void Executor::Loop() {
   for (;;) {
     std::function<void()> task;
@@ -38,8 +48,11 @@ void Executor::Loop() {
       if (tasks_.empty()) return;  // Stopping and drained.
       task = std::move(tasks_.front());
       tasks_.pop_front();
+      ++running_;
     }
     task();
+    absl::MutexLock lock(&mu_);
+    --running_;
   }
 }
 

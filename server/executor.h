@@ -26,12 +26,16 @@ class Executor {
   // Stops accepting tasks; those accepted still run. Idempotent.
   void Shutdown();
   int threads() const { return static_cast<int>(threads_.size()); }
+  // Tasks accepted and not yet started, and tasks running now.
+  int queued() const;
+  int running() const;
 
  private:
   void Loop();
 
-  absl::Mutex mu_;
+  mutable absl::Mutex mu_;
   std::deque<std::function<void()>> tasks_ ABSL_GUARDED_BY(mu_);
+  int running_ ABSL_GUARDED_BY(mu_) = 0;
   bool stopping_ ABSL_GUARDED_BY(mu_) = false;
   std::vector<std::thread> threads_;
 };

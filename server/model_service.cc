@@ -1,4 +1,4 @@
-#include "client/wire.h"
+#include "wire/wire.h"
 #include "server/services.h"
 
 namespace stylus::server {

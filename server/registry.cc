@@ -11,6 +11,7 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "model/config_text.h"
+#include "model/family_registry.h"
 
 namespace stylus::server {
 namespace {

@@ -77,6 +77,16 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
 
 int StylusServer::port() const { return impl_->port; }
 
+ServerLoad StylusServer::load() const {
+  ServerLoad load;
+  load.open_streams = impl_->context.open_streams.load();
+  if (impl_->executor != nullptr) {
+    load.queued_tasks = impl_->executor->queued();
+    load.running_tasks = impl_->executor->running();
+  }
+  return load;
+}
+
 void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
   {
     absl::MutexLock lock(&impl_->mu);

@@ -24,6 +24,13 @@ struct ServerOptions {
   int64_t max_stream_frames = 30 * 60 * 60;
 };
 
+// What the server is doing now.
+struct ServerLoad {
+  int open_streams = 0;
+  int queued_tasks = 0;   // Compute work accepted and waiting for a thread.
+  int running_tasks = 0;  // Compute work running now.
+};
+
 class StylusServer {
  public:
   // Loads the models and starts serving. NOT_FOUND / INVALID_ARGUMENT from the
@@ -33,6 +40,8 @@ class StylusServer {
 
   // The port actually bound (useful with port 0).
   int port() const;
+  // What is running now; not to be called while Shutdown runs.
+  ServerLoad load() const;
   // Stops accepting calls, lets in-flight calls finish until `deadline`
   // (then cancels them), and drains the compute executor.
   void Shutdown(std::chrono::system_clock::time_point deadline);

@@ -5,9 +5,7 @@
 #include <memory>
 
 #include "absl/strings/str_cat.h"
-#include "client/wire.h"
-#include "model/chunked_stream.h"
-#include "model/stream_transfer.h"
+#include "wire/wire.h"
 #include "server/postprocess_option.h"
 #include "server/services.h"
 #include "server/status.h"
@@ -143,18 +141,10 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, *m, config.style(), "config style");
     if (!style.ok()) return style.status();
-    // The contrastive family streams window by window; any other family in
-    // chunks through its whole-clip Transfer (model/chunked_stream.h).
-    if (auto contrastive = std::dynamic_pointer_cast<const model::ContrastiveModel>(m->model)) {
-      auto st = model::StreamTransfer::Create(contrastive, *style, *sk, 1.0 / config.fps(), *post);
-      if (!st.ok()) return st.status();
-      streamer_ = *std::move(st);
-    } else {
-      auto st = model::ChunkedStreamTransfer::Create(m->model, *style, *sk, 1.0 / config.fps(),
-                                                     *post);
-      if (!st.ok()) return st.status();
-      streamer_ = *std::move(st);
-    }
+    absl::StatusOr<std::unique_ptr<model::FrameStreamer>> streamer =
+        m->model->OpenStream({*style, *sk, 1.0 / config.fps(), *post});
+    if (!streamer.ok()) return streamer.status();
+    streamer_ = *std::move(streamer);
     chunk_ = motion::RestMotion(*sk, 0, 1.0 / config.fps());
     prev_euler_.assign(sk->num_joints(), motion::Vec3{});
     return absl::OkStatus();

@@ -13,7 +13,7 @@
 #include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
-#include "model/contrastive_model.h"
+#include "model/style_model.h"
 
 namespace stylus::server {
 

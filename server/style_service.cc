@@ -2,7 +2,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
-#include "client/wire.h"
+#include "wire/wire.h"
 #include "motion/metrics.h"
 #include "server/postprocess_option.h"
 #include "server/services.h"
@@ -81,12 +81,11 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, call->model, request->style(), "style clip");
     if (!style.ok()) return out.status = style.status(), out;
-    model::TransferNote note;
-    absl::StatusOr<motion::Motion> result =
-        call->model.model->TransferNoted(call->content, *style, call->post, &note);
+    absl::StatusOr<model::TransferResult> result =
+        call->model.model->Transfer(call->content, *style, call->post);
     if (!result.ok()) return out.status = result.status(), out;
-    NoteGuard(note, response, &out);
-    wire::ClipToProto(*result, response->mutable_output());
+    NoteGuard(result->note, response, &out);
+    wire::ClipToProto(result->motion, response->mutable_output());
     response->set_model(call->model.id);
     response->set_compute_ms(MsSince(t0));
     return out;
@@ -144,12 +143,11 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
     } else {
       weights.fixed.assign(request->weights().values().begin(), request->weights().values().end());
     }
-    model::TransferNote note;
-    absl::StatusOr<motion::Motion> result =
-        call->model.model->InterpolateNoted(call->content, styles, weights, call->post, &note);
+    absl::StatusOr<model::TransferResult> result =
+        call->model.model->Interpolate(call->content, styles, weights, call->post);
     if (!result.ok()) return out.status = result.status(), out;
-    NoteGuard(note, response, &out);
-    wire::ClipToProto(*result, response->mutable_output());
+    NoteGuard(result->note, response, &out);
+    wire::ClipToProto(result->motion, response->mutable_output());
     response->set_model(call->model.id);
     response->set_compute_ms(MsSince(t0));
     return out;

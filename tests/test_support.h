@@ -3,6 +3,8 @@
 #define STYLUS_TESTS_TEST_SUPPORT_H_
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -54,6 +56,18 @@ inline std::string CopyPackage(const std::string& from, const std::string& name,
   }
   out << append;
   return dir;
+}
+
+// Polls `condition` every millisecond until it holds (true) or `timeout`
+// passes (false): waits on what a test needs, not on a guessed sleep.
+template <typename Condition>
+bool WaitFor(Condition condition, std::chrono::milliseconds timeout = std::chrono::seconds(30)) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (!condition()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
 }
 
 inline bool UnderCi() {

@@ -8,10 +8,14 @@
 #include <vector>
 
 #include "absl/status/status.h"
-#include "tool/args.h"
+#include "cli/args.h"
 #include "tool/commands.h"
 
 namespace stylus::tool {
+
+using cli::Args;
+using cli::ArgSpec;
+using cli::ParseArgs;
 
 // Parses argv; on --help prints `help` and sets *exit_code 0; on a usage error
 // prints it with the help and sets *exit_code 2. Returns the arguments only when

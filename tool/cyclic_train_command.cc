@@ -3,7 +3,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "model/cyclic_trainer.h"
+#include "train/cyclic_trainer.h"
 #include "tool/cli_support.h"
 
 namespace stylus::tool {
@@ -20,10 +20,10 @@ int TrainCyclicModel(const Argv& argv) {
       "         [--threads N] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n"
       "         [--init-from PACKAGE] [--resume] [--guided [--class-weight 1]]\n"
       "         [--style-dim 0 [--blocks 4] [--adain-skip]] [--pair-gan]\n"
-      "         [--content-class-weight 1] [--critics 1] [--content-balance 0]\n"
+      "         [--content-class-weight 1] [--content-balance 0]\n"
       "         [--average-from K [--average-every 50]]\n\n"
       "Trains the cycle-consistent convolutional autoencoder of paper 004\n"
-      "(docs/cyclic.md) on the training split of each DIR, without labels: the\n"
+      "(docs/families.md) on the training split of each DIR, without labels: the\n"
       "autoencoder alone for --ae-iters, then the generator with the Gram style\n"
       "loss, content loss, adversarial loss, cycle loss (off with --no-cycle) and\n"
       "the kinematic constraints (off with --no-kc, which also turns off the\n"
@@ -40,8 +40,7 @@ int TrainCyclicModel(const Argv& argv) {
       "style and the content's content (--class-weight). --pair-gan (with\n"
       "--guided) makes the adversarial term (--gan-weight) label-conditional;\n"
       "--content-class-weight scales the content half of the critic's verdict;\n"
-      "--critics K trains K such critics from different random starts and takes\n"
-      "their mean verdict. --content-balance P (0..1) draws a content class with n\n"
+      "--content-balance P (0..1) draws a content class with n\n"
       "windows in proportion to n^(1-P): 1 draws every action alike.\n"
       "--keep-weight W adds W x the L1 distance between the transfer and the\n"
       "content over the legs' joint positions, root trajectory and contacts.\n"
@@ -61,7 +60,7 @@ int TrainCyclicModel(const Argv& argv) {
       "--rotations adds the joints' rotations to the network's channels, so the\n"
       "output's bone twists and head, hand and toe orientations are generated\n"
       "instead of taken from the content clip (a new network: train the\n"
-      "autoencoder stage too; docs/cyclic.md).\n"
+      "autoencoder stage too; docs/notes/cyclic.md).\n"
       "--average-from K: the package holds the mean of the network's weights\n"
       "sampled every --average-every iterations from iteration K on.\n";
   int code = 0;
@@ -72,7 +71,7 @@ int TrainCyclicModel(const Argv& argv) {
                                             "content-balance"};
   ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
                 "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
-                "style-dim", "blocks", "average-from", "average-every", "critics"},
+                "style-dim", "blocks", "average-from", "average-every"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan",
                 "random-starts", "mirror", "keep-path", "adain-skip", "rotations"}};
   for (const std::string& w : weights) spec.options.insert(w);
@@ -99,7 +98,7 @@ int TrainCyclicModel(const Argv& argv) {
                            {"kernel", &c.kernel, 1}, {"kc-iters", &c.kc_iters, 0},
                            {"threads", &opt.threads, 0}, {"style-dim", &c.style_dim, 0},
                            {"blocks", &c.blocks, 1}, {"average-from", &c.average_from, 0},
-                           {"average-every", &c.average_every, 1}, {"critics", &c.critics, 1},
+                           {"average-every", &c.average_every, 1},
                            {"checkpoint-every", &opt.checkpoint_every, 1},
                            {"log-every", &opt.log_every, 1}}) {
     absl::StatusOr<int> v = args->GetInt(f.name, *f.value);
@@ -136,7 +135,7 @@ int TrainCyclicModel(const Argv& argv) {
   }
   c.dropout = *dropout;
   c.guided = args->switches.count("guided") > 0;
-  for (const char* name : {"class-weight", "content-class-weight", "critics", "content-balance"}) {
+  for (const char* name : {"class-weight", "content-class-weight", "content-balance"}) {
     if (args->Has(name) && !c.guided) {
       return Fail("train", absl::InvalidArgumentError(absl::StrCat("--", name, " needs --guided")));
     }

@@ -4,13 +4,13 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "model/evaluation.h"
-#include "model/feature_judge.h"
-#include "model/judge_swap.h"
-#include "model/judges.h"
+#include "eval/evaluation.h"
+#include "eval/feature_judge.h"
+#include "tool/part_swap.h"
+#include "eval/judges.h"
 #include "model/package.h"
 #include "model/runtime.h"
-#include "model/style_map.h"
+#include "tool/style_map.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 #include "motion/files.h"
@@ -189,9 +189,8 @@ int Eval(const Argv& argv) {
       "post-processing, each --ablation model (without), and the identity and\n"
       "copy-style baselines; then each row's style and content accuracy over the\n"
       "pairs whose content clip is from each dataset, and over pairs within one\n"
-      "dataset and across two. Any family; a cyclic model's DIR may end in :kc=N to\n"
-      "run N inference-time kinematic optimization steps (:kc=0: none) and in\n"
-      ":adain for the AdaIN probe (docs/cyclic.md).\n"
+      "dataset and across two. Any family; a model's DIR may end in :KEY=VALUE\n"
+      "inference keys (docs/config.md), e.g. models/cyclic/v2:kc_iters=100.\n"
       "--verdicts writes, per pair and output, the judged style and content\n"
       "next to the wanted ones (CSV).\n"
       "--second-judges DIR judges every output a second time (e.g. judges trained\n"
@@ -307,7 +306,7 @@ int StyleMap(const Argv& argv) {
                  kHelp);
     return 2;
   }
-  auto m = model::LoadStyleModel(args->Get("model"));
+  auto m = LoadModelSpec(args->Get("model"));
   if (!m.ok()) return Fail("style-map", m.status());
   auto index = motion::IndexDataset(args->All("data"));
   if (!index.ok()) return Fail("style-map", index.status());

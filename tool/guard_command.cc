@@ -1,8 +1,9 @@
-// train-guard: the content guard of a contrastive package.
+// train-guard: the content guard of a package (either family).
 #include <cstdio>
 
 #include "absl/strings/str_format.h"
 #include "model/content_guard.h"
+#include "train/guard_trainer.h"
 #include "model/runtime.h"
 #include "tool/cli_support.h"
 
@@ -21,7 +22,7 @@ int TrainGuard(const Argv& argv) {
       "whole-clip transfer the guard reads as another action than its content\n"
       "clip is made again with a weaker style at each of `guard_strengths`\n"
       "(default 1,0.7,0.4,0.2), giving up style until the action reads right\n"
-      "(docs/contrastive.md; for cyclic packages docs/cyclic.md).\n";
+      "(docs/notes/contrastive.md; for cyclic packages docs/notes/cyclic.md).\n";
   int code = 0;
   auto args = ParseOrExit("train-guard", argv,
                           {{"model", "data", "iters", "batch", "seed", "threads", "guards"}, {}}, kHelp,

@@ -6,11 +6,12 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
-#include "model/contrastive_trainer.h"
+#include "train/contrastive_trainer.h"
 #include "model/runtime.h"
 #include "model/style_model.h"
 #include "motion/bvh.h"
 #include "tool/cli_support.h"
+#include "tool/model_spec.h"
 
 namespace stylus::tool {
 
@@ -25,15 +26,12 @@ int Train(const Argv& argv) {
       "usage: stylus-tool train --family contrastive --data DIR... --out "
       "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
-      "         [--no-nce] [--no-tri] [--same-view] [--local-style] [--seed S] [--resume]\n"
-      "         [--keep-amplitude] [--centred-style] [--replicate-pad] [--random-starts]\n"
-      "         [--mirror] [--residual] [--full-rate-content] [--channels 144]\n"
+      "         [--no-nce] [--no-tri] [--same-view] [--seed S] [--resume]\n"
+      "         [--random-starts] [--mirror] [--residual] [--channels 144]\n"
       "         [--content-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
-      "          [--content-class-weight 1] [--content-balance 0] [--self-rec-weight 0]\n"
-      "          [--critics 1] [--pair-offset-weight 0]]\n"
-      "         [--keep-path]\n"
-      "         [--content-body] [--average-from K [--average-every 50]]\n"
+      "          [--content-class-weight 1] [--content-balance 0]]\n"
+      "         [--keep-path] [--average-from K [--average-every 50]]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
@@ -42,12 +40,7 @@ int Train(const Argv& argv) {
       "into --out. --resume continues from that checkpoint after a kill.\n"
       "--same-view takes each window's style code from the window itself (the\n"
       "paper); by default it comes from another window of the same clip\n"
-      "(docs/contrastive.md). --local-style gives the style encoder a 3-frame\n"
-      "receptive field. --keep-amplitude makes the generator's AdaIN keep each\n"
-      "channel's temporal spread (it still removes the mean). --centred-style\n"
-      "feeds the style encoder each window minus its mean pose. --replicate-pad\n"
-      "pads every convolution with copies of the window's end frames instead of\n"
-      "zeros (the mean pose), so a window's edges do not move towards that pose.\n"
+      "(docs/families.md).\n"
       "--smooth-sigma S stores the inference smoothing of generated windows\n"
       "(smooth_sigma in config.txt; the shipped default model uses 3; 0: off).\n"
       "--random-starts starts each content window anywhere in its clip instead\n"
@@ -56,22 +49,15 @@ int Train(const Argv& argv) {
       "labels' sides swapped: a raise of the left hand becomes one of the right).\n"
       "--content-weight W adds W x the L1 distance between the transfer and its\n"
       "content input over the root trajectory, foot contacts and legs (default 0:\n"
-      "off); with --content-body over the whole body.\n"
+      "off).\n"
       "--guided trains with the clips' style and content labels (from the Bandai\n"
       "file names): the reconstruction takes its style code from a clip of the\n"
       "same style doing something else, the transfer from a clip of another\n"
       "style, and a critic trained on real labelled windows scores each transfer\n"
       "against the target style and the content input's content (--class-weight),\n"
       "plus a cycle back to the content's own style (--cycle-weight);\n"
-      "--content-class-weight scales the content half of that verdict; --critics K\n"
-      "trains K such critics from different random starts and judges each transfer\n"
-      "by their mean verdict, so it must be recognized by all of them.\n"
-      "--self-rec-weight W adds W x the error of restyling each content window\n"
-      "with a style code from another window of its own clip (guided only).\n"
-      "--pair-offset-weight W adds W x the distance between each transfer's mean\n"
-      "change of its content window and the mean posture change the target style\n"
-      "makes to that action in the training clips (guided only; where both label\n"
-      "pairs have clips).\n"
+      "--content-class-weight scales the content half of that verdict.\n"
+
       "--content-balance P (0..1) draws a content class with n windows in\n"
       "proportion to n^(1-P): 1 draws every action alike, 0 (default) every window.\n"
       "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
@@ -79,8 +65,7 @@ int Train(const Argv& argv) {
       "style clip itself under the transfer's labels.\n"
       "--channels N sets the width of the encoders, the generator and the codes\n"
       "(a new network: it cannot start from a package of another width).\n"
-      "--full-rate-content keeps one content code column per frame (no stride-2\n"
-      "convolution, no upsampling in the generator) instead of one per two.\n"
+
       "--residual trains each transfer as the content window plus the change the\n"
       "style makes in the generator's output, G(Ec(x), s) - G(Ec(x), Es(x)), and\n"
       "the package transfers in that form (residual in config.txt).\n"
@@ -113,18 +98,14 @@ int Train(const Argv& argv) {
                     "smooth-sigma",
                     "class-weight",
                     "cycle-weight",
-                    "self-rec-weight",
                     "content-class-weight",
                     "content-balance",
                     "init-from",
                     "average-from",
                     "average-every",
-                    "critics",
-                    "channels",
-                    "pair-offset-weight"},
-                   {"no-nce", "no-tri", "same-view", "local-style", "keep-amplitude",
-                    "centred-style", "resume", "guided", "keep-path", "pair-gan", "content-body",
-                    "replicate-pad", "random-starts", "mirror", "residual", "full-rate-content"}},
+                    "channels"},
+                   {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
+                    "random-starts", "mirror", "residual"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -159,14 +140,9 @@ int Train(const Argv& argv) {
   c.use_nce = !args->switches.count("no-nce");
   c.use_tri = !args->switches.count("no-tri");
   c.cross_view = !args->switches.count("same-view");
-  c.local_style = args->switches.count("local-style") > 0;
-  c.keep_amplitude = args->switches.count("keep-amplitude") > 0;
-  c.centred_style = args->switches.count("centred-style") > 0;
-  c.replicate_pad = args->switches.count("replicate-pad") > 0;
   c.random_starts = args->switches.count("random-starts") > 0;
   c.mirror = args->switches.count("mirror") > 0;
   c.residual = args->switches.count("residual") > 0;
-  c.full_rate_content = args->switches.count("full-rate-content") > 0;
   absl::StatusOr<double> content_weight = args->GetDouble("content-weight", 0);
   if (!content_weight.ok() || *content_weight < 0) {
     return Fail("train", absl::InvalidArgumentError("--content-weight must be a number >= 0"));
@@ -183,14 +159,8 @@ int Train(const Argv& argv) {
   if (c.pair_gan && !c.guided) {
     return Fail("train", absl::InvalidArgumentError("--pair-gan needs --guided"));
   }
-  c.content_body = args->switches.count("content-body") > 0;
-  if (c.content_body && c.content_weight <= 0) {
-    return Fail("train", absl::InvalidArgumentError("--content-body needs --content-weight"));
-  }
   for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
                              {"cycle-weight", &c.cycle_weight},
-                             {"self-rec-weight", &c.self_rec_weight},
-                             {"pair-offset-weight", &c.pair_offset_weight},
                              {"content-class-weight", &c.content_class_weight},
                              {"content-balance", &c.content_balance}}) {
     if (!args->Has(name)) continue;
@@ -216,14 +186,6 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--average-every must be a number >= 1"));
   }
   c.average_from = *average_from, c.average_every = *average_every;
-  absl::StatusOr<int> critics = args->GetInt("critics", c.critics);
-  if (!critics.ok() || *critics < 1 || *critics > 64) {
-    return Fail("train", absl::InvalidArgumentError("--critics must be a number in [1, 64]"));
-  }
-  if (*critics != 1 && !c.guided) {
-    return Fail("train", absl::InvalidArgumentError("--critics needs --guided"));
-  }
-  c.critics = *critics;
   absl::StatusOr<int> channels = args->GetInt("channels", c.channels);
   if (!channels.ok() || *channels < 1 || *channels > 4096) {
     return Fail("train", absl::InvalidArgumentError("--channels must be a number in [1, 4096]"));
@@ -265,13 +227,12 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
   if (!code.ok())
     return absl::Status(code.status().code(),
                         absl::StrCat(style_path, ": ", code.status().message()));
-  model::TransferNote guard;
-  absl::StatusOr<motion::Motion> out = m.TransferNoted(*content, *code, post, &guard);
+  absl::StatusOr<model::TransferResult> out = m.Transfer(*content, *code, post);
   if (!out.ok())
     return absl::Status(out.status().code(),
                         absl::StrCat(content_path, ": ", out.status().message()));
-  *note = GuardNote(guard);
-  return motion::WriteBvhFile(*out, out_path);
+  *note = GuardNote(out->note);
+  return motion::WriteBvhFile(out->motion, out_path);
 }
 
 }  // namespace
@@ -307,7 +268,7 @@ int Transfer(const Argv& argv) {
   absl::StatusOr<motion::PostProcessMode> post =
       motion::ParsePostProcessMode(args->Get("postprocess", "full"));
   if (!post.ok()) return Fail("transfer", post.status());
-  absl::StatusOr<std::unique_ptr<model::StyleModel>> m = model::LoadStyleModel(args->Get("model"));
+  absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {
     std::string note;

@@ -2,32 +2,23 @@
 
 #include <vector>
 
-#include "absl/strings/match.h"
-#include "absl/strings/numbers.h"
 #include "absl/strings/str_split.h"
-#include "model/cyclic_model.h"
+#include "model/family_registry.h"
 
 namespace stylus::tool {
 
 absl::StatusOr<std::unique_ptr<model::StyleModel>> LoadModelSpec(const std::string& spec) {
   const std::vector<std::string> parts = absl::StrSplit(spec, ':');
-  if (parts.size() == 1) return model::LoadStyleModel(spec);
-  model::CyclicOptions options;
+  model::ConfigOverrides overrides;
   for (size_t i = 1; i < parts.size(); ++i) {
-    if (parts[i] == "adain") {
-      options.adain = true;
-    } else if (absl::StartsWith(parts[i], "kc=")) {
-      if (!absl::SimpleAtoi(parts[i].substr(3), &options.kc_iters) || options.kc_iters < 0) {
-        return absl::InvalidArgumentError("'" + spec + "': :kc= wants a whole number >= 0");
-      }
-    } else {
-      return absl::InvalidArgumentError("'" + spec + "': unknown option ':" + parts[i] +
-                                        "' (known: :kc=N, :adain)");
+    const std::vector<std::string> kv = absl::StrSplit(parts[i], absl::MaxSplits('=', 1));
+    if (kv.size() != 2 || kv[0].empty()) {
+      return absl::InvalidArgumentError("'" + spec + "': ':" + parts[i] +
+                                        "' is not KEY=VALUE (e.g. :kc_iters=0)");
     }
+    overrides.emplace_back(kv[0] == "kc" ? "kc_iters" : kv[0], kv[1]);
   }
-  auto m = model::CyclicModel::Load(parts[0], options);
-  if (!m.ok()) return m.status();
-  return std::unique_ptr<model::StyleModel>(*std::move(m));
+  return model::LoadStyleModel(parts[0], overrides);
 }
 
 }  // namespace stylus::tool

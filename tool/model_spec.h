@@ -10,10 +10,9 @@
 
 namespace stylus::tool {
 
-// A model directory of any family, optionally followed by options for a
-// cyclic model: ":kc=N", N inference-time kinematic optimization steps
-// instead of the package's (":kc=0": none), and ":adain", the AdaIN probe of
-// CyclicOptions. E.g. "models/cyclic/v1:kc=0:adain".
+// A model directory of any family, optionally followed by inference keys to
+// set on top of its config.txt, each as ":KEY=VALUE" (docs/config.md);
+// ":kc=N" is short for ":kc_iters=N". E.g. "models/cyclic/v2:kc_iters=100".
 absl::StatusOr<std::unique_ptr<model::StyleModel>> LoadModelSpec(const std::string& spec);
 
 }  // namespace stylus::tool

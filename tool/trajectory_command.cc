@@ -82,8 +82,8 @@ std::string Panel(const std::string& content_name, const std::string& style_name
 
 int Trajectories(const Argv& argv) {
   static const char kHelp[] =
-      "usage: stylus-tool trajectories --model DIR[:kc=N] --pair CONTENT.bvh,STYLE.bvh...\n"
-      "         [--compare LABEL=DIR[:kc=N]]... [--postprocess none|feet|full] -o OUT.svg\n\n"
+      "usage: stylus-tool trajectories --model DIR[:KEY=VALUE] --pair CONTENT.bvh,STYLE.bvh...\n"
+      "         [--compare LABEL=DIR[:KEY=VALUE]]... [--postprocess none|feet|full] -o OUT.svg\n\n"
       "Transfers each pair with the model (and each --compare model) and draws\n"
       "the root's path on the floor, seen from above, one panel per pair: the\n"
       "content clip dashed, the outputs in colour, start points as dots (paper\n"
@@ -139,9 +139,9 @@ int Trajectories(const Argv& argv) {
       const model::StyleModel& m = *models[i].second;
       absl::StatusOr<model::StyleCode> code = m.EncodeStyle(*style);
       if (!code.ok()) return Fail("trajectories", code.status());
-      absl::StatusOr<motion::Motion> out = m.Transfer(*content, *code, *post);
+      absl::StatusOr<model::TransferResult> out = m.Transfer(*content, *code, *post);
       if (!out.ok()) return Fail("trajectories", out.status());
-      paths.push_back(RootPath(*out, roles, models[i].first, kColours[i % 5]));
+      paths.push_back(RootPath(out->motion, roles, models[i].first, kColours[i % 5]));
     }
     body += Panel(std::filesystem::path(files[0]).stem().string(),
                   std::filesystem::path(files[1]).stem().string(), paths,

@@ -267,8 +267,8 @@ TEST(PostProcessTest, RealDataIsAlreadyCleanAndStaysPut) {
   }
   EXPECT_LT(Jitter(*fixed), 1.5 * Jitter(clip));
   // Neither do the knees shake: a planted leg near full stretch is solved
-  // with a soft reach about the knee's hinge, not snapped straight (the
-  // solve of session 6 gave 2.2-2.5x the capture's knee jerk here).
+  // with a soft reach about the knee's hinge, not snapped straight (a
+  // snapped solve gave 2.2-2.5x the capture's knee jerk here).
   auto joint_jerk = [](const std::vector<std::vector<Vec3>>& p, int j) {
     double sum = 0;
     for (size_t f = 3; f < p.size(); ++f)

@@ -54,6 +54,16 @@ check "missing -o" 1 "-o is required" -- "$cli" "${s[@]}" transfer --content "$w
 check "bad weights" 1 "'x' is not a number" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,x -o "$work/m"
 check "bad postprocess" 1 "--postprocess must be" -- "$cli" "${s[@]}" transfer --postprocess wobbly --content "$walk" --style "$old" -o "$work/x.bvh"
 check "unknown command" 2 "unknown command 'frobnicate'" -- "$cli" "${s[@]}" frobnicate
+check "a command's --help lists its own options" 0 "usage: stylus stream --content C.bvh --style S.bvh \[--rate FPS\]" -- \
+  "$cli" stream --help
+check "a command's --help names the call options" 0 "--postprocess default\|none\|feet\|full" -- "$cli" transfer --help
+check "a command refuses another command's options" 2 "unknown option --weights" -- \
+  "$cli" "${s[@]}" transfer --content "$walk" --style "$old" --weights 0,1 -o "$work/x.bvh"
+check "models takes no --content" 2 "unknown option --content" -- "$cli" "${s[@]}" models --content "$walk"
+check "global options after the command" 0 "contrastive/v5 \(default\)" -- "$cli" models "${s[@]}" --deadline-s 30
+check "STYLUS_SERVER sets the address" 0 "contrastive/v5 \(default\)" -- env STYLUS_SERVER="$addr" "$cli" models
+check "--server wins over STYLUS_SERVER" 1 "UNAVAILABLE" -- env STYLUS_SERVER="$addr" "$cli" models \
+  --server localhost:1 --deadline-s 2
 check "server logs one line per call" 0 "rpc=Transfer model=contrastive/v5 frames=120 ms=[0-9.]+ status=OK guard=configured" -- cat "$work/server.log"
 
 kill -TERM "$pid"

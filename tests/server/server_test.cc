@@ -9,17 +9,20 @@
 #include <limits>
 #include <thread>
 
-#include "client/wire.h"
+#include "wire/wire.h"
 #include "gtest/gtest.h"
-#include "model/contrastive_model.h"
+#include "model/contrastive/contrastive_model.h"
 #include "model/style_model.h"
 #include "motion/kinematics.h"
 #include "server/registry.h"
 #include "server/status.h"
+#include "tests/model/transfer_support.h"
 #include "tests/server/server_test_support.h"
 
 namespace stylus {
 namespace {
+
+using ::stylus::testing::MotionOf;
 
 using testing::Frames;
 
@@ -33,44 +36,6 @@ motion::Motion BandaiClip(const std::string& dir, const std::string& name) {
   return *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_" + name + ".bvh");
 }
 
-TEST(StatusMappingTest, EveryCodeKeepsItsMeaningAndMessage) {
-  const std::vector<std::pair<absl::Status, grpc::StatusCode>> cases = {
-      {absl::OkStatus(), grpc::StatusCode::OK},
-      {absl::InvalidArgumentError("a"), grpc::StatusCode::INVALID_ARGUMENT},
-      {absl::NotFoundError("b"), grpc::StatusCode::NOT_FOUND},
-      {absl::ResourceExhaustedError("c"), grpc::StatusCode::RESOURCE_EXHAUSTED},
-      {absl::FailedPreconditionError("d"), grpc::StatusCode::FAILED_PRECONDITION},
-      {absl::UnavailableError("e"), grpc::StatusCode::UNAVAILABLE},
-      {absl::CancelledError("f"), grpc::StatusCode::CANCELLED},
-      {absl::DeadlineExceededError("g"), grpc::StatusCode::DEADLINE_EXCEEDED},
-      {absl::InternalError("h"), grpc::StatusCode::INTERNAL},
-      {absl::AlreadyExistsError("i"), grpc::StatusCode::ALREADY_EXISTS},
-      {absl::UnimplementedError("j"), grpc::StatusCode::UNIMPLEMENTED},
-      {absl::DataLossError("k"), grpc::StatusCode::DATA_LOSS},
-      {absl::OutOfRangeError("l"), grpc::StatusCode::OUT_OF_RANGE},
-      {absl::PermissionDeniedError("m"), grpc::StatusCode::PERMISSION_DENIED},
-      {absl::UnauthenticatedError("n"), grpc::StatusCode::UNAUTHENTICATED},
-      {absl::AbortedError("o"), grpc::StatusCode::ABORTED},
-      {absl::UnknownError("p"), grpc::StatusCode::UNKNOWN},
-  };
-  for (const auto& [in, code] : cases) {
-    const grpc::Status out = server::ToGrpcStatus(in);
-    EXPECT_EQ(out.error_code(), code) << in;
-    EXPECT_EQ(out.error_message(), std::string(in.message()));
-    EXPECT_EQ(FromGrpcStatus(out), in);  // And back, in the client.
-  }
-}
-
-TEST(WireTest, ClipRoundTripKeepsEveryJointPosition) {
-  const motion::Motion clip = Sample("walk_old.bvh");
-  v1::Clip proto;
-  wire::ClipToProto(clip, &proto);
-  absl::StatusOr<motion::Motion> back = wire::ClipFromProto(proto, "clip");
-  ASSERT_TRUE(back.ok()) << back.status();
-  EXPECT_EQ(back->num_frames, clip.num_frames);
-  EXPECT_LT(motion::MaxPositionDifference(*back, clip), 1e-9);
-}
-
 class ServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -80,29 +45,6 @@ class ServerTest : public ::testing::Test {
   Client& client() { return *live_->client; }
   std::unique_ptr<LiveServer> live_;
 };
-
-// A bare model name picks its highest version by number, not by spelling:
-// v10 after v9 and v2, and numbered versions after other names such as
-// "dev" (every package here is cyclic/v1, linked).
-TEST(RegistryTest, BareNameTakesTheHighestVersionByNumber) {
-  namespace fs = std::filesystem;
-  const fs::path root = fs::temp_directory_path() / "stylus_registry_versions";
-  fs::remove_all(root);
-  fs::create_directories(root / "cyclic");
-  const fs::path v1 = fs::path(testing::SourceDir()) / "models/cyclic/v1";
-  for (const char* v : {"dev", "v2", "v9", "v10"}) fs::create_directory_symlink(v1, root / "cyclic" / v);
-  auto registry = server::ModelRegistry::Create(root.string(), "");
-  ASSERT_TRUE(registry.ok()) << registry.status();
-  auto bare = (*registry)->Get("cyclic");
-  ASSERT_TRUE(bare.ok()) << bare.status();
-  EXPECT_EQ(bare->id, "cyclic/v10");
-  ASSERT_TRUE((*registry)->Unload("cyclic/v10").ok());
-  EXPECT_EQ((*registry)->Get("cyclic")->id, "cyclic/v9");
-  ASSERT_TRUE((*registry)->Unload("cyclic/v9").ok());
-  ASSERT_TRUE((*registry)->Unload("cyclic/v2").ok());
-  EXPECT_EQ((*registry)->Get("cyclic")->id, "cyclic/dev");
-  fs::remove_all(root);
-}
 
 TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   auto models = client().ListModels();
@@ -161,7 +103,7 @@ TEST_F(ServerTest, BothFamiliesServeSideBySide) {
   ASSERT_TRUE(local_model.ok()) << local_model.status();
   const absl::StatusOr<model::StyleCode> local_code = (*local_model)->EncodeStyle(style);
   ASSERT_TRUE(local_code.ok()) << local_code.status();
-  const motion::Motion local = *(*local_model)->Transfer(content, *local_code);
+  const motion::Motion local = (*local_model)->Transfer(content, *local_code)->motion;
   EXPECT_LT(motion::MaxPositionDifference(*by_cyclic, local), 1e-3);
   // Style codes are per model: v2's style network gives its own code size.
   auto code = client().EncodeStyle(style, "old-cyclic", cyclic);
@@ -173,16 +115,19 @@ TEST_F(ServerTest, BothFamiliesServeSideBySide) {
   EXPECT_LT(motion::MaxPositionDifference(*named, *by_cyclic), 1e-3);
   EXPECT_EQ(client().Transfer(content, {nullptr, "old-cyclic"}).status().code(),
             absl::StatusCode::kNotFound);  // Saved for cyclic/v2 only.
-  // Streaming a cyclic model goes in chunks through its Transfer: every frame
-  // comes back, in order, close to the unary output and without root jumps.
+  // Streaming a cyclic model goes in chunks through its transfer in the
+  // configured form (streams are not guarded): every frame comes back, in
+  // order, close to the unguarded whole-clip output and without root jumps.
   const motion::Motion part = Frames(content, 0, 100);
   auto streamed = client().Stream(part, {&style, ""}, 0, cyclic);
   ASSERT_TRUE(streamed.ok()) << streamed.status();
   ASSERT_EQ(streamed->output.num_frames, 100);
   for (int i = 0; i < 100; ++i) EXPECT_EQ(streamed->indices[i], i);
-  auto unary = client().Transfer(part, {&style, ""}, cyclic);
+  model::TransferOptions unguarded;
+  unguarded.content_guard = false;
+  auto unary = (*local_model)->Transfer(part, *local_code, unguarded);
   ASSERT_TRUE(unary.ok()) << unary.status();
-  const double gap = motion::MaxPositionDifference(streamed->output, *unary);
+  const double gap = motion::MaxPositionDifference(streamed->output, unary->motion);
   std::printf("cyclic stream vs unary: max joint gap %.2f units\n", gap);
   EXPECT_LT(gap, 15.0);  // Units of the Bandai rig (cm): chunk seams, not a different motion.
 }
@@ -195,7 +140,7 @@ TEST_F(ServerTest, TransferOfARealClipEqualsTheModelInProcess) {
   ASSERT_TRUE(out.ok()) << out.status();
   auto model = model::ContrastiveModel::Load(kModel);
   ASSERT_TRUE(model.ok());
-  const motion::Motion local = *(*model)->Transfer(content, *(*model)->EncodeStyle(style));
+  const motion::Motion local = (*model)->Transfer(content, *(*model)->EncodeStyle(style))->motion;
   ASSERT_EQ(out->num_frames, content.num_frames);
   EXPECT_LT(motion::MaxPositionDifference(*out, local), 1e-6);
   EXPECT_GT(motion::MaxPositionDifference(*out, content), 1.0);
@@ -257,8 +202,8 @@ TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
   auto model = model::ContrastiveModel::Load(
       testing::CopyPackage(kModel, "unguarded_v5", {"content_guard", "guard_strengths"}));
   ASSERT_TRUE(model.ok()) << model.status();
-  auto unary = (*model)->Transfer(content, *(*model)->EncodeStyle(style),
-                                  motion::PostProcessMode::kNone);
+  auto unary = MotionOf((*model)->Transfer(content, *(*model)->EncodeStyle(style),
+                                  motion::PostProcessMode::kNone));
   ASSERT_TRUE(unary.ok()) << unary.status();
   // Stated tolerance (docs/service.md): 0.5 mm on any joint of any frame.
   EXPECT_LT(motion::MaxPositionDifference(streamed->output, *unary), 0.05);
@@ -495,7 +440,7 @@ TEST(ServerLimitsTest, OversizeMessagesAndTooManyStreamsAreResourceExhausted) {
   const auto requests = StreamRequests(style, style, idx);
   ASSERT_TRUE(open->Write(requests[0]));
   ASSERT_TRUE(open->Write(requests[1]));
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_TRUE(testing::WaitFor([&] { return live->server->load().open_streams == 1; }));
   const grpc::Status second = RawStream(live->address, requests);
   EXPECT_EQ(second.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << second.error_message();
   open->WritesDone();
@@ -522,7 +467,7 @@ TEST(ServerShutdownTest, InFlightCallsFinishBeforeTheServerStops) {
   auto pending = std::async(std::launch::async, [&] {
     return live->client->Transfer(content, {&style, ""});
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_TRUE(testing::WaitFor([&] { return live->server->load().running_tasks > 0; }));
   live->server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(30));
   auto out = pending.get();
   ASSERT_TRUE(out.ok()) << out.status();

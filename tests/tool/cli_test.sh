@@ -46,16 +46,12 @@ check "train --class-weight without --guided" 1 "--class-weight needs --guided" 
   --data "$work/old.bvh" --out "$work/unguided" --class-weight 2
 check "train --pair-gan without --guided" 1 "--pair-gan needs --guided" -- "$tool" train \
   --data "$work/old.bvh" --out "$work/unguided" --pair-gan
-check "train --content-body without --content-weight" 1 "--content-body needs --content-weight" -- \
+check "train with a removed experiment option" 2 "unknown option --content-body" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-body
 check "train --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-class-weight 3
 check "train --content-balance without --guided" 1 "--content-balance needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-balance 0.5
-check "train --self-rec-weight without --guided" 1 "--self-rec-weight needs --guided" -- \
-  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --self-rec-weight 1
-check "train --pair-offset-weight without --guided" 1 "--pair-offset-weight needs --guided" -- \
-  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --pair-offset-weight 1
 check "train --channels" 0 "model written to $work/narrow" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/narrow" --iters 2 --batch 2 --threads 1 --channels 24
 check "train --channels in the package" 0 "^channels = 24$" -- cat "$work/narrow/config.txt"
@@ -100,16 +96,10 @@ check "train --mirror" 0 "half of them mirrored" -- "$tool" train --data "$work/
 check "train --mirror in the package" 0 "^mirror = 1$" -- cat "$work/mirrored/config.txt"
 check "train --channels 0" 1 "--channels must be a number in \\[1, 4096\\]" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --channels 0
-check "train --critics without --guided" 1 "--critics needs --guided" -- \
-  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --critics 3
-check "train --critics 0" 1 "--critics must be a number in \\[1, 64\\]" -- \
-  "$tool" train --guided --data "$work/old.bvh" --out "$work/unguided" --critics 0
 check "train cyclic --adain-skip without --style-dim" 1 "--adain-skip needs --style-dim" -- \
   "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/plain" --adain-skip
 check "train cyclic --content-balance without --guided" 1 "--content-balance needs --guided" -- \
   "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/unguided" --content-balance 1
-check "train cyclic --critics without --guided" 1 "--critics needs --guided" -- \
-  "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/unguided" --critics 2
 check "train --content-balance above 1" 1 "--content-balance must be in \\[0, 1\\]" -- \
   "$tool" train --guided --data "$work/old.bvh" --out "$work/unguided" --content-balance 2
 check "train --average-from past --iters" 1 "weight averaging from iteration 20 would start after the last iteration \\(10\\)" -- \
@@ -118,12 +108,10 @@ check "train --init-from a missing package" 1 "--init-from: .*nowhere/norm.txt: 
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/nowhere"
 check "train --init-from" 0 "initialized from $work/model" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/model" \
-  --smooth-sigma 3 --residual --full-rate-content
+  --smooth-sigma 3 --residual
 check "train --smooth-sigma in the package" 0 "^smooth_sigma = 3$" -- cat "$work/tuned/config.txt"
 check "train --residual in the package" 0 "^residual = 1$" -- cat "$work/tuned/config.txt"
-check "train --full-rate-content (from a half-rate package)" 0 "^full_rate_content = 1$" -- \
-  cat "$work/tuned/config.txt"
-check "the full-rate residual package transfers" 0 "wrote .*tuned_out.bvh" -- "$tool" transfer --model "$work/tuned" \
+check "the residual package transfers" 0 "wrote .*tuned_out.bvh" -- "$tool" transfer --model "$work/tuned" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/tuned_out.bvh" --threads 1
 check "train --smooth-sigma negative" 1 "--smooth-sigma must be a number in \\[0, 100\\]" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --smooth-sigma -1
@@ -153,8 +141,13 @@ check "trajectories" 0 "wrote .*paths.svg \\(2 panels\\)" -- "$tool" trajectorie
   --compare "no KC=$work/cyc:kc=0" --pair "$work/old.bvh,$work/proud.bvh" \
   --pair "$work/proud.bvh,$work/old.bvh" -o "$work/paths.svg" --threads 1
 check "trajectories svg" 0 "<polyline.*no KC" -- tr -d '\n' < "$work/paths.svg"
-check "trajectories bad kc" 1 ":kc= wants a whole number" -- "$tool" trajectories --model "$work/cyc:kc=x" \
+check "trajectories bad kc" 1 "kc_iters must be a whole number" -- "$tool" trajectories --model "$work/cyc:kc=x" \
   --pair "$work/old.bvh,$work/proud.bvh" -o "$work/paths2.svg"
+check "a model spec sets inference keys only" 1 "'hidden' is not an inference key of the cyclic family" -- \
+  "$tool" transfer --model "$work/cyc:hidden=8" --content "$work/old.bvh" --style "$work/proud.bvh" \
+  -o "$work/never.bvh"
+check "a model spec needs KEY=VALUE" 1 "':adain' is not KEY=VALUE" -- "$tool" transfer \
+  --model "$work/cyc:adain" --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/never.bvh"
 check "transfer" 0 "wrote .*styled.bvh" -- "$tool" transfer --model "$work/model" --content "$work/old.bvh" \
   --style "$work/proud.bvh" -o "$work/styled.bvh"
 check "transfer output" 0 "frames: 45" -- "$tool" bvh-info "$work/styled.bvh"

@@ -1,0 +1,355 @@
+#include "eval/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <tuple>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "motion/bvh.h"
+#include "motion/contacts.h"
+#include "motion/dataset.h"
+#include "motion/kinematics.h"
+#include "motion/metrics.h"
+
+namespace stylus::model {
+namespace {
+
+std::string FileName(const std::string& p) { return std::filesystem::path(p).filename().string(); }
+
+// One set of judges' labels for one output, and whether each is the pair's.
+struct Verdict {
+  std::string style, content;
+  bool style_right = false, content_right = false;
+};
+
+}  // namespace
+
+absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::string>& dirs,
+                                                    int per_content) {
+  absl::StatusOr<motion::DatasetIndex> index = motion::IndexDataset(dirs);
+  if (!index.ok()) return index.status();
+  const std::vector<const motion::ClipEntry*> test = index->Split(true);
+  std::vector<EvalPair> pairs;
+  for (const motion::ClipEntry* c : test) {
+    std::vector<const motion::ClipEntry*> styles;
+    for (const motion::ClipEntry* s : test) {
+      if (s->label.content != c->label.content && s->label.style != c->label.style)
+        styles.push_back(s);
+    }
+    const std::string cname = FileName(c->path);
+    std::sort(styles.begin(), styles.end(),
+              [&](const motion::ClipEntry* a, const motion::ClipEntry* b) {
+                return motion::StableHash(cname + FileName(a->path)) <
+                       motion::StableHash(cname + FileName(b->path));
+              });
+    for (int i = 0; i < per_content && i < static_cast<int>(styles.size()); ++i) {
+      pairs.push_back({c->path, styles[i]->path});
+    }
+  }
+  if (pairs.empty()) return absl::NotFoundError("no held-out pairs of different content and style");
+  return pairs;
+}
+
+absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const Judges& judges,
+                                    const FeatureJudge* features,
+                                    const std::vector<motion::Motion>& reference,
+                                    const std::vector<EvalPair>& pairs,
+                                    const std::function<void(int, int)>& progress,
+                                    const Judges* second_judges) {
+  if (models.empty()) return absl::InvalidArgumentError("no model to evaluate");
+  EvalReport report;
+  report.second_judges = second_judges != nullptr;
+  for (const EvalModel& m : models) {
+    report.rows.push_back({m.name + ", no post-processing"});
+    if (m.postprocess) report.rows.push_back({m.name + ", post-processing full"});
+  }
+  report.identity_row = static_cast<int>(report.rows.size());
+  report.rows.push_back({"identity (output = content)"});
+  report.rows.push_back({"copy-style (output = style)"});
+  const size_t n_rows = report.rows.size();
+  std::vector<std::vector<std::vector<double>>> embeddings(n_rows);
+  const motion::HumanoidRoles& roles = models[0].model->data().roles;
+  int done = 0;
+  for (size_t pair = 0; pair < pairs.size(); ++pair) {
+    const EvalPair& p = pairs[pair];
+    absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(p.content_path);
+    if (!content.ok()) return content.status();
+    absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(p.style_path);
+    if (!style.ok()) return style.status();
+    const auto style_label = motion::ParseClipName(p.style_path),
+               content_label = motion::ParseClipName(p.content_path);
+    if (!style_label || !content_label)
+      return absl::InvalidArgumentError("pair without labels: " + p.content_path);
+    // Whether `j` judges `out` as the pair's style and content.
+    auto verdict = [&](const Judges& j, const motion::Motion& out) -> absl::StatusOr<Verdict> {
+      absl::StatusOr<int> s = j.ClassifyStyle(out);
+      if (!s.ok()) return s.status();
+      absl::StatusOr<int> c = j.ClassifyContent(out);
+      if (!c.ok()) return c.status();
+      return Verdict{j.styles()[*s], j.contents()[*c], j.styles()[*s] == style_label->style,
+                     j.contents()[*c] == content_label->content};
+    };
+    std::vector<motion::Motion> outputs;
+    for (const EvalModel& m : models) {
+      absl::StatusOr<StyleCode> code = m.model->EncodeStyle(m.own_style ? *content : *style);
+      if (!code.ok()) return code.status();
+      absl::StatusOr<TransferResult> transferred =
+          m.model->Transfer(*content, *code, motion::PostProcessMode::kNone);
+      if (!transferred.ok()) return transferred.status();
+      const TransferNote& note = transferred->note;
+      const motion::Motion* raw = &transferred->motion;
+      if (note.guarded) {
+        EvalRow& row = report.rows[outputs.size()];  // This model's raw row.
+        ++row.guarded;
+        if (note.backed_off) ++row.backed_off_at[note.residual_strength];
+      }
+      outputs.push_back(*raw);
+      if (m.postprocess) {
+        absl::StatusOr<motion::Motion> full =
+            motion::PostProcess(*raw, *content, roles, motion::PostProcessMode::kFull);
+        if (!full.ok()) return full.status();
+        outputs.push_back(*std::move(full));
+      }
+    }
+    outputs.push_back(*content);
+    outputs.push_back(*style);
+    std::optional<FeatureMap> content_features, style_features;
+    if (features) {
+      absl::StatusOr<FeatureMap> c = features->Features(*content), s = features->Features(*style);
+      if (!c.ok()) return c.status();
+      if (!s.ok()) return s.status();
+      content_features = *std::move(c);
+      style_features = *std::move(s);
+    }
+    for (size_t r = 0; r < n_rows; ++r) {
+      const motion::Motion& out = outputs[r];
+      absl::StatusOr<Verdict> v = verdict(judges, out);
+      if (!v.ok()) return v.status();
+      EvalRow& row = report.rows[r];
+      report.verdicts.push_back({static_cast<int>(pair), static_cast<int>(r), v->style, v->content});
+      row.style_accuracy += v->style_right;
+      row.content_accuracy += v->content_right;
+      if (second_judges) {
+        absl::StatusOr<Verdict> w = verdict(*second_judges, out);
+        if (!w.ok()) return w.status();
+        row.second_style_accuracy += w->style_right;
+        row.second_content_accuracy += w->content_right;
+        row.content_by_both += v->content_right && w->content_right;
+      }
+      // Copy-style has another length: its feet are measured against itself.
+      const motion::Motion& planted = r + 1 == n_rows ? *style : *content;
+      row.foot_skating += motion::FootSkating(out, planted, roles);
+      row.foot_height_error += motion::FootHeightError(out, planted, roles);
+      row.bone_length_error += motion::BoneLengthError(out, roles);
+      row.jitter += motion::Jitter(out);
+      row.trajectory_error += motion::TrajectoryError(out, *content, roles);
+      row.euler_discontinuities += motion::EulerDiscontinuities(out);
+      if (features) {
+        absl::StatusOr<FeatureMap> f = features->Features(out);
+        if (!f.ok()) return f.status();
+        row.content_distance += ContentDistance(*f, *content_features);
+        const double d_style = StyleDistance(*f, *style_features);
+        const double d_content = StyleDistance(*f, *content_features);
+        row.style_distance += d_style;
+        const double ratio = d_style + d_content > 0 ? d_style / (d_style + d_content) : 0.5;
+        row.d_s += ratio;
+        row.d_c += 1 - ratio;
+        embeddings[r].push_back(Embedding(*f));
+      }
+      ++row.pairs;
+    }
+    if (progress) progress(++done, static_cast<int>(pairs.size()));
+  }
+  std::vector<std::vector<double>> real;
+  if (features) {
+    for (const motion::Motion& clip : reference) {
+      absl::StatusOr<FeatureMap> f = features->Features(clip);
+      if (!f.ok()) return f.status();
+      real.push_back(Embedding(*f));
+    }
+    report.reference_clips = static_cast<int>(real.size());
+    if (real.size() >= 2) report.real_diversity = Diversity(real, 1000, 7);
+  }
+  for (size_t r = 0; r < n_rows; ++r) {
+    EvalRow& row = report.rows[r];
+    row.style_accuracy /= row.pairs;
+    row.content_accuracy /= row.pairs;
+    row.second_style_accuracy /= row.pairs;
+    row.second_content_accuracy /= row.pairs;
+    row.content_by_both /= row.pairs;
+    row.foot_skating /= row.pairs;
+    row.foot_height_error /= row.pairs;
+    row.bone_length_error /= row.pairs;
+    row.jitter /= row.pairs;
+    row.content_distance /= row.pairs;
+    row.style_distance /= row.pairs;
+    row.d_s /= row.pairs;
+    row.d_c /= row.pairs;
+    row.trajectory_error /= row.pairs;
+    if (features && real.size() >= 2 && embeddings[r].size() >= 2) {
+      row.fmd = FrechetDistance(embeddings[r], real);
+      std::tie(row.kid, row.kid_std) = KernelInceptionDistance(embeddings[r], real, 10, 100, 11);
+      row.diversity = Diversity(embeddings[r], 1000, 7);
+    }
+  }
+  return report;
+}
+
+namespace {
+
+// A CSV field, quoted when it holds a comma, a quote or a line break.
+std::string CsvField(const std::string& v) {
+  if (v.find_first_of(",\"\n") == std::string::npos) return v;
+  std::string q = "\"";
+  for (char c : v) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
+std::string EvalReport::VerdictsCsv(const std::vector<EvalPair>& pairs) const {
+  std::string s = "content_bvh,style_bvh,output,style,judged_style,content,judged_content\n";
+  for (const EvalVerdict& v : verdicts) {
+    const EvalPair& p = pairs[v.pair];
+    const auto style = motion::ParseClipName(p.style_path);
+    const auto content = motion::ParseClipName(p.content_path);
+    const std::vector<std::string> fields = {p.content_path, p.style_path, rows[v.row].name,
+                                             style ? style->style : "", v.style,
+                                             content ? content->content : "", v.content};
+    for (size_t i = 0; i < fields.size(); ++i)
+      absl::StrAppend(&s, i ? "," : "", CsvField(fields[i]));
+    s += "\n";
+  }
+  return s;
+}
+
+std::string EvalReport::ByDatasetMarkdown(const std::vector<EvalPair>& pairs) const {
+  std::vector<std::optional<motion::ClipLabel>> style(pairs.size()), content(pairs.size());
+  std::vector<std::string> datasets;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    content[i] = motion::ParseClipName(pairs[i].content_path);
+    style[i] = motion::ParseClipName(pairs[i].style_path);
+    if (content[i] && style[i]) datasets.push_back(content[i]->dataset);
+  }
+  std::sort(datasets.begin(), datasets.end());
+  datasets.erase(std::unique(datasets.begin(), datasets.end()), datasets.end());
+  // Groups: each content dataset, then one dataset and two.
+  std::vector<std::string> groups;
+  for (const std::string& d : datasets) groups.push_back("content from " + d);
+  const int one = static_cast<int>(groups.size()), two = one + 1;
+  groups.push_back("both clips from one dataset");
+  groups.push_back("from two datasets");
+  std::vector<std::vector<int>> group_of(pairs.size());
+  std::vector<int> pairs_in(groups.size(), 0);
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    if (!content[i] || !style[i]) continue;
+    const auto d = std::find(datasets.begin(), datasets.end(), content[i]->dataset);
+    group_of[i] = {static_cast<int>(d - datasets.begin()),
+                   content[i]->dataset == style[i]->dataset ? one : two};
+    for (int g : group_of[i]) ++pairs_in[g];
+  }
+  // [row][group]: pairs whose judged style / content is right.
+  std::vector<std::vector<int>> style_right(rows.size(), std::vector<int>(groups.size(), 0));
+  std::vector<std::vector<int>> content_right = style_right;
+  for (const EvalVerdict& v : verdicts) {
+    for (int g : group_of[v.pair]) {
+      style_right[v.row][g] += v.style == style[v.pair]->style;
+      content_right[v.row][g] += v.content == content[v.pair]->content;
+    }
+  }
+  std::string s = "| output |";
+  for (size_t g = 0; g < groups.size(); ++g)
+    absl::StrAppendFormat(&s, " %s (%d pairs) |", groups[g], pairs_in[g]);
+  s += "\n| --- |";
+  for (size_t g = 0; g < groups.size(); ++g) s += " --- |";
+  s += "\n";
+  for (size_t r = 0; r < rows.size(); ++r) {
+    absl::StrAppend(&s, "| ", rows[r].name, " |");
+    for (size_t g = 0; g < groups.size(); ++g) {
+      if (pairs_in[g] == 0) {
+        s += " - |";
+        continue;
+      }
+      absl::StrAppendFormat(&s, " %.3f / %.3f |", double(style_right[r][g]) / pairs_in[g],
+                            double(content_right[r][g]) / pairs_in[g]);
+    }
+    s += "\n";
+  }
+  return s;
+}
+
+std::string EvalReport::Markdown() const {
+  std::string s =
+      "| output | pairs | style accuracy | content accuracy | FMD | KID | diversity | content "
+      "distance | style distance | D_S | D_C |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const EvalRow& r : rows) {
+    absl::StrAppendFormat(
+        &s, "| %s | %d | %.3f | %.3f | %.2f | %.3f +- %.3f | %.2f | %.3f | %.4f | %.3f | %.3f |\n",
+        r.name, r.pairs, r.style_accuracy, r.content_accuracy, r.fmd, r.kid, r.kid_std,
+        r.diversity, r.content_distance, r.style_distance, r.d_s, r.d_c);
+  }
+  if (reference_clips > 0) {
+    absl::StrAppendFormat(&s,
+                          "\nFMD and KID against %d real clips (the feature judge's hidden layer: "
+                          "per-channel mean and standard deviation over time); real clips' own "
+                          "diversity: %.2f. D_S and D_C: paper 004's style similarity ratios of the Gram "
+                          "distances to the style and the content clip (low D_S: the output's "
+                          "style is the style clip's).\n",
+                          reference_clips, real_diversity);
+  }
+  for (const EvalRow& r : rows) {
+    if (r.guarded == 0) continue;
+    int backed_off = 0;
+    std::string where;
+    for (const auto& [strength, n] : r.backed_off_at) {
+      backed_off += n;
+      absl::StrAppendFormat(&where, "%s%d at strength %g", where.empty() ? "" : ", ", n, strength);
+    }
+    absl::StrAppendFormat(&s,
+                          "\nContent guard (%s): of %d transfers, %d kept the configured form; "
+                          "the residual form was returned for %d (%s; the smallest strength also "
+                          "when no form kept the action).\n",
+                          r.name, r.guarded, r.guarded - backed_off, backed_off,
+                          where.empty() ? "none" : where);
+  }
+  if (second_judges) {
+    s +=
+        "\nSecond judges (the same outputs):\n\n"
+        "| output | style accuracy | content accuracy | content kept by both judges | by either |\n"
+        "| --- | --- | --- | --- | --- |\n";
+    for (const EvalRow& r : rows) {
+      absl::StrAppendFormat(&s, "| %s | %.3f | %.3f | %.3f | %.3f |\n", r.name,
+                            r.second_style_accuracy, r.second_content_accuracy, r.content_by_both,
+                            r.ContentByEither());
+    }
+  }
+  s +=
+      "\nKinematics (means over pairs; feet measured where the content clip's feet are "
+      "planted, copy-style against the style clip itself):\n\n"
+      "| output | foot skating (units/s) | foot height error (units) | bone length error | "
+      "jitter (units/s^3) | Euler discontinuities | trajectory error (units) |\n"
+      "| --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const EvalRow& r : rows) {
+    absl::StrAppendFormat(&s, "| %s | %.2f | %.2f | %.4f%% | %.0f | %d | %.2f |\n", r.name,
+                          r.foot_skating, r.foot_height_error, 100 * r.bone_length_error,
+                          r.jitter, r.euler_discontinuities, r.trajectory_error);
+  }
+  if (identity_row >= 2) {
+    const EvalRow &full = rows[1], &real = rows[identity_row];
+    absl::StrAppendFormat(
+        &s,
+        "\n%s against real data (identity row): foot skating %.2fx (target <= 1.2x), "
+        "jitter %.2fx (target <= 1.5x), bone length error %.4f%% (target < 0.1%%), Euler "
+        "discontinuities %d (real data: %d).\n",
+        full.name, full.foot_skating / std::max(real.foot_skating, 1e-9),
+        full.jitter / std::max(real.jitter, 1e-9), 100 * full.bone_length_error,
+        full.euler_discontinuities, real.euler_discontinuities);
+  }
+  return s;
+}
+
+}  // namespace stylus::model

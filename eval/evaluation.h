@@ -1,0 +1,119 @@
+// Evaluation of a style-transfer model on held-out Bandai pairs against two
+// baselines: identity (output = content clip) and copy-style (output = style
+// clip). Torch-free: it drives the model and the judges through their APIs.
+#ifndef STYLUS_EVAL_EVALUATION_H_
+#define STYLUS_EVAL_EVALUATION_H_
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "model/style_model.h"
+#include "eval/feature_judge.h"
+#include "eval/judges.h"
+
+namespace stylus::model {
+
+struct EvalPair {
+  std::string content_path, style_path;
+};
+
+// Deterministic pairs from the held-out split of `dirs`: for every held-out
+// clip as content, up to `per_content` held-out style clips of another content
+// and another style, chosen by a stable hash of both names.
+absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::string>& dirs,
+                                                    int per_content);
+
+// Kinematic metrics (motion/metrics.h) are measured against the clip whose
+// feet should be planted: the content clip, or for copy-style the style clip.
+struct EvalRow {
+  std::string name;
+  double style_accuracy = 0;    // Judged style == the style clip's style.
+  double content_accuracy = 0;  // Judged content == the content clip's content.
+  double foot_skating = 0;      // Mean horizontal foot speed in contact (units/s).
+  double foot_height_error = 0;  // Mean height of contact feet above their floor (units).
+  double bone_length_error = 0;  // Mean relative bone length error.
+  double jitter = 0;             // Mean jerk (units/s^3).
+  int euler_discontinuities = 0;  // Summed over all pairs.
+  // Feature-judge metrics (when a feature judge is given): distribution
+  // distances of the outputs to real clips, their diversity, and the mean
+  // distances to the pair's content (features) and style (Gram matrices).
+  double fmd = 0, kid = 0, kid_std = 0, diversity = 0;
+  double content_distance = 0, style_distance = 0;
+  // Paper 004's style similarity ratios (eq. 16-17), per pair then averaged:
+  // with D_style and D_content the Gram (style) distances of the output to
+  // the style clip and to the content clip, D_S = D_style / (D_style +
+  // D_content) (low: the output's style is the style clip's) and D_C = 1 - D_S.
+  double d_s = 0, d_c = 0;
+  double trajectory_error = 0;  // Mean pelvis path distance to the content's (units).
+  // With second judges: their accuracies, and the share of pairs whose
+  // content both sets recognized (either set: the two accuracies minus it).
+  double second_style_accuracy = 0, second_content_accuracy = 0, content_by_both = 0;
+  double ContentByEither() const {
+    return content_accuracy + second_content_accuracy - content_by_both;
+  }
+  int pairs = 0;
+  // A model row of a model with a content guard (model/content_guard.h): how
+  // many transfers it checked, and of those, how many it backed off to the
+  // residual form at each strength (the full row post-processes these).
+  int guarded = 0;
+  std::map<double, int> backed_off_at = {};
+};
+
+// A model to evaluate; `postprocess` adds a second row with `full`
+// post-processing. With `own_style`, each content clip is restyled with its
+// own style code instead of the style clip's: what the model keeps of a clip
+// it should give back unchanged (its ceiling on content accuracy).
+struct EvalModel {
+  std::string name;
+  const StyleModel* model = nullptr;
+  bool postprocess = false;
+  bool own_style = false;
+};
+
+// What the judges said about one output of one pair.
+struct EvalVerdict {
+  int pair = 0;  // Index into the evaluated pairs.
+  int row = 0;   // Index into EvalReport::rows.
+  std::string style, content;  // Judged labels.
+};
+
+struct EvalReport {
+  // Each model's rows (no post-processing; then `full` if asked), identity
+  // (the content clips: real data), copy-style (the style clips).
+  std::vector<EvalRow> rows;
+  int identity_row = -1;
+  double real_diversity = 0;  // Of the reference clips (with a feature judge).
+  int reference_clips = 0;
+  bool second_judges = false;  // The rows' second_* and content_by_* are set.
+  std::vector<EvalVerdict> verdicts;  // Every row's verdict on every pair (first judges).
+  std::string Markdown() const;
+  // One line per pair and row: content_bvh, style_bvh, output, wanted and
+  // judged style and content (where a transfer goes wrong, and into what).
+  std::string VerdictsCsv(const std::vector<EvalPair>& pairs) const;
+  // Every row's style / content accuracy over the pairs whose content clip
+  // comes from each dataset (the "dataset-N" of its name), then over the
+  // pairs whose two clips come from one dataset and from two (Markdown).
+  // Bandai's two datasets share few labels, so where a model loses content
+  // depends on which (docs/notes/contrastive.md).
+  std::string ByDatasetMarkdown(const std::vector<EvalPair>& pairs) const;
+};
+
+// Runs every model over every pair. With `features` (may be null), FMD and KID
+// compare each row's outputs with `reference` (real clips, e.g. all of the
+// dataset). `progress(done, total)` may be empty. With `second_judges`
+// (may be null), every output is also judged by them: on transfers, judges
+// trained alike disagree far more often than on real clips, so a verdict
+// near their boundary is worth a second opinion (docs/notes/contrastive.md).
+absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const Judges& judges,
+                                    const FeatureJudge* features,
+                                    const std::vector<motion::Motion>& reference,
+                                    const std::vector<EvalPair>& pairs,
+                                    const std::function<void(int, int)>& progress = {},
+                                    const Judges* second_judges = nullptr);
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_EVAL_EVALUATION_H_

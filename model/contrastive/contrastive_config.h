@@ -1,0 +1,139 @@
+// Hyper-parameters of the `contrastive` family (paper 000, docs/notes/contrastive.md),
+// stored in a model package as `config.txt` (key = value lines).
+#ifndef STYLUS_MODEL_CONTRASTIVE_CONTRASTIVE_CONFIG_H_
+#define STYLUS_MODEL_CONTRASTIVE_CONTRASTIVE_CONFIG_H_
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "model/config_text.h"
+
+namespace stylus::model {
+
+// The content guard's keys (GuardKeys, model/config_text.h): a weaker
+// style is the residual form (the content plus the change the style makes)
+// at that strength.
+struct ContrastiveConfig : GuardKeys {
+  // Architecture: fixed when the network is trained.
+  int window = 32;     // T frames per window.
+  int hop = 24;        // Window stride (overlap T/4).
+  int dim = 0;         // Feature channels d (set from the data).
+  int channels = 144;  // Width of codes and hidden layers.
+  int res_kernel = 3;  // Kernel of the residual blocks' convolutions.
+  // Inference keys (InferenceKeys(), with the guard's of GuardKeys; may be
+  // set at load time). With `keep_path`, a transfer's root trajectory and
+  // foot contacts are the content clip's (the style restyles the body along
+  // the content's path).
+  bool keep_path = false;
+  // Inference: a Gaussian of this many frames (sigma; 0: off) over time on
+  // each generated window's pose channels (positions and rotations): the
+  // generator's frame-to-frame shake removed before windows are cross-faded,
+  // alike for whole clips and streams (docs/postprocess.md).
+  double smooth_sigma = 0;
+  // Inference: how far each window's style moves from the content window's
+  // own style code towards the requested one, k in [0, 1]: the generator gets
+  // k * requested + (1 - k) * Es(content window). 1 (the default): the
+  // requested style alone; 0: the content restyled with itself. Per window,
+  // so whole clips and streams stay alike (docs/notes/contrastive.md).
+  double style_strength = 1;
+  // Inference: with `residual`, each window is the content window plus
+  // G(Ec(x), style) - G(Ec(x), Es(x)), the change the style makes in the
+  // generator's output (smoothed by smooth_sigma), so what the generator
+  // fails to reproduce of the content is not lost (docs/notes/contrastive.md).
+  // Training with it (`train --residual`) trains the transfers in this form.
+  bool residual = false;
+  // Inference: with `content_detail` k in (0, 1], each generated window's
+  // pose channels also take k times the content window's own detail, what a
+  // Gaussian of `detail_sigma` frames (0: smooth_sigma) removes from it: the
+  // generator's output sets the slow part of the motion (posture, the
+  // reach of a gesture), the content keeps its quick part (when a hand
+  // moves, and that a held hand stays still). The frequency split of
+  // spectral style transfer (docs/notes/contrastive.md). Not with
+  // `residual`, whose output already carries the whole content window.
+  double content_detail = 0;
+  double detail_sigma = 0;
+  // Training keys: how the package was trained; inference ignores them.
+  // Loss weights: L = L_rec + a L_gan + b L_nce + c L_tri.
+  double alpha = 1.0, beta = 0.3, gamma = 0.3;
+  double margin = 1.0;       // Triplet margin.
+  double temperature = 0.1;  // InfoNCE temperature on unit-length codes.
+  bool use_nce = true, use_tri = true;
+  // Style view (docs/notes/contrastive.md): with `cross_view`, the style code of a
+  // window is taken from another window of the same clip, so it can only carry
+  // what the whole clip shares; without, from the window itself (the paper).
+  bool cross_view = true;
+  // Weight of a content-keeping term on the transfer M_G (0: off): the L1
+  // distance between M_G and its content input M_T over the channels that say
+  // what is being done and where: root trajectory, foot contacts and the
+  // legs' positions and rotations (docs/notes/contrastive.md).
+  double content_weight = 0;
+  // Label-guided training (docs/notes/contrastive.md, "Label-guided training"):
+  // style labels choose the style clips (the reconstruction's style code from
+  // a clip of the same style doing something else, the transfer's from a clip
+  // of another style), and a critic trained on the labels of real windows
+  // judges each transfer: `class_weight` x its cross-entropy against the
+  // target style and the content input's content, plus `cycle_weight` x the
+  // L1 error of restyling the transfer back with the content's own style.
+  bool guided = false;
+  double class_weight = 1.0, cycle_weight = 1.0;
+  // Guided only: the content head's share of the critic's verdict on a
+  // transfer, times this (1: style and content weigh alike).
+  double content_class_weight = 1.0;
+  // Guided only: content windows are drawn so that a content class with n
+  // training windows comes up in proportion to n^(1 - content_balance)
+  // (0: uniformly over windows; 1: every class alike). Bandai's dataset-1
+  // actions have 2-15 clips each against dataset-2's 70.
+  double content_balance = 0.0;
+  // Training: content windows start anywhere in their clip, not only on the
+  // hop grid, so every clip's last frames are trained on too
+  // (TrainingSet::random_starts).
+  bool random_starts = false;
+  // Training: left-right mirrored copies of the training clips join them,
+  // their content labels' sides swapped (train/training_set.h).
+  bool mirror = false;
+  // Weight averaging (train/weight_average.h): from iteration
+  // `average_from` on (0: off), every `average_every` iterations, the
+  // generator's weights are folded into a running mean, which is what the
+  // package holds.
+  int average_from = 0, average_every = 50;
+  // Guided only: with `pair_gan`, the adversarial term (weight alpha) is a
+  // discriminator conditioned on the (style, content) label pair, which also
+  // rejects the content window (identity) and the style window (copy-style)
+  // under the transfer's labels (docs/notes/contrastive.md).
+  bool pair_gan = false;
+  // Optimization.
+  int batch = 16;
+  double lr = 1e-4;
+  int iterations = 20000;
+  uint64_t seed = 1;
+  // Provenance (filled by training).
+  std::string family = "contrastive";
+  std::string data;    // Data directories trained on.
+  std::string commit;  // Source commit of the trainer.
+  int trained_iterations = 0;
+
+  // The Gaussian that splits off the content's detail: detail_sigma, or
+  // smooth_sigma when it is 0.
+  double DetailSigma() const { return detail_sigma > 0 ? detail_sigma : smooth_sigma; }
+
+  // The keys that may be set on top of a package's config.txt at load time
+  // (model/family_registry.h).
+  static const std::vector<std::string>& InferenceKeys();
+
+  std::string Serialize() const;
+  // INVALID_ARGUMENT naming `source` and the line of a malformed or
+  // out-of-range entry; unknown keys are errors too.
+  static absl::StatusOr<ContrastiveConfig> Parse(const std::string& text,
+                                                 const std::string& source);
+  // Reads and parses <dir>/config.txt (NOT_FOUND when missing), then the
+  // lines of `overrides` as if they followed it.
+  static absl::StatusOr<ContrastiveConfig> Read(const std::string& dir,
+                                                const std::string& overrides = "");
+};
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CONTRASTIVE_CONTRASTIVE_CONFIG_H_

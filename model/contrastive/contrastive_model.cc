@@ -1,0 +1,294 @@
+#include "model/contrastive/contrastive_model.h"
+
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "model/content_guard.h"
+#include "model/contrastive/contrastive_net.h"
+#include "model/weights_io.h"
+#include "model/window_blend.h"
+#include "model/window_tensor.h"
+#include "model/contrastive/window_streamer.h"
+#include "motion/features.h"
+#include "motion/windowing.h"
+
+namespace stylus::model {
+
+struct ContrastiveModel::Impl {
+  std::string dir;
+  ContrastiveConfig config;
+  DataFiles data;
+  ContrastiveNet net{nullptr};
+  std::unique_ptr<ContentGuard> guard;  // With config.content_guard.
+
+  // What GenerateWindows takes from the config, so the guard can vary it.
+  struct Knobs {
+    double strength = 1;
+    bool residual = false;
+    double content_detail = 0;
+  };
+  Knobs Configured() const {
+    return {config.style_strength, config.residual, config.content_detail};
+  }
+  // The network passes every form of one clip's transfer shares: its
+  // windows, their content codes, their own style codes and the generator's
+  // output for those (the residual form's subtrahend). Filled on first use.
+  struct SharedPasses {
+    torch::Tensor x, content, own_style, own_decode;
+  };
+  // `shared` (may be null) carries passes from one form to the next.
+  absl::StatusOr<std::vector<float>> Generate(const motion::FeatureClip& features,
+                                              const std::vector<int>& starts,
+                                              const std::vector<StyleCode>& codes,
+                                              const Knobs& knobs, SharedPasses* shared = nullptr);
+  // Windows generated for `codes` at `starts`, cross-faded into a motion on
+  // `content`'s skeleton (not post-processed).
+  absl::StatusOr<motion::Motion> Render(const motion::Motion& content,
+                                        const motion::FeatureClip& features,
+                                        const std::vector<int>& starts,
+                                        const std::vector<StyleCode>& codes, const Knobs& knobs,
+                                        SharedPasses* shared = nullptr);
+
+  absl::Status Internal(const std::exception& e) const {
+    return absl::InternalError(absl::StrCat("model ", dir, ": ", e.what()));
+  }
+
+  std::vector<int> Starts(int frames) const {
+    return *motion::WindowStarts(frames, {config.window, config.hop},
+                                 /*cover_tail=*/true);
+  }
+
+  torch::Tensor Windows(const motion::FeatureClip& f, const std::vector<int>& starts) const {
+    return WindowTensor(f, starts, config.window);
+  }
+};
+
+ContrastiveModel::ContrastiveModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+ContrastiveModel::~ContrastiveModel() = default;
+const ContrastiveConfig& ContrastiveModel::config() const { return impl_->config; }
+const DataFiles& ContrastiveModel::data() const { return impl_->data; }
+const std::string& ContrastiveModel::dir() const { return impl_->dir; }
+ModelSummary ContrastiveModel::summary() const {
+  const ContrastiveConfig& c = impl_->config;
+  return {c.family, c.window, c.hop, c.dim, c.trained_iterations};
+}
+int ContrastiveModel::code_size() const { return impl_->config.channels; }
+const ContentGuard* ContrastiveModel::content_guard() const { return impl_->guard.get(); }
+const GuardKeys& ContrastiveModel::guard_keys() const { return impl_->config; }
+
+absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(
+    const std::string& dir, const std::string& overrides) {
+  absl::StatusOr<ContrastiveConfig> config = ContrastiveConfig::Read(dir, overrides);
+  if (!config.ok()) return config.status();
+  absl::StatusOr<DataFiles> data = ReadPackageData(dir, config->dim);
+  if (!data.ok()) return data.status();
+  auto impl = std::make_unique<Impl>();
+  impl->dir = dir;
+  impl->config = *std::move(config);
+  impl->data = *std::move(data);
+  impl->net = ContrastiveNet(impl->config);
+  if (absl::Status s = LoadWeights(impl->net, dir + "/weights.pt"); !s.ok()) return s;
+  impl->net->eval();
+  const ContrastiveConfig& c = impl->config;
+  if (c.content_guard) {
+    absl::StatusOr<std::unique_ptr<ContentGuard>> guard =
+        ContentGuard::Load(dir, c.dim, c.window, c.hop);
+    if (!guard.ok()) return guard.status();
+    impl->guard = *std::move(guard);
+  }
+  return std::unique_ptr<ContrastiveModel>(new ContrastiveModel(std::move(impl)));
+}
+
+absl::StatusOr<StyleCode> ContrastiveModel::EncodeStyle(const motion::Motion& clip) const {
+  absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(clip, "style clip");
+  if (!f.ok()) return f.status();
+  PadToLength(&*f, impl_->config.window);
+  try {
+    c10::InferenceMode guard;
+    const torch::Tensor s =
+        impl_->net->style(impl_->Windows(*f, impl_->Starts(f->frames))).mean(0).contiguous();
+    return StyleCode{std::vector<float>(s.data_ptr<float>(), s.data_ptr<float>() + s.numel())};
+  } catch (const std::exception& e) {
+    return impl_->Internal(e);
+  }
+}
+
+absl::StatusOr<motion::FeatureClip> ContrastiveModel::NormalizedFeatures(
+    const motion::Motion& clip, const std::string& what,
+    const std::vector<motion::Quat>* sign_reference) const {
+  if (absl::Status s = CheckClipFitsModel(clip, impl_->data, what); !s.ok()) return s;
+  absl::StatusOr<motion::FeatureClip> f =
+      motion::ExtractFeatures(clip, impl_->data.roles, {}, sign_reference);
+  if (!f.ok()) return f.status();
+  impl_->data.norm.Normalize(&*f);
+  return f;
+}
+
+absl::StatusOr<std::vector<float>> ContrastiveModel::GenerateWindows(
+    const motion::FeatureClip& features, const std::vector<int>& starts,
+    const std::vector<StyleCode>& codes) const {
+  return impl_->Generate(features, starts, codes, impl_->Configured());
+}
+
+absl::StatusOr<std::vector<float>> ContrastiveModel::Impl::Generate(
+    const motion::FeatureClip& features, const std::vector<int>& starts,
+    const std::vector<StyleCode>& codes, const Knobs& knobs, SharedPasses* shared) {
+  if (codes.size() != starts.size()) {
+    return absl::InvalidArgumentError("one style code per window is needed");
+  }
+  for (size_t w = 0; w < starts.size(); ++w) {
+    if (starts[w] < 0 || starts[w] + config.window > features.frames) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "window at frame ", starts[w], " does not fit in ", features.frames, " frames"));
+    }
+    if (static_cast<int>(codes[w].values.size()) != config.channels) {
+      return absl::InvalidArgumentError(absl::StrCat("style code has ", codes[w].values.size(),
+                                                     " values; this model's have ",
+                                                     config.channels));
+    }
+  }
+  try {
+    c10::InferenceMode guard;
+    torch::Tensor code_tensor =
+        torch::empty({static_cast<int64_t>(starts.size()), config.channels});
+    for (size_t w = 0; w < starts.size(); ++w) {
+      code_tensor[w].copy_(torch::from_blob(const_cast<float*>(codes[w].values.data()),
+                                            {config.channels}, torch::kFloat32));
+    }
+    SharedPasses local;
+    SharedPasses& passes = shared != nullptr ? *shared : local;
+    if (!passes.x.defined()) {
+      passes.x = Windows(features, starts);
+      passes.content = net->content(passes.x);
+    }
+    const torch::Tensor& x = passes.x;
+    if ((knobs.strength < 1 || knobs.residual) && !passes.own_style.defined()) {
+      passes.own_style = net->style(x);
+    }
+    if (knobs.strength < 1) {
+      const double k = knobs.strength;
+      code_tensor = k * code_tensor + (1 - k) * passes.own_style;
+    }
+    torch::Tensor y = net->decode(passes.content, code_tensor);
+    // residual: the content window plus what the style changes in the
+    // generator's output; what the generator loses of any window cancels.
+    if (knobs.residual) {
+      if (!passes.own_decode.defined()) {
+        passes.own_decode = net->decode(passes.content, passes.own_style);
+      }
+      y = y - passes.own_decode;
+    }
+    // Channels [0, path) pose the body; [path, dim) are the root trajectory
+    // and foot contacts (motion/features.h).
+    const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
+    if (config.smooth_sigma > 0) {
+      y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config.smooth_sigma));
+    }
+    if (knobs.content_detail > 0) {
+      const torch::Tensor pose = x.slice(1, 0, path);
+      y.slice(1, 0, path)
+          .add_(knobs.content_detail * (pose - SmoothOverTime(pose, config.DetailSigma())));
+    }
+    if (knobs.residual) y = y + x;
+    // keep_path: the style changes the body, not the content's path.
+    if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
+    y = y.contiguous();
+    return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
+  } catch (const std::exception& e) {
+    return Internal(e);
+  }
+}
+
+// One clip's windows and their style codes; the forms share their network
+// passes.
+class ContrastiveModel::ClipForms : public StyleModel::Forms {
+ public:
+  ClipForms(Impl* impl, const motion::Motion& content, motion::FeatureClip features,
+            std::vector<int> starts, std::vector<StyleCode> codes)
+      : impl_(impl),
+        content_(content),
+        features_(std::move(features)),
+        starts_(std::move(starts)),
+        codes_(std::move(codes)) {}
+
+  absl::StatusOr<motion::Motion> Draft(size_t step) override {
+    const Impl::Knobs knobs =
+        step == 0 ? impl_->Configured()
+                  : Impl::Knobs{impl_->config.guard_strengths[step - 1], /*residual=*/true, 0};
+    return impl_->Render(content_, features_, starts_, codes_, knobs, &shared_);
+  }
+
+ private:
+  Impl* impl_;
+  const motion::Motion& content_;
+  motion::FeatureClip features_;
+  std::vector<int> starts_;
+  std::vector<StyleCode> codes_;
+  Impl::SharedPasses shared_;
+};
+
+absl::StatusOr<std::unique_ptr<StyleModel::Forms>> ContrastiveModel::PrepareTransfer(
+    const motion::Motion& content, const std::vector<StyleCode>& styles,
+    const StyleWeights& weights) const {
+  const ContrastiveConfig& config = impl_->config;
+  const bool per_frame = !weights.per_frame.empty();
+  absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(content, "content clip");
+  if (!f.ok()) return f.status();
+  PadToLength(&*f, config.window);
+  std::vector<int> starts = impl_->Starts(f->frames);
+  std::vector<StyleCode> codes(starts.size());
+  for (size_t w = 0; w < starts.size(); ++w) {
+    const int centre = std::min(content.num_frames - 1, starts[w] + config.window / 2);
+    const std::vector<double>& mix = per_frame ? weights.per_frame[centre] : weights.fixed;
+    codes[w] = MixStyles(styles, mix);
+  }
+  return std::make_unique<ClipForms>(impl_.get(), content, *std::move(f), std::move(starts),
+                                     std::move(codes));
+}
+
+absl::StatusOr<std::unique_ptr<FrameStreamer>> ContrastiveModel::OpenStream(
+    const StreamSpec& spec) const {
+  std::shared_ptr<const StyleModel> self = weak_from_this().lock();
+  if (self == nullptr) return StyleModel::OpenStream(spec);  // Its error.
+  absl::StatusOr<std::unique_ptr<WindowStreamer>> s = WindowStreamer::Create(
+      std::static_pointer_cast<const ContrastiveModel>(std::move(self)), spec);
+  if (!s.ok()) return s.status();
+  return std::unique_ptr<FrameStreamer>(*std::move(s));
+}
+
+absl::StatusOr<motion::Motion> ContrastiveModel::Impl::Render(
+    const motion::Motion& content, const motion::FeatureClip& f, const std::vector<int>& starts,
+    const std::vector<StyleCode>& codes, const Knobs& knobs, SharedPasses* shared) {
+  absl::StatusOr<std::vector<float>> y = Generate(f, starts, codes, knobs, shared);
+  if (!y.ok()) return y.status();
+  WindowBlender blender(config.window, config.window - config.hop, f.dim);
+  const size_t per_window = static_cast<size_t>(f.dim) * config.window;
+  for (size_t w = 0; w < starts.size(); ++w) blender.Add(starts[w], y->data() + w * per_window);
+  motion::FeatureClip out = blender.Take(content.num_frames);  // Drops the padding.
+  data.norm.Denormalize(&out);
+  return motion::MotionFromFeatures(out, content.skeleton, data.roles, content.frame_time,
+                                    motion::RootAt(content, data.roles, 0));
+}
+
+ModelFamily ContrastiveFamily() {
+  ModelFamily f;
+  f.name = "contrastive";
+  f.load = [](const std::string& dir,
+              const std::string& overrides) -> absl::StatusOr<std::unique_ptr<StyleModel>> {
+    absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(dir, overrides);
+    if (!m.ok()) return m.status();
+    return std::unique_ptr<StyleModel>(*std::move(m));
+  };
+  f.read_header = [](const std::string& dir) -> absl::StatusOr<ModelSummary> {
+    absl::StatusOr<ContrastiveConfig> c = ContrastiveConfig::Read(dir);
+    if (!c.ok()) return c.status();
+    return ModelSummary{c->family, c->window, c->hop, c->dim, c->trained_iterations};
+  };
+  f.inference_keys = ContrastiveConfig::InferenceKeys();
+  return f;
+}
+
+}  // namespace stylus::model

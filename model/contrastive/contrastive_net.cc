@@ -1,0 +1,144 @@
+#include "model/contrastive/contrastive_net.h"
+
+namespace stylus::model {
+namespace {
+
+namespace nn = torch::nn;
+namespace F = torch::nn::functional;
+
+nn::Conv1d Conv(int in, int out, int kernel, int stride = 1) {
+  const int pad = stride == 1 ? kernel / 2 : (kernel - stride) / 2;
+  return nn::Conv1d(nn::Conv1dOptions(in, out, kernel).stride(stride).padding(pad));
+}
+
+torch::Tensor LeakyRelu(const torch::Tensor& x) {
+  return F::leaky_relu(x, F::LeakyReLUFuncOptions().negative_slope(0.2));
+}
+
+// Per-sample, per-channel normalization over time, then scale and bias.
+torch::Tensor AdaIn(const torch::Tensor& x, const torch::Tensor& scale, const torch::Tensor& bias) {
+  const torch::Tensor normalized = (x - x.mean(2, true)) / (x.var(2, false, true) + 1e-5).sqrt();
+  return normalized * (1 + scale.unsqueeze(2)) + bias.unsqueeze(2);
+}
+
+}  // namespace
+
+ResBlockImpl::ResBlockImpl(int channels, int kernel, bool instance_norm) {
+  conv1 = register_module("conv1", Conv(channels, channels, kernel));
+  conv2 = register_module("conv2", Conv(channels, channels, kernel));
+  if (instance_norm) {
+    norm1 = register_module("norm1", nn::InstanceNorm1d(nn::InstanceNorm1dOptions(channels)));
+    norm2 = register_module("norm2", nn::InstanceNorm1d(nn::InstanceNorm1dOptions(channels)));
+  }
+}
+
+torch::Tensor ResBlockImpl::forward(const torch::Tensor& x) {
+  torch::Tensor y = conv1->forward(x);
+  if (norm1) y = norm1->forward(y);
+  y = conv2->forward(LeakyRelu(y));
+  if (norm2) y = norm2->forward(y);
+  return x + y;
+}
+
+EncoderImpl::EncoderImpl(const ContrastiveConfig& c, bool instance_norm) {
+  conv1 = register_module("conv1", Conv(c.dim, c.channels, 7));
+  conv2 = register_module("conv2", Conv(c.channels, c.channels, 4, 2));
+  conv3 = register_module("conv3", Conv(c.channels, c.channels, 7));
+  blocks = register_module("blocks", nn::ModuleList());
+  for (int i = 0; i < 3; ++i) blocks->push_back(ResBlock(c.channels, c.res_kernel, instance_norm));
+}
+
+torch::Tensor EncoderImpl::forward(torch::Tensor x) {
+  x = LeakyRelu(conv1->forward(x));
+  x = LeakyRelu(conv2->forward(x));
+  x = LeakyRelu(conv3->forward(x));
+  for (const auto& b : *blocks) x = b->as<ResBlock>()->forward(x);
+  return x;
+}
+
+AdaInBlockImpl::AdaInBlockImpl(int c, int kernel) : channels(c) {
+  conv1 = register_module("conv1", Conv(c, c, kernel));
+  conv2 = register_module("conv2", Conv(c, c, kernel));
+}
+
+torch::Tensor AdaInBlockImpl::forward(const torch::Tensor& x, const torch::Tensor& p) {
+  const auto parts = p.split(channels, 1);
+  torch::Tensor y = LeakyRelu(AdaIn(conv1->forward(x), parts[0], parts[1]));
+  y = AdaIn(conv2->forward(y), parts[2], parts[3]);
+  return x + y;
+}
+
+GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) {
+  mlp = register_module("mlp",
+                        nn::Sequential(nn::Linear(c.channels, c.channels),
+                                       nn::LeakyReLU(nn::LeakyReLUOptions().negative_slope(0.2)),
+                                       nn::Linear(c.channels, 4 * 4 * c.channels)));
+  blocks = register_module("blocks", nn::ModuleList());
+  for (int i = 0; i < 4; ++i)
+    blocks->push_back(AdaInBlock(c.channels, c.res_kernel));
+  up_conv = register_module("up_conv", Conv(c.channels, c.channels, 7));
+  out_conv = register_module("out_conv", Conv(c.channels, c.dim, 7));
+}
+
+torch::Tensor GeneratorImpl::forward(const torch::Tensor& content, const torch::Tensor& style) {
+  const auto params = mlp->forward(style).split(4 * channels, 1);
+  torch::Tensor x = content;
+  for (size_t i = 0; i < blocks->size(); ++i)
+    x = blocks[i]->as<AdaInBlock>()->forward(x, params[i]);
+  x = F::interpolate(
+      x, F::InterpolateFuncOptions().scale_factor(std::vector<double>{2.0}).mode(torch::kNearest));
+  x = LeakyRelu(up_conv->forward(x));
+  return out_conv->forward(x);
+}
+
+DiscriminatorImpl::DiscriminatorImpl(const ContrastiveConfig& c) {
+  const auto lrelu = nn::LeakyReLUOptions().negative_slope(0.2);
+  mlp = register_module(
+      "mlp", nn::Sequential(nn::Flatten(), nn::Linear(c.dim * c.window, 256), nn::LeakyReLU(lrelu),
+                            nn::Linear(256, 128), nn::LeakyReLU(lrelu), nn::Linear(128, 1)));
+}
+
+torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) {
+  return mlp->forward(x).squeeze(1);
+}
+
+ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c) {
+  content_encoder = register_module("content_encoder", Encoder(c, /*instance_norm=*/true));
+  style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));
+  generator = register_module("generator", Generator(c));
+  nce_w = register_parameter("nce_w", torch::eye(c.channels));
+}
+
+torch::Tensor ReconstructionLoss(const torch::Tensor& output, const torch::Tensor& target) {
+  return (output - target).abs().mean();
+}
+
+torch::Tensor NceLoss(const torch::Tensor& generated, const torch::Tensor& target,
+                      const torch::Tensor& w, double temperature) {
+  const torch::Tensor q = F::normalize(generated, F::NormalizeFuncOptions().dim(1));  // (B, C, L)
+  const torch::Tensor k = F::normalize(target, F::NormalizeFuncOptions().dim(1));
+  // logits[b, i, j] = q[b,:,i]^T W k[b,:,j]
+  const torch::Tensor logits = torch::einsum("bci,cd,bdj->bij", {q, w, k}) / temperature;
+  const int64_t b = logits.size(0), l = logits.size(1);
+  const torch::Tensor labels = torch::arange(l).repeat({b});
+  return F::cross_entropy(logits.reshape({b * l, l}), labels);
+}
+
+torch::Tensor TripletLoss(const torch::Tensor& anchor, const torch::Tensor& positive,
+                          const torch::Tensor& negative, double margin) {
+  const auto unit = F::NormalizeFuncOptions().dim(1);
+  const torch::Tensor a = F::normalize(anchor, unit), p = F::normalize(positive, unit),
+                      n = F::normalize(negative, unit);
+  return torch::relu((a - p).norm(2, 1) - (a - n).norm(2, 1) + margin).mean();
+}
+
+torch::Tensor GeneratorGanLoss(const torch::Tensor& fake_logits) {
+  return F::softplus(-fake_logits).mean();
+}
+
+torch::Tensor DiscriminatorGanLoss(const torch::Tensor& real_logits,
+                                   const torch::Tensor& fake_logits) {
+  return F::softplus(-real_logits).mean() + F::softplus(fake_logits).mean();
+}
+
+}  // namespace stylus::model

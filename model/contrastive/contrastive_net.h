@@ -1,0 +1,96 @@
+// The networks and losses of the `contrastive` family (internal to model/:
+// includes LibTorch). Tensors are (batch, channels, time).
+#ifndef STYLUS_MODEL_CONTRASTIVE_CONTRASTIVE_NET_H_
+#define STYLUS_MODEL_CONTRASTIVE_CONTRASTIVE_NET_H_
+
+#include <torch/torch.h>
+
+#include "model/contrastive/contrastive_config.h"
+
+namespace stylus::model {
+
+// conv -> norm -> LeakyReLU -> conv -> norm, plus the input. With `instance_norm`
+// the norms are InstanceNorm (content encoder: strips per-clip statistics);
+// without, plain (style encoder: keeps them).
+struct ResBlockImpl : torch::nn::Module {
+  ResBlockImpl(int channels, int kernel, bool instance_norm);
+  torch::Tensor forward(const torch::Tensor& x);
+  torch::nn::Conv1d conv1{nullptr}, conv2{nullptr};
+  torch::nn::InstanceNorm1d norm1{nullptr}, norm2{nullptr};
+};
+TORCH_MODULE(ResBlock);
+
+// 3 Conv1d layers (the second with stride 2: T -> T/2), then 3 residual
+// blocks.
+struct EncoderImpl : torch::nn::Module {
+  EncoderImpl(const ContrastiveConfig& c, bool instance_norm);
+  torch::Tensor forward(torch::Tensor x);
+  torch::nn::Conv1d conv1{nullptr}, conv2{nullptr}, conv3{nullptr};
+  torch::nn::ModuleList blocks;
+};
+TORCH_MODULE(Encoder);
+
+// Residual block whose two normalizations are AdaIN with given scale and bias.
+struct AdaInBlockImpl : torch::nn::Module {
+  AdaInBlockImpl(int channels, int kernel);
+  // params: (B, 4C): scale1, bias1, scale2, bias2.
+  torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& params);
+  torch::nn::Conv1d conv1{nullptr}, conv2{nullptr};
+  int channels;
+};
+TORCH_MODULE(AdaInBlock);
+
+// 4 AdaIN residual blocks on the content code, AdaIN parameters from an MLP on
+// the style code, then upsampling back to T frames and an output conv to d.
+struct GeneratorImpl : torch::nn::Module {
+  explicit GeneratorImpl(const ContrastiveConfig& c);
+  torch::Tensor forward(const torch::Tensor& content, const torch::Tensor& style);
+  torch::nn::Sequential mlp{nullptr};
+  torch::nn::ModuleList blocks;
+  torch::nn::Conv1d up_conv{nullptr}, out_conv{nullptr};
+  int channels;
+};
+TORCH_MODULE(Generator);
+
+// MLP on a flattened window: real (high) vs generated (low) logits.
+struct DiscriminatorImpl : torch::nn::Module {
+  explicit DiscriminatorImpl(const ContrastiveConfig& c);
+  torch::Tensor forward(const torch::Tensor& x);
+  torch::nn::Sequential mlp{nullptr};
+};
+TORCH_MODULE(Discriminator);
+
+// Everything inference needs (Ec, Es, G) plus the InfoNCE bilinear W. The
+// discriminator lives apart: it is only for training and is not shipped.
+struct ContrastiveNetImpl : torch::nn::Module {
+  explicit ContrastiveNetImpl(const ContrastiveConfig& c);
+  torch::Tensor content(const torch::Tensor& x) { return content_encoder->forward(x); }
+  // (B, C): temporal mean of the style encoder's output.
+  torch::Tensor style(const torch::Tensor& x) { return style_encoder->forward(x).mean(2); }
+  torch::Tensor decode(const torch::Tensor& c, const torch::Tensor& s) {
+    return generator->forward(c, s);
+  }
+  Encoder content_encoder{nullptr}, style_encoder{nullptr};
+  Generator generator{nullptr};
+  torch::Tensor nce_w;
+};
+TORCH_MODULE(ContrastiveNet);
+
+// Losses (docs/notes/contrastive.md).
+torch::Tensor ReconstructionLoss(const torch::Tensor& output, const torch::Tensor& target);
+// InfoNCE over every time step i of the content codes: query column i of
+// `generated`, positive column i of `target`, negatives its other columns;
+// similarity q^T W k / temperature on unit-length columns.
+torch::Tensor NceLoss(const torch::Tensor& generated, const torch::Tensor& target,
+                      const torch::Tensor& w, double temperature);
+// Triplet hinge on unit-length style codes.
+torch::Tensor TripletLoss(const torch::Tensor& anchor, const torch::Tensor& positive,
+                          const torch::Tensor& negative, double margin);
+// Non-saturating GAN: the generator's loss, and the discriminator's.
+torch::Tensor GeneratorGanLoss(const torch::Tensor& fake_logits);
+torch::Tensor DiscriminatorGanLoss(const torch::Tensor& real_logits,
+                                   const torch::Tensor& fake_logits);
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CONTRASTIVE_CONTRASTIVE_NET_H_

@@ -1,0 +1,49 @@
+// The model families this build serves, by name: how to load a package of
+// each and read its header without its weights. Adding a family is a folder
+// under model/ and one line in family_registry.cc.
+#ifndef STYLUS_MODEL_FAMILY_REGISTRY_H_
+#define STYLUS_MODEL_FAMILY_REGISTRY_H_
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "model/style_model.h"
+
+namespace stylus::model {
+
+// Inference keys set on top of a package's config.txt when loading it, in
+// order ("kc_iters", "0"). Only a family's inference keys may be set.
+using ConfigOverrides = std::vector<std::pair<std::string, std::string>>;
+
+struct ModelFamily {
+  std::string name;
+  // The package in `dir` with `overrides` (config.txt lines) applied.
+  absl::StatusOr<std::unique_ptr<StyleModel>> (*load)(const std::string& dir,
+                                                      const std::string& overrides);
+  absl::StatusOr<ModelSummary> (*read_header)(const std::string& dir);
+  // The config keys that change inference only (docs/config.md).
+  std::vector<std::string> inference_keys;
+};
+
+// Every family of this build.
+const std::vector<ModelFamily>& ModelFamilies();
+// The family named `name`; INVALID_ARGUMENT listing the known ones otherwise.
+absl::StatusOr<const ModelFamily*> FindFamily(const std::string& name);
+bool IsServedFamily(const std::string& name);
+
+// The header of the package in `dir` (its config.txt only): NOT_FOUND when
+// missing, INVALID_ARGUMENT for an unknown family or a malformed config.
+absl::StatusOr<ModelSummary> ReadPackageHeader(const std::string& dir);
+
+// Loads the package in `dir` with the family its config.txt names.
+// INVALID_ARGUMENT for an unknown family or an override of a key that is not
+// one of that family's inference keys; otherwise the family's own errors.
+absl::StatusOr<std::unique_ptr<StyleModel>> LoadStyleModel(const std::string& dir,
+                                                           const ConfigOverrides& overrides = {});
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_FAMILY_REGISTRY_H_

@@ -1,0 +1,298 @@
+// Judges and evaluation plumbing on a tiny synthesized, labelled dataset, and
+// the held-out pair rule on the Bandai data.
+#include "eval/evaluation.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "gtest/gtest.h"
+#include "model/contrastive/contrastive_model.h"
+#include "train/contrastive_trainer.h"
+#include "motion/bvh.h"
+#include "motion/dataset.h"
+#include "motion/metrics.h"
+#include "motion/synth.h"
+#include "tests/test_support.h"
+
+namespace stylus::model {
+namespace {
+
+namespace fs = std::filesystem;
+
+// dataset-9_{walk,run}_{old,proud}_00{1,2}.bvh, synthesized.
+std::string TinyDataset() {
+  const std::string dir = ::testing::TempDir() + "/eval_tiny";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* content : {"walk", "run"}) {
+    for (const char* style : {"old", "proud"}) {
+      for (int take = 1; take <= 2; ++take) {
+        std::string spec = std::string(style) + ",frames=48,turn=" + std::to_string(take * 10);
+        if (std::string(content) == "run") spec += ",gait=run,speed=300,stride=240";
+        const std::string path =
+            dir + "/dataset-9_" + content + "_" + style + "_00" + std::to_string(take) + ".bvh";
+        EXPECT_TRUE(
+            motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(spec)), path).ok());
+      }
+    }
+  }
+  return dir;
+}
+
+TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
+  const std::string data = TinyDataset();
+  JudgeTrainOptions jo;
+  jo.data = {data};
+  jo.out = ::testing::TempDir() + "/eval_judges";
+  jo.iterations = 60;
+  jo.batch = 8;
+  jo.log = [](const std::string&) {};
+  absl::StatusOr<JudgeAccuracy> acc = TrainJudges(jo);
+  ASSERT_TRUE(acc.ok()) << acc.status();
+  EXPECT_GT(acc->clips, 0);
+  absl::StatusOr<std::unique_ptr<Judges>> judges = Judges::Load(jo.out);
+  ASSERT_TRUE(judges.ok()) << judges.status();
+  EXPECT_EQ((*judges)->styles(), (std::vector<std::string>{"old", "proud"}));
+  EXPECT_EQ((*judges)->contents(), (std::vector<std::string>{"run", "walk"}));
+
+  TrainOptions to;
+  to.data = {data};
+  to.out = ::testing::TempDir() + "/eval_model";
+  to.config.channels = 16;
+  to.config.window = 16;
+  to.config.hop = 12;
+  to.config.batch = 4;
+  to.config.iterations = 10;
+  to.log = [](const std::string&) {};
+  ASSERT_TRUE(TrainContrastive(to).ok());
+  auto model = ContrastiveModel::Load(to.out);
+  ASSERT_TRUE(model.ok()) << model.status();
+
+  absl::StatusOr<std::vector<EvalPair>> pairs = MakeEvalPairs({data}, 2);
+  ASSERT_TRUE(pairs.ok()) << pairs.status();
+  absl::StatusOr<DaeTrainResult> dae = TrainFeatureJudge({data}, jo.out, 150, 1, {});
+  ASSERT_TRUE(dae.ok()) << dae.status();
+  EXPECT_LT(dae->denoised_mse, dae->noisy_mse);  // It learned to denoise.
+  absl::StatusOr<std::unique_ptr<FeatureJudge>> features = FeatureJudge::Load(jo.out);
+  ASSERT_TRUE(features.ok()) << features.status();
+  std::vector<motion::Motion> reference;
+  for (const auto& e : fs::directory_iterator(data))
+    reference.push_back(*motion::ReadBvhFile(e.path().string()));
+  absl::StatusOr<EvalReport> report = Evaluate({{"model", model->get(), true}, {"again", model->get(), false}},
+                                               **judges, features->get(), reference, *pairs);
+  ASSERT_TRUE(report.ok()) << report.status();
+  ASSERT_EQ(report->rows.size(), 5u);
+  EXPECT_EQ(report->identity_row, 3);
+  EXPECT_EQ(report->rows[2].name, "again, no post-processing");
+  // The same model twice gives the same row.
+  EXPECT_DOUBLE_EQ(report->rows[2].fmd, report->rows[0].fmd);
+  // Identity's content distance is 0; the untrained model's output is far
+  // from real motion in FMD compared with the real clips themselves.
+  EXPECT_DOUBLE_EQ(report->rows[3].content_distance, 0.0);
+  EXPECT_GT(report->rows[0].fmd, report->rows[3].fmd);
+  EXPECT_GT(report->real_diversity, 0);
+  for (const EvalRow& r : report->rows) EXPECT_EQ(r.pairs, static_cast<int>(pairs->size()));
+  // Post-processing plants the feet of the model's output.
+  EXPECT_LT(report->rows[1].foot_skating, report->rows[0].foot_skating);
+  // Real capture: bones exactly as the offsets say.
+  EXPECT_LT(report->rows[3].bone_length_error, 1e-4);
+  // By construction the identity output never has the style clip's style label
+  // and copy-style never the content clip's content, so a judge that is right
+  // about real clips scores them low there.
+  EXPECT_NE(report->Markdown().find("| model, post-processing full |"), std::string::npos);
+  EXPECT_NE(report->Markdown().find("foot skating"), std::string::npos);
+  // Verdicts: one per pair and row; the identity row's judged labels are the
+  // judges' verdicts on the content clips themselves, and its accuracy counts
+  // exactly the verdicts that match.
+  ASSERT_EQ(report->verdicts.size(), pairs->size() * report->rows.size());
+  int identity_right = 0;
+  for (const EvalVerdict& v : report->verdicts) {
+    if (v.row != report->identity_row) continue;
+    const auto label = motion::ParseClipName((*pairs)[v.pair].content_path);
+    ASSERT_TRUE(label.has_value());
+    identity_right += v.content == label->content;
+  }
+  EXPECT_EQ(identity_right, static_cast<int>(std::lround(report->rows[3].content_accuracy *
+                                                         pairs->size())));
+  const std::string csv = report->VerdictsCsv(*pairs);
+  EXPECT_EQ(csv.rfind("content_bvh,style_bvh,output,style,judged_style,content,judged_content\n", 0),
+            0u);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'),
+            static_cast<long>(report->verdicts.size() + 1));
+  EXPECT_NE(csv.find(",identity (output = content),"), std::string::npos);
+  EXPECT_NE(csv.find(",\"model, post-processing full\","), std::string::npos);  // Quoted.
+
+  // Second judges: the same judges a second time agree with themselves on
+  // every pair, so both, either and each accuracy are the first's.
+  EXPECT_FALSE(report->second_judges);
+  EXPECT_EQ(report->Markdown().find("Second judges"), std::string::npos);
+  absl::StatusOr<EvalReport> twice =
+      Evaluate({{"model", model->get(), true}}, **judges, nullptr, {}, *pairs, {}, judges->get());
+  ASSERT_TRUE(twice.ok()) << twice.status();
+  ASSERT_TRUE(twice->second_judges);
+  for (size_t r = 0; r < twice->rows.size(); ++r) {
+    const EvalRow& row = twice->rows[r];
+    EXPECT_DOUBLE_EQ(row.content_accuracy, report->rows[r == 0 || r == 1 ? r : r + 1].content_accuracy);
+    EXPECT_DOUBLE_EQ(row.second_style_accuracy, row.style_accuracy) << row.name;
+    EXPECT_DOUBLE_EQ(row.second_content_accuracy, row.content_accuracy) << row.name;
+    EXPECT_DOUBLE_EQ(row.content_by_both, row.content_accuracy) << row.name;
+    EXPECT_DOUBLE_EQ(row.ContentByEither(), row.content_accuracy) << row.name;
+  }
+  EXPECT_NE(twice->Markdown().find("Second judges"), std::string::npos);
+
+  // own_style: the row restyles each content clip with its own style code;
+  // its verdicts are the judges' on exactly those transfers.
+  absl::StatusOr<EvalReport> own = Evaluate(
+      {{"model", model->get(), false}, {"own", model->get(), false, /*own_style=*/true}}, **judges,
+      nullptr, {}, *pairs);
+  ASSERT_TRUE(own.ok()) << own.status();
+  ASSERT_EQ(own->rows[1].name, "own, no post-processing");
+  // Its foot skating is the mean over exactly those transfers, and differs
+  // from the transfers' row (the verdicts alone could agree by chance).
+  int checked = 0;
+  double skating = 0;
+  for (const EvalVerdict& v : own->verdicts) {
+    if (v.row != 1) continue;
+    const motion::Motion content = *motion::ReadBvhFile((*pairs)[v.pair].content_path);
+    const motion::Motion back = (*model)->Transfer(content, *(*model)->EncodeStyle(content),
+                                                    motion::PostProcessMode::kNone)->motion;
+    EXPECT_EQ(v.content, (*judges)->contents()[*(*judges)->ClassifyContent(back)]);
+    EXPECT_EQ(v.style, (*judges)->styles()[*(*judges)->ClassifyStyle(back)]);
+    skating += motion::FootSkating(back, content, (*model)->data().roles);
+    ++checked;
+  }
+  ASSERT_EQ(checked, static_cast<int>(pairs->size()));
+  EXPECT_NEAR(own->rows[1].foot_skating, skating / checked, 1e-6 * skating / checked);
+  EXPECT_NE(own->rows[1].foot_skating, own->rows[0].foot_skating);
+}
+
+// --random-starts: the same seed draws other windows (so other weights),
+// the judges still learn the tiny set's labels, and labels.txt says how
+// they were trained.
+// --random-starts and --swap-parts: each draws other windows (so other
+// weights from the same seed), learns, and is recorded in labels.txt.
+TEST(EvaluationTest, JudgesTrainedOnRandomStartsOrSwappedPartsRecordIt) {
+  const std::string data = TinyDataset();
+  struct Variant {
+    std::string name;
+    bool random_starts;
+    double swap_parts;
+    std::vector<std::string> recorded;
+  };
+  const std::vector<Variant> variants = {
+      {"grid", false, 0, {"random_starts = 0", "swap_parts = 0\n"}},
+      {"random", true, 0, {"random_starts = 1", "swap_parts = 0\n"}},
+      {"swap", false, 0.5, {"random_starts = 0", "swap_parts = 0.5\n"}}};
+  std::map<std::string, std::string> weights;
+  for (const Variant& v : variants) {
+    JudgeTrainOptions jo;
+    jo.data = {data};
+    jo.out = ::testing::TempDir() + "/judges_" + v.name;
+    jo.iterations = 400;
+    jo.batch = 8;
+    jo.random_starts = v.random_starts;
+    jo.swap_parts = v.swap_parts;
+    jo.log = [](const std::string&) {};
+    absl::StatusOr<JudgeAccuracy> acc = TrainJudges(jo);
+    ASSERT_TRUE(acc.ok()) << acc.status();
+    std::printf("%s: held-out style %.2f content %.2f\n", v.name.c_str(), acc->style,
+                acc->content);
+    EXPECT_GE(acc->content, 0.75) << v.name;
+    std::ifstream labels(jo.out + "/labels.txt");
+    const std::string text((std::istreambuf_iterator<char>(labels)), {});
+    for (const std::string& line : v.recorded) {
+      EXPECT_NE(text.find(line), std::string::npos) << v.name << ": " << line << " in " << text;
+    }
+    std::ifstream w(jo.out + "/content.pt", std::ios::binary);
+    weights[v.name] = std::string((std::istreambuf_iterator<char>(w)), {});
+    ASSERT_TRUE(Judges::Load(jo.out).ok());
+  }
+  EXPECT_NE(weights["grid"], weights["random"]);
+  EXPECT_NE(weights["grid"], weights["swap"]);
+}
+
+TEST(FeatureMetricsTest, DistancesAreZeroForIdenticalSetsAndGrowWithAShift) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g;
+  std::vector<std::vector<double>> a(300, std::vector<double>(8)), b = a, shifted;
+  for (auto& v : a)
+    for (double& x : v) x = g(rng);
+  for (auto& v : b)
+    for (double& x : v) x = g(rng);
+  for (const auto& v : a) {
+    shifted.push_back(v);
+    for (double& x : shifted.back()) x += 1.0;
+  }
+  EXPECT_NEAR(FrechetDistance(a, a), 0, 1e-6);
+  EXPECT_LT(FrechetDistance(a, b), 0.5);  // Same distribution, other samples.
+  EXPECT_NEAR(FrechetDistance(a, shifted), 8.0, 0.2);  // |mean shift|^2 = 8.
+  const auto same = KernelInceptionDistance(a, b, 10, 100, 1);
+  const auto moved = KernelInceptionDistance(a, shifted, 10, 100, 1);
+  EXPECT_LT(std::abs(same.first), 3 * same.second + 0.05);
+  EXPECT_GT(moved.first, 10 * std::abs(same.first) + 0.1);
+  EXPECT_NEAR(Diversity(a, 2000, 1), std::sqrt(2.0 * 8), 0.4);  // E|x-y| for N(0, I_8).
+  FeatureMap f{2, 3, {1, 2, 3, 4, 5, 6}}, h = f;
+  EXPECT_EQ(ContentDistance(f, h), 0);
+  EXPECT_EQ(StyleDistance(f, h), 0);
+  h.values[0] = 2;
+  EXPECT_NEAR(ContentDistance(f, h), 1.0 / 6, 1e-12);
+  EXPECT_GT(StyleDistance(f, h), 0);
+}
+
+TEST(EvaluationTest, BandaiPairsDifferInContentAndStyleAndAreDeterministic) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  absl::StatusOr<std::vector<EvalPair>> a = MakeEvalPairs({dir}, 3);
+  ASSERT_TRUE(a.ok()) << a.status();
+  absl::StatusOr<std::vector<EvalPair>> b =
+      MakeEvalPairs({dir + "/dataset-2", dir + "/dataset-1"}, 3);
+  ASSERT_TRUE(b.ok());
+  EXPECT_GT(a->size(), 200u);
+  std::set<std::pair<std::string, std::string>> sa, sb;
+  for (const EvalPair& p : *a) {
+    const auto c = *motion::ParseClipName(p.content_path), s = *motion::ParseClipName(p.style_path);
+    EXPECT_NE(c.content, s.content);
+    EXPECT_NE(c.style, s.style);
+    sa.insert({fs::path(p.content_path).filename(), fs::path(p.style_path).filename()});
+  }
+  for (const EvalPair& p : *b)
+    sb.insert({fs::path(p.content_path).filename(), fs::path(p.style_path).filename()});
+  EXPECT_EQ(sa, sb);
+}
+
+// The by-dataset table counts each verdict in its content clip's dataset and
+// in "one dataset" or "two datasets".
+TEST(EvaluationTest, AccuracyByDatasetSplitsThePairs) {
+  const std::vector<EvalPair> pairs = {
+      {"d/dataset-1_bow_old_001.bvh", "d/dataset-1_run_proud_001.bvh"},
+      {"d/dataset-1_bow_old_001.bvh", "d/dataset-2_walk_elderly_001.bvh"},
+      {"d/dataset-2_walk_active_001.bvh", "d/dataset-2_run_elderly_002.bvh"},
+      {"d/dataset-2_run_normal_003.bvh", "d/dataset-1_bow_proud_002.bvh"}};
+  EvalReport report;
+  report.rows.resize(2);
+  report.rows[0].name = "model", report.rows[1].name = "identity";
+  // The model: style right on pairs 0, 1 and 3; content right on 1 and 2.
+  const std::vector<std::pair<std::string, std::string>> model = {
+      {"proud", "guide"}, {"elderly", "bow"}, {"normal", "walk"}, {"proud", "walk"}};
+  for (int p = 0; p < 4; ++p) {
+    report.verdicts.push_back({p, 0, model[p].first, model[p].second});
+    const auto content = motion::ParseClipName(pairs[p].content_path);
+    report.verdicts.push_back({p, 1, content->style, content->content});
+  }
+  const std::string table = report.ByDatasetMarkdown(pairs);
+  EXPECT_EQ(table,
+            "| output | content from dataset-1 (2 pairs) | content from dataset-2 (2 pairs) | both "
+            "clips from one dataset (2 pairs) | from two datasets (2 pairs) |\n"
+            "| --- | --- | --- | --- | --- |\n"
+            "| model | 1.000 / 0.500 | 0.500 / 0.500 | 0.500 / 0.500 | 1.000 / 0.500 |\n"
+            "| identity | 0.000 / 1.000 | 0.000 / 1.000 | 0.000 / 1.000 | 0.000 / 1.000 |\n")
+      << table;
+}
+
+}  // namespace
+}  // namespace stylus::model

@@ -1,0 +1,378 @@
+#include "train/contrastive_trainer.h"
+
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "train/clip_classes.h"
+#include "model/contrastive/contrastive_net.h"
+#include "train/label_critic.h"
+#include "model/guard_net.h"
+#include "train/pair_discriminator.h"
+#include "model/package.h"
+#include "model/runtime.h"
+#include "train/torch_files.h"
+#include "train/training_run.h"
+#include "train/training_set.h"
+#include "train/weight_average.h"
+#include "model/weights_io.h"
+#include "motion/files.h"
+
+namespace stylus::model {
+namespace {
+
+struct Trainer {
+  explicit Trainer(const TrainOptions& options) : opt(options), config(options.config) {}
+
+  const TrainOptions& opt;
+  ContrastiveConfig config;
+  TrainingSet data;
+  ContrastiveNet net{nullptr};
+  WeightAverage<ContrastiveNet> average;  // With config.average_from.
+  Discriminator disc{nullptr};
+  std::unique_ptr<torch::optim::Adam> opt_g, opt_d;
+  // Label-guided training only.
+  ClipClasses classes;
+  LabelCritic critic;
+  PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
+  std::unique_ptr<torch::optim::Adam> opt_p;
+  torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
+  std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
+
+  void Log(const std::string& s) const { LogLine(opt.log, s); }
+
+  torch::Tensor ToTensor(std::vector<float>* buf) const {
+    return torch::from_blob(buf->data(), {config.batch, config.dim, config.window}, torch::kFloat32)
+        .clone();
+  }
+
+  // A batch of windows and, with cross_view, a second window of the same clip
+  // for each (its style view); without, the same windows.
+  std::pair<torch::Tensor, torch::Tensor> Batch() {
+    std::vector<float> buf;
+    std::vector<int> clips;
+    data.SampleBatch(config.batch, config.window, rng, &buf, &clips);
+    torch::Tensor x = ToTensor(&buf);
+    if (!config.cross_view) return {x, x};
+    data.SampleFromClips(clips, config.window, rng, &buf);
+    return {x, ToTensor(&buf)};
+  }
+
+  // L1 distance of a transfer to its content input over content_mask.
+  torch::Tensor ContentKeeping(const torch::Tensor& transfer, const torch::Tensor& content) const {
+    return ((transfer - content).abs() * content_mask).sum() /
+           (content_mask.sum() * transfer.size(0) * transfer.size(2));
+  }
+
+  // The transfer of content windows `x` (content codes `c`) to style code
+  // `s`. With config.residual (the form inference then uses): x plus the
+  // change the style makes in the generator's output, G(c, s) - G(c, Es(x));
+  // `own`, if given, is Es(x) already computed. Otherwise G(c, s).
+  torch::Tensor Transfer(const torch::Tensor& x, const torch::Tensor& c, const torch::Tensor& s,
+                         const torch::Tensor* own = nullptr) {
+    const torch::Tensor g = net->decode(c, s);
+    if (!config.residual) return g;
+    return x + g - net->decode(c, own ? *own : net->style(x));
+  }
+
+  // One discriminator step on `real` vs the detached `fake`; returns the
+  // generator's adversarial loss on `fake` (both recorded in `r`).
+  torch::Tensor Adversarial(const torch::Tensor& real, const torch::Tensor& fake, LossRecord* r) {
+    opt_d->zero_grad();
+    const torch::Tensor d_loss =
+        DiscriminatorGanLoss(disc->forward(real), disc->forward(fake.detach()));
+    d_loss.backward();
+    opt_d->step();
+    r->disc = d_loss.item<double>();
+    const torch::Tensor gan = GeneratorGanLoss(disc->forward(fake));
+    r->gan = gan.item<double>();
+    return gan;
+  }
+
+  // One step of the label-conditional discriminator (config.pair_gan): real
+  // for the content and style windows with their own labels; fake for the
+  // transfer, and for the content window (identity) and the style window
+  // (copy-style) under the transfer's label pair (target style, content's
+  // content). Returns the generator's adversarial loss on the transfer.
+  torch::Tensor PairAdversarial(const torch::Tensor& x, const torch::Tensor& x_style,
+                                const torch::Tensor& x_content, const torch::Tensor& y,
+                                const torch::Tensor& y_style, const torch::Tensor& y_content,
+                                const torch::Tensor& fake, LossRecord* r) {
+    const torch::Tensor gan = PairAdversarialStep(pair_disc, *opt_p, x, x_style, x_content, y,
+                                                  y_style, y_content, fake, &r->disc);
+    r->gan = gan.item<double>();
+    return gan;
+  }
+
+  LossRecord Step() {
+    const auto [x_t, v_t] = Batch();
+    const auto [x_s, v_s] = Batch();
+    const torch::Tensor c_t = net->content(x_t), s_t = net->style(v_t);
+    const torch::Tensor c_s = net->content(x_s), s_s = net->style(v_s);
+    const torch::Tensor rec = (ReconstructionLoss(net->decode(c_t, s_t), x_t) +
+                               ReconstructionLoss(net->decode(c_s, s_s), x_s)) /
+                              2;
+    const torch::Tensor x_g = Transfer(x_t, c_t, s_s);
+    LossRecord r;
+    torch::Tensor total = rec;
+    if (config.alpha > 0) total = total + config.alpha * Adversarial(x_s, x_g, &r);
+    if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x_t);
+    if (config.use_nce && config.beta > 0) {
+      const torch::Tensor nce = NceLoss(net->content(x_g), c_t, net->nce_w, config.temperature);
+      r.nce = nce.item<double>();
+      total = total + config.beta * nce;
+    }
+    if (config.use_tri && config.gamma > 0) {
+      // Positive: the style clip's code from its own window (the other view
+      // already fed G), so the pair is two views of one clip.
+      const torch::Tensor tri = TripletLoss(
+          net->style(x_g), config.cross_view ? net->style(x_s) : s_s, s_t, config.margin);
+      r.tri = tri.item<double>();
+      total = total + config.gamma * tri;
+    }
+    opt_g->zero_grad();
+    total.backward();
+    opt_g->step();
+    r.rec = rec.item<double>();
+    r.total = total.item<double>();
+    return r;
+  }
+
+
+  // Label-guided step (docs/notes/contrastive.md): content windows x; for each, a
+  // window of a clip of the same style doing something else (the
+  // reconstruction's style) and one of a clip of another style (the
+  // transfer's style, and the discriminator's real sample).
+  LossRecord GuidedStep() {
+    std::vector<float> buf;
+    std::vector<int> clips;
+    data.SampleBatch(config.batch, config.window, rng, &buf, &clips);
+    const torch::Tensor x = ToTensor(&buf);
+    std::vector<int> same, other;
+    for (int c : clips) same.push_back(classes.SameStyle(c, rng));
+    for (int c : clips) other.push_back(classes.OtherStyle(c, rng));
+    data.SampleFromClips(same, config.window, rng, &buf);
+    const torch::Tensor y_same = ToTensor(&buf);
+    data.SampleFromClips(other, config.window, rng, &buf);
+    const torch::Tensor y_other = ToTensor(&buf);
+    const torch::Tensor x_style = LabelTensor(clips, classes.style_of),
+                        x_content = LabelTensor(clips, classes.content_of);
+    const torch::Tensor target_style = LabelTensor(other, classes.style_of),
+                        other_content = LabelTensor(other, classes.content_of);
+    LossRecord r;
+    // The critic learns the labels of real windows, never of transfers.
+    r.critic = critic.Learn({{x, x_style, x_content}, {y_other, target_style, other_content}});
+
+    const torch::Tensor c_x = net->content(x);
+    const torch::Tensor s_same = net->style(y_same), s_other = net->style(y_other);
+    const torch::Tensor rec = ReconstructionLoss(net->decode(c_x, s_same), x);
+    const torch::Tensor s_x = net->style(x);
+    const torch::Tensor x_g = Transfer(x, c_x, s_other, &s_x);
+    torch::Tensor total = rec;
+    if (config.alpha > 0) {
+      const torch::Tensor adv = config.pair_gan
+                                    ? PairAdversarial(x, x_style, x_content, y_other, target_style,
+                                                      other_content, x_g, &r)
+                                    : Adversarial(y_other, x_g, &r);
+      total = total + config.alpha * adv;
+    }
+    if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x);
+    const torch::Tensor cls =
+        critic.Verdict(x_g, target_style, x_content, config.content_class_weight);
+    r.cls = cls.item<double>();
+    total = total + config.class_weight * cls;
+    const torch::Tensor c_g = net->content(x_g);
+    const torch::Tensor cyc = ReconstructionLoss(net->decode(c_g, s_same), x);
+    r.cyc = cyc.item<double>();
+    total = total + config.cycle_weight * cyc;
+    if (config.use_nce && config.beta > 0) {
+      const torch::Tensor nce = NceLoss(c_g, c_x, net->nce_w, config.temperature);
+      r.nce = nce.item<double>();
+      total = total + config.beta * nce;
+    }
+    if (config.use_tri && config.gamma > 0) {
+      const torch::Tensor tri = TripletLoss(net->style(x_g), s_other, s_x, config.margin);
+      r.tri = tri.item<double>();
+      total = total + config.gamma * tri;
+    }
+    opt_g->zero_grad();
+    total.backward();
+    opt_g->step();
+    r.rec = rec.item<double>();
+    r.total = total.item<double>();
+    return r;
+  }
+
+  absl::Status WritePackage(int iterations, const std::string& csv) {
+    ContrastiveConfig c = config;
+    c.trained_iterations = iterations;
+    if (absl::Status s = WriteDataFiles(opt.out, data.norm, data.skeleton, data.frame_time);
+        !s.ok())
+      return s;
+    if (absl::Status s = motion::WriteFileAtomically(opt.out + "/config.txt", c.Serialize());
+        !s.ok())
+      return s;
+    if (absl::Status s = SaveTorchFileAtomically(
+            Tensors("weights.pt", average.ForPackage(iterations, &net)), opt.out);
+        !s.ok())
+      return s;
+    return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
+  }
+
+  torch::Tensor ContentMask() const {
+    const motion::Skeleton& sk = data.skeleton;
+    const motion::FeatureLayout layout(sk.num_joints());
+    torch::Tensor mask = torch::zeros({1, config.dim, 1});
+    const std::vector<bool> leg = motion::LegJoints(sk, data.roles);
+    for (int j = 0; j < sk.num_joints(); ++j) {
+      if (!leg[j]) continue;
+      for (int c = 0; c < 3; ++c) mask[0][layout.position(j) + c][0] = 1;
+      for (int c = 0; c < 4; ++c) mask[0][layout.rotation(j) + c][0] = 1;
+    }
+    for (int c = 0; c < motion::FeatureLayout::kPathChannels; ++c)
+      mask[0][layout.trajectory() + c][0] = 1;
+    return mask;
+  }
+
+  absl::Status Run() {
+    SetComputeThreads(opt.threads);
+    absl::StatusOr<TrainingSet> loaded =
+        LoadTrainingData(opt.data, {config.window, config.hop}, opt.log, config.mirror);
+    if (!loaded.ok()) return loaded.status();
+    data = *std::move(loaded);
+    data.random_starts = config.random_starts;
+    config.dim = data.dim();
+    config.data = absl::StrJoin(opt.data, ";");
+    config.commit = opt.commit;
+    content_mask = ContentMask();
+    if (config.guided) {
+      absl::StatusOr<ClipClasses> c = ClipClasses::ForTraining(data, config.window, opt.log);
+      if (!c.ok()) return c.status();
+      classes = *std::move(c);
+      if (config.content_balance > 0) {
+        LogLine(opt.log, BalanceContents(classes, config.content_balance, &data));
+      }
+    }
+    if (config.average_from > 0)  // Before the seed (see WeightAverage).
+      average = WeightAverage<ContrastiveNet>(config.average_from, config.average_every,
+                                              ContrastiveNet(config));
+    torch::manual_seed(config.seed);
+    net = ContrastiveNet(config);
+    if (!opt.init_from.empty() && !opt.resume) {
+      // Fine-tuning: the networks start from a trained package's weights
+      // (shapes checked); the critics and optimizers start afresh. Weights
+      // learned on other normalization statistics would see other inputs.
+      absl::StatusOr<motion::NormStats> norm = motion::NormStats::Load(opt.init_from + "/norm.txt");
+      if (!norm.ok()) {
+        return absl::Status(norm.status().code(),
+                            absl::StrCat("--init-from: ", norm.status().message()));
+      }
+      if (norm->Serialize() != data.norm.Serialize()) {
+        return absl::FailedPreconditionError(
+            absl::StrCat("--init-from ", opt.init_from,
+                         ": its norm.txt differs from this data's statistics (trained on other "
+                         "data); fine-tune on the data it was trained on"));
+      }
+      if (absl::Status s = LoadWeights(net, opt.init_from + "/weights.pt"); !s.ok()) return s;
+      Log("initialized from " + opt.init_from);
+    }
+    disc = Discriminator(config);
+    if (config.guided) {
+      critic = LabelCritic(config.dim, static_cast<int>(classes.styles.size()),
+                           static_cast<int>(classes.contents.size()));
+    }
+    if (config.pair_gan) {
+      pair_disc = PairDiscriminator(config.dim, static_cast<int>(classes.styles.size()),
+                                    static_cast<int>(classes.contents.size()));
+      opt_p = std::make_unique<torch::optim::Adam>(
+          pair_disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+    }
+    opt_g = std::make_unique<torch::optim::Adam>(
+        net->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+    opt_d = std::make_unique<torch::optim::Adam>(
+        disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+    TrainingRun::Spec spec;
+    spec.out = opt.out;
+    spec.loss_names = {"rec", "gan", "nce", "tri", "disc"};
+    if (config.guided) spec.loss_names.insert(spec.loss_names.end(), {"cls", "cyc", "critic"});
+    spec.loss_names.push_back("total");
+    spec.config_text = config.Serialize();
+    spec.iterations = config.iterations;
+    spec.log_every = opt.log_every;
+    spec.checkpoint_every = opt.checkpoint_every;
+    spec.log = opt.log;
+    if (opt.on_record) {
+      spec.on_record = [this](const LossRow& row) {
+        LossRecord r{row.iteration,     row.Get("rec"),  row.Get("gan"),
+                     row.Get("nce"),    row.Get("tri"),  row.Get("disc"),
+                     row.Get("total"),  row.Get("cls"),  row.Get("cyc"),
+                     row.Get("critic")};
+        opt.on_record(r);
+      };
+    }
+    std::vector<TorchFile> files = {Tensors("net.pt", &net), Tensors("disc.pt", &disc),
+                                    Tensors("opt_g.pt", opt_g.get()),
+                                    Tensors("opt_d.pt", opt_d.get())};
+    if (config.guided) {
+      critic.AddFiles("critic", "opt_c", &files);
+    }
+    if (config.pair_gan) {
+      files.push_back(Tensors("pair_disc.pt", &pair_disc));
+      files.push_back(Tensors("opt_p.pt", opt_p.get()));
+    }
+    if (average.on()) files.push_back(Tensors("average.pt", average.mean()));
+    spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
+    spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
+    spec.write_package = [this](int iterations, const std::string& csv) {
+      return WritePackage(iterations, csv);
+    };
+    TrainingRun run(std::move(spec));
+    run.rng().seed(config.seed);
+    rng = &run.rng();
+    if (opt.resume) {
+      absl::Status s = run.Resume([](const std::string& text) -> std::string {
+        absl::StatusOr<ContrastiveConfig> c = ContrastiveConfig::Parse(text, "checkpoint");
+        if (!c.ok()) return "unreadable: " + std::string(c.status().message());
+        c->iterations = c->trained_iterations = 0;  // A resumed run may go longer.
+        return c->Serialize();
+      });
+      if (!s.ok()) return s;
+    }
+    return run.Run([this](int iteration) {
+      const LossRecord r = config.guided ? GuidedStep() : Step();
+      average.Update(iteration + 1, net);
+      Losses losses = {{"rec", r.rec}, {"gan", r.gan},   {"nce", r.nce},
+                       {"tri", r.tri}, {"disc", r.disc}, {"total", r.total}};
+      if (config.guided) losses.insert({{"cls", r.cls}, {"cyc", r.cyc}, {"critic", r.critic}});
+      return losses;
+    });
+  }
+};
+
+}  // namespace
+
+absl::Status TrainContrastive(const TrainOptions& options) {
+  if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
+  if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
+  if (absl::Status s = CheckAveraging(options.config.average_from, options.config.iterations);
+      !s.ok())
+    return s;
+  if (options.config.content_balance > 0 && !options.config.guided) {
+    return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
+  }
+  if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
+    return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
+  }
+  Trainer t(options);
+  try {
+    return t.Run();
+  } catch (const std::exception& e) {
+    return absl::InternalError(absl::StrCat("training failed: ", e.what()));
+  }
+}
+
+}  // namespace stylus::model

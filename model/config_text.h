@@ -83,6 +83,15 @@ void AppendConfigLine(std::string* out, absl::string_view key, absl::string_view
 // The text of <dir>/config.txt: NOT_FOUND when the directory or file is
 // missing.
 absl::StatusOr<std::string> ReadConfigText(const std::string& dir);
+// <dir>/config.txt parsed by `Config::Parse`, then the lines of `overrides`
+// as if they followed it. NOT_FOUND when the directory or file is missing.
+template <typename Config>
+absl::StatusOr<Config> ReadConfig(const std::string& dir, const std::string& overrides) {
+  absl::StatusOr<std::string> text = ReadConfigText(dir);
+  if (!text.ok()) return text.status();
+  return Config::Parse(*text + "\n" + overrides, dir + "/config.txt");
+}
+
 // The `family` its config.txt names (INVALID_ARGUMENT naming the file when
 // there is none).
 absl::StatusOr<std::string> ReadConfigFamily(const std::string& dir);

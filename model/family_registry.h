@@ -28,6 +28,28 @@ struct ModelFamily {
   std::vector<std::string> inference_keys;
 };
 
+// The entry of a family whose model class `Model` has
+// `static StatusOr<unique_ptr<Model>> Load(dir, overrides)` and whose config
+// `Config` has `Read(dir)`, the header fields and `InferenceKeys()`.
+template <typename Model, typename Config>
+ModelFamily MakeFamily(std::string name) {
+  ModelFamily f;
+  f.name = std::move(name);
+  f.load = [](const std::string& dir,
+              const std::string& overrides) -> absl::StatusOr<std::unique_ptr<StyleModel>> {
+    absl::StatusOr<std::unique_ptr<Model>> m = Model::Load(dir, overrides);
+    if (!m.ok()) return m.status();
+    return std::unique_ptr<StyleModel>(*std::move(m));
+  };
+  f.read_header = [](const std::string& dir) -> absl::StatusOr<ModelSummary> {
+    absl::StatusOr<Config> c = Config::Read(dir);
+    if (!c.ok()) return c.status();
+    return ModelSummary{c->family, c->window, c->hop, c->dim, c->trained_iterations};
+  };
+  f.inference_keys = Config::InferenceKeys();
+  return f;
+}
+
 // Every family of this build.
 const std::vector<ModelFamily>& ModelFamilies();
 // The family named `name`; INVALID_ARGUMENT listing the known ones otherwise.

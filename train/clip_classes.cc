@@ -95,4 +95,12 @@ std::string BalanceContents(const ClipClasses& classes, double power, TrainingSe
                          classes.contents[hi - share.begin()], 100 * *hi);
 }
 
+absl::StatusOr<ClipClasses> GuidedClasses(TrainingSet* data, int window, double content_balance,
+                                          const std::function<void(const std::string&)>& log) {
+  absl::StatusOr<ClipClasses> classes = ClipClasses::ForTraining(*data, window, log);
+  if (!classes.ok()) return classes.status();
+  if (content_balance > 0) LogLine(log, BalanceContents(*classes, content_balance, data));
+  return classes;
+}
+
 }  // namespace stylus::model

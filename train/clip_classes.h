@@ -43,6 +43,12 @@ struct ClipClasses {
 // returns a log line naming the classes drawn least and most often.
 std::string BalanceContents(const ClipClasses& classes, double power, TrainingSet* data);
 
+// The classes of a label-guided run (ClipClasses::ForTraining) for windows
+// of `window` frames, with `data`'s draws balanced by `content_balance`
+// (BalanceContents, logged) when it is above 0.
+absl::StatusOr<ClipClasses> GuidedClasses(TrainingSet* data, int window, double content_balance,
+                                          const std::function<void(const std::string&)>& log);
+
 }  // namespace stylus::model
 
 #endif  // STYLUS_TRAIN_CLIP_CLASSES_H_

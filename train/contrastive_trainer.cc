@@ -38,8 +38,7 @@ struct Trainer {
   // Label-guided training only.
   ClipClasses classes;
   LabelCritic critic;
-  PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
-  std::unique_ptr<torch::optim::Adam> opt_p;
+  PairGan pair_gan;  // With `pair_gan` only.
   torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
@@ -102,8 +101,8 @@ struct Trainer {
                                 const torch::Tensor& x_content, const torch::Tensor& y,
                                 const torch::Tensor& y_style, const torch::Tensor& y_content,
                                 const torch::Tensor& fake, LossRecord* r) {
-    const torch::Tensor gan = PairAdversarialStep(pair_disc, *opt_p, x, x_style, x_content, y,
-                                                  y_style, y_content, fake, &r->disc);
+    const torch::Tensor gan =
+        pair_gan.Step(x, x_style, x_content, y, y_style, y_content, fake, &r->disc);
     r->gan = gan.item<double>();
     return gan;
   }
@@ -210,17 +209,8 @@ struct Trainer {
   absl::Status WritePackage(int iterations, const std::string& csv) {
     ContrastiveConfig c = config;
     c.trained_iterations = iterations;
-    if (absl::Status s = WriteDataFiles(opt.out, data.norm, data.skeleton, data.frame_time);
-        !s.ok())
-      return s;
-    if (absl::Status s = motion::WriteFileAtomically(opt.out + "/config.txt", c.Serialize());
-        !s.ok())
-      return s;
-    if (absl::Status s = SaveTorchFileAtomically(
-            Tensors("weights.pt", average.ForPackage(iterations, &net)), opt.out);
-        !s.ok())
-      return s;
-    return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
+    return WriteTrainedPackage(opt.out, c.Serialize(), data,
+                               Tensors("weights.pt", average.ForPackage(iterations, &net)), csv);
   }
 
   torch::Tensor ContentMask() const {
@@ -240,22 +230,15 @@ struct Trainer {
 
   absl::Status Run() {
     SetComputeThreads(opt.threads);
-    absl::StatusOr<TrainingSet> loaded =
-        LoadTrainingData(opt.data, {config.window, config.hop}, opt.log, config.mirror);
+    absl::StatusOr<TrainingSet> loaded = LoadRunData(opt, &config);
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
-    data.random_starts = config.random_starts;
-    config.dim = data.dim();
-    config.data = absl::StrJoin(opt.data, ";");
-    config.commit = opt.commit;
     content_mask = ContentMask();
     if (config.guided) {
-      absl::StatusOr<ClipClasses> c = ClipClasses::ForTraining(data, config.window, opt.log);
+      absl::StatusOr<ClipClasses> c =
+          GuidedClasses(&data, config.window, config.content_balance, opt.log);
       if (!c.ok()) return c.status();
       classes = *std::move(c);
-      if (config.content_balance > 0) {
-        LogLine(opt.log, BalanceContents(classes, config.content_balance, &data));
-      }
     }
     if (config.average_from > 0)  // Before the seed (see WeightAverage).
       average = WeightAverage<ContrastiveNet>(config.average_from, config.average_every,
@@ -286,10 +269,8 @@ struct Trainer {
                            static_cast<int>(classes.contents.size()));
     }
     if (config.pair_gan) {
-      pair_disc = PairDiscriminator(config.dim, static_cast<int>(classes.styles.size()),
-                                    static_cast<int>(classes.contents.size()));
-      opt_p = std::make_unique<torch::optim::Adam>(
-          pair_disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+      pair_gan = PairGan(config.dim, static_cast<int>(classes.styles.size()),
+                         static_cast<int>(classes.contents.size()), config.lr);
     }
     opt_g = std::make_unique<torch::optim::Adam>(
         net->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
@@ -320,13 +301,9 @@ struct Trainer {
     if (config.guided) {
       critic.AddFiles("critic", "opt_c", &files);
     }
-    if (config.pair_gan) {
-      files.push_back(Tensors("pair_disc.pt", &pair_disc));
-      files.push_back(Tensors("opt_p.pt", opt_p.get()));
-    }
+    if (config.pair_gan) pair_gan.AddFiles(&files);
     if (average.on()) files.push_back(Tensors("average.pt", average.mean()));
-    spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
-    spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
+    CheckpointTorchFiles(std::move(files), &spec);
     spec.write_package = [this](int iterations, const std::string& csv) {
       return WritePackage(iterations, csv);
     };
@@ -334,13 +311,7 @@ struct Trainer {
     run.rng().seed(config.seed);
     rng = &run.rng();
     if (opt.resume) {
-      absl::Status s = run.Resume([](const std::string& text) -> std::string {
-        absl::StatusOr<ContrastiveConfig> c = ContrastiveConfig::Parse(text, "checkpoint");
-        if (!c.ok()) return "unreadable: " + std::string(c.status().message());
-        c->iterations = c->trained_iterations = 0;  // A resumed run may go longer.
-        return c->Serialize();
-      });
-      if (!s.ok()) return s;
+      if (absl::Status s = run.Resume(ComparableConfigText<ContrastiveConfig>); !s.ok()) return s;
     }
     return run.Run([this](int iteration) {
       const LossRecord r = config.guided ? GuidedStep() : Step();
@@ -356,17 +327,7 @@ struct Trainer {
 }  // namespace
 
 absl::Status TrainContrastive(const TrainOptions& options) {
-  if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
-  if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
-  if (absl::Status s = CheckAveraging(options.config.average_from, options.config.iterations);
-      !s.ok())
-    return s;
-  if (options.config.content_balance > 0 && !options.config.guided) {
-    return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
-  }
-  if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
-    return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
-  }
+  if (absl::Status s = CheckTrainingOptions(options, options.config); !s.ok()) return s;
   Trainer t(options);
   try {
     return t.Run();

@@ -51,8 +51,7 @@ struct CyclicTrainer {
   // Label-guided training only.
   ClipClasses classes;
   LabelCritic label_critic;
-  PairDiscriminator pair_disc{nullptr};  // With `pair_gan` only.
-  std::unique_ptr<torch::optim::Adam> opt_p;
+  PairGan pair_gan;  // With `pair_gan` only.
 
   std::vector<torch::Tensor> EncoderParameters() { return net->enc_conv->parameters(); }
   // Everything but the encoder: decoder, style transform (and style network).
@@ -173,8 +172,8 @@ struct CyclicTrainer {
       r["style"] = style.item<double>(), r["content"] = content.item<double>();
       if (config.gan_weight > 0 && config.pair_gan) {
         double d_loss = 0;
-        const torch::Tensor gan = PairAdversarialStep(
-            pair_disc, *opt_p, c, LabelTensor(content_clips, classes.style_of),
+        const torch::Tensor gan = pair_gan.Step(
+            c, LabelTensor(content_clips, classes.style_of),
             LabelTensor(content_clips, classes.content_of), s,
             LabelTensor(style_clips, classes.style_of),
             LabelTensor(style_clips, classes.content_of), gm, &d_loss);
@@ -237,29 +236,15 @@ struct CyclicTrainer {
   absl::Status WritePackage(int iterations, const std::string& csv) {
     CyclicConfig c = config;
     c.trained_iterations = iterations;
-    if (absl::Status s = WriteDataFiles(opt.out, data.norm, data.skeleton, data.frame_time);
-        !s.ok())
-      return s;
-    if (absl::Status s = motion::WriteFileAtomically(opt.out + "/config.txt", c.Serialize());
-        !s.ok())
-      return s;
-    if (absl::Status s = SaveTorchFileAtomically(
-            Tensors("weights.pt", average.ForPackage(iterations, &net)), opt.out);
-        !s.ok())
-      return s;
-    return motion::WriteFileAtomically(opt.out + "/loss.csv", csv);
+    return WriteTrainedPackage(opt.out, c.Serialize(), data,
+                               Tensors("weights.pt", average.ForPackage(iterations, &net)), csv);
   }
 
   absl::Status Run() {
     SetComputeThreads(opt.threads);
-    absl::StatusOr<TrainingSet> loaded =
-        LoadTrainingData(opt.data, {config.window, config.hop}, opt.log, config.mirror);
+    absl::StatusOr<TrainingSet> loaded = LoadRunData(opt, &config);
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
-    data.random_starts = config.random_starts;
-    config.dim = data.dim();
-    config.data = absl::StrJoin(opt.data, ";");
-    config.commit = opt.commit;
     const int joints = data.skeleton.num_joints();
     channels = torch::tensor(CyclicChannels(joints, config.rotations));
     keep_mask = KeepMask();
@@ -274,19 +259,14 @@ struct CyclicTrainer {
     critic = CyclicCritic(config, width);
     if (config.guided) {
       absl::StatusOr<ClipClasses> labelled =
-          ClipClasses::ForTraining(data, config.window, opt.log);
+          GuidedClasses(&data, config.window, config.content_balance, opt.log);
       if (!labelled.ok()) return labelled.status();
       classes = *std::move(labelled);
-      if (config.content_balance > 0) {
-        LogLine(opt.log, BalanceContents(classes, config.content_balance, &data));
-      }
       label_critic = LabelCritic(width, static_cast<int>(classes.styles.size()),
                                  static_cast<int>(classes.contents.size()));
       if (config.pair_gan) {
-        pair_disc = PairDiscriminator(width, static_cast<int>(classes.styles.size()),
-                                      static_cast<int>(classes.contents.size()));
-        opt_p = std::make_unique<torch::optim::Adam>(
-            pair_disc->parameters(), torch::optim::AdamOptions(config.lr).betas({0.5, 0.999}));
+        pair_gan = PairGan(width, static_cast<int>(classes.styles.size()),
+                           static_cast<int>(classes.contents.size()), config.lr);
       }
     }
     const auto adam = torch::optim::AdamOptions(config.lr).betas({0.5, 0.999});
@@ -309,13 +289,9 @@ struct CyclicTrainer {
     if (config.guided) {
       label_critic.AddFiles("label_critic", "opt_l", &files);
     }
-    if (config.pair_gan) {
-      files.push_back(Tensors("pair_disc.pt", &pair_disc));
-      files.push_back(Tensors("opt_p.pt", opt_p.get()));
-    }
+    if (config.pair_gan) pair_gan.AddFiles(&files);
     if (average.on()) files.push_back(Tensors("average.pt", average.mean()));
-    spec.save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
-    spec.load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
+    CheckpointTorchFiles(std::move(files), &spec);
     spec.write_package = [this](int iterations, const std::string& csv) {
       return WritePackage(iterations, csv);
     };
@@ -326,13 +302,7 @@ struct CyclicTrainer {
     TrainingRun run(std::move(spec));
     run.rng().seed(config.seed);
     if (opt.resume) {
-      absl::Status s = run.Resume([](const std::string& text) -> std::string {
-        absl::StatusOr<CyclicConfig> c = CyclicConfig::Parse(text, "checkpoint");
-        if (!c.ok()) return "unreadable: " + std::string(c.status().message());
-        c->iterations = c->trained_iterations = 0;  // A resumed run may go longer.
-        return c->Serialize();
-      });
-      if (!s.ok()) return s;
+      if (absl::Status s = run.Resume(ComparableConfigText<CyclicConfig>); !s.ok()) return s;
     }
     net->train();
     critic->train();
@@ -347,23 +317,10 @@ struct CyclicTrainer {
 }  // namespace
 
 absl::Status TrainCyclic(const CyclicTrainOptions& options) {
-  if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
-  if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
-  if (options.config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
-    return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
-  }
+  if (absl::Status s = CheckTrainingOptions(options, options.config); !s.ok()) return s;
   if (options.config.window % 2 != 0) return absl::InvalidArgumentError("window must be even");
-  if (absl::Status s = CheckAveraging(options.config.average_from, options.config.iterations);
-      !s.ok())
-    return s;
-  if (options.config.pair_gan && !options.config.guided) {
-    return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
-  }
   if (options.config.adain_skip && options.config.style_dim == 0) {
     return absl::InvalidArgumentError("the normalized skip (adain_skip) needs a style network");
-  }
-  if (options.config.content_balance > 0 && !options.config.guided) {
-    return absl::InvalidArgumentError("content balance needs --guided");
   }
   CyclicTrainer t(options);
   try {

@@ -58,6 +58,24 @@ torch::Tensor PairAdversarialStep(PairDiscriminator& d, torch::optim::Optimizer&
   return F::softplus(-d->forward(fake, y_style, x_content)).mean();
 }
 
+PairGan::PairGan(int dim, int styles, int contents, double lr)
+    : disc_(dim, styles, contents),
+      optimizer_(std::make_unique<torch::optim::Adam>(
+          disc_->parameters(), torch::optim::AdamOptions(lr).betas({0.5, 0.999}))) {}
+
+torch::Tensor PairGan::Step(const torch::Tensor& x, const torch::Tensor& x_style,
+                            const torch::Tensor& x_content, const torch::Tensor& y,
+                            const torch::Tensor& y_style, const torch::Tensor& y_content,
+                            const torch::Tensor& fake, double* d_loss) {
+  return PairAdversarialStep(disc_, *optimizer_, x, x_style, x_content, y, y_style, y_content,
+                             fake, d_loss);
+}
+
+void PairGan::AddFiles(std::vector<TorchFile>* files) {
+  files->push_back(Tensors("pair_disc.pt", &disc_));
+  files->push_back(Tensors("opt_p.pt", optimizer_.get()));
+}
+
 torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of) {
   std::vector<int64_t> v;
   for (int c : clips) v.push_back(label_of[c]);

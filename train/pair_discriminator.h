@@ -5,9 +5,11 @@
 
 #include <torch/torch.h>
 
+#include <memory>
 #include <vector>
 
 #include "model/guard_net.h"
+#include "train/torch_files.h"
 
 namespace stylus::model {
 
@@ -44,6 +46,25 @@ torch::Tensor PairAdversarialStep(PairDiscriminator& d, torch::optim::Optimizer&
                                   const torch::Tensor& x_content, const torch::Tensor& y,
                                   const torch::Tensor& y_style, const torch::Tensor& y_content,
                                   const torch::Tensor& fake, double* d_loss);
+
+// A label-conditional discriminator with its own Adam (betas 0.5, 0.999):
+// what a trainer with `pair_gan` holds and checkpoints.
+class PairGan {
+ public:
+  PairGan() = default;
+  PairGan(int dim, int styles, int contents, double lr);
+  // PairAdversarialStep with this discriminator and optimizer.
+  torch::Tensor Step(const torch::Tensor& x, const torch::Tensor& x_style,
+                     const torch::Tensor& x_content, const torch::Tensor& y,
+                     const torch::Tensor& y_style, const torch::Tensor& y_content,
+                     const torch::Tensor& fake, double* d_loss);
+  // Checkpoint files pair_disc.pt and opt_p.pt.
+  void AddFiles(std::vector<TorchFile>* files);
+
+ private:
+  PairDiscriminator disc_{nullptr};
+  std::unique_ptr<torch::optim::Adam> optimizer_;
+};
 
 // The label (kLong, (B,)) of each of `clips`, read from `label_of`.
 torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of);

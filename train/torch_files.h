@@ -1,5 +1,5 @@
 // Saving and loading a trainer's tensors (networks, optimizers) as files of
-// one directory (internal to model/: LibTorch).
+// one directory (internal to train/: LibTorch).
 #ifndef STYLUS_TRAIN_TORCH_FILES_H_
 #define STYLUS_TRAIN_TORCH_FILES_H_
 
@@ -13,6 +13,10 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
+#include "model/package.h"
+#include "motion/files.h"
+#include "train/training_run.h"
+#include "train/training_set.h"
 
 namespace stylus::model {
 
@@ -64,6 +68,28 @@ inline absl::Status SaveTorchFileAtomically(const TorchFile& file, const std::st
   std::filesystem::rename(tmp, path, ec);
   if (ec) return absl::InternalError(absl::StrCat(path, ": ", ec.message()));
   return absl::OkStatus();
+}
+
+// Makes `spec` checkpoint `files` (its save_tensors and load_tensors).
+inline void CheckpointTorchFiles(std::vector<TorchFile> files, TrainingRun::Spec* spec) {
+  spec->save_tensors = [files](const std::string& dir) { return SaveTorchFiles(files, dir); };
+  spec->load_tensors = [files](const std::string& dir) { return LoadTorchFiles(files, dir); };
+}
+
+// Writes a trained package into `dir`: config.txt (`config_text`), norm.txt
+// and skeleton.bvh of `data`, the weights (`weights`, renamed into place)
+// and loss.csv (`csv`).
+inline absl::Status WriteTrainedPackage(const std::string& dir, const std::string& config_text,
+                                        const TrainingSet& data, const TorchFile& weights,
+                                        const std::string& csv) {
+  if (absl::Status s = WriteDataFiles(dir, data.norm, data.skeleton, data.frame_time); !s.ok()) {
+    return s;
+  }
+  if (absl::Status s = motion::WriteFileAtomically(dir + "/config.txt", config_text); !s.ok()) {
+    return s;
+  }
+  if (absl::Status s = SaveTorchFileAtomically(weights, dir); !s.ok()) return s;
+  return motion::WriteFileAtomically(dir + "/loss.csv", csv);
 }
 
 }  // namespace stylus::model

@@ -13,6 +13,7 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "absl/strings/str_cat.h"
 
 namespace stylus::model {
 
@@ -77,6 +78,47 @@ class TrainingRun {
   int iteration_ = 0;
   std::vector<LossRow> curve_;
 };
+
+// INVALID_ARGUMENT when averaging from iteration `from` would start after
+// the run's last (`iterations`).
+inline absl::Status CheckAveraging(int from, int iterations) {
+  if (from <= iterations) return absl::OkStatus();
+  return absl::InvalidArgumentError(absl::StrCat("weight averaging from iteration ", from,
+                                                 " would start after the last iteration (",
+                                                 iterations, ")"));
+}
+
+// The checks every trainer makes of its options and `config` (a family's
+// config) before it starts: INVALID_ARGUMENT for no output directory, no
+// data, non-positive batch or intervals, weight averaging past the last
+// iteration, or label-guided keys without `guided`.
+template <typename Options, typename Config>
+absl::Status CheckTrainingOptions(const Options& options, const Config& config) {
+  if (options.out.empty()) return absl::InvalidArgumentError("no output directory (--out)");
+  if (options.data.empty()) return absl::InvalidArgumentError("no training data (--data)");
+  if (config.batch <= 0 || options.log_every <= 0 || options.checkpoint_every <= 0) {
+    return absl::InvalidArgumentError("batch, log and checkpoint intervals must be positive");
+  }
+  if (absl::Status s = CheckAveraging(config.average_from, config.iterations); !s.ok()) return s;
+  if (config.pair_gan && !config.guided) {
+    return absl::InvalidArgumentError("the label-conditional discriminator needs --guided");
+  }
+  if (config.content_balance > 0 && !config.guided) {
+    return absl::InvalidArgumentError("content balance needs label-guided training (--guided)");
+  }
+  return absl::OkStatus();
+}
+
+// What TrainingRun::Resume compares a checkpoint's configuration by: the
+// text of `Config` (a family's config) with the iteration counts cleared, so
+// a resumed run may go longer.
+template <typename Config>
+std::string ComparableConfigText(const std::string& text) {
+  absl::StatusOr<Config> c = Config::Parse(text, "checkpoint");
+  if (!c.ok()) return "unreadable: " + std::string(c.status().message());
+  c->iterations = c->trained_iterations = 0;
+  return c->Serialize();
+}
 
 }  // namespace stylus::model
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/str_join.h"
 #include "motion/features.h"
 #include "motion/humanoid.h"
 #include "motion/normalization.h"
@@ -80,6 +81,21 @@ absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sou
                                              const motion::WindowSpec& windows,
                                              const std::function<void(const std::string&)>& log,
                                              bool mirror = false);
+
+// A trainer's data: LoadTrainingData of `options.data` in `config`'s windows
+// (mirrored with config->mirror, random starts with config->random_starts),
+// and the provenance it fills into `config` (dim, data, commit).
+template <typename Options, typename Config>
+absl::StatusOr<TrainingSet> LoadRunData(const Options& options, Config* config) {
+  absl::StatusOr<TrainingSet> data = LoadTrainingData(
+      options.data, {config->window, config->hop}, options.log, config->mirror);
+  if (!data.ok()) return data.status();
+  data->random_starts = config->random_starts;
+  config->dim = data->dim();
+  config->data = absl::StrJoin(options.data, ";");
+  config->commit = options.commit;
+  return data;
+}
 
 }  // namespace stylus::model
 

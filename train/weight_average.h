@@ -45,15 +45,6 @@ inline void FoldIntoAverage(const torch::nn::Module& net, torch::nn::Module* ave
   fold(net.buffers(), average->buffers());
 }
 
-// INVALID_ARGUMENT when averaging from iteration `from` would start after
-// the run's last (`iterations`).
-inline absl::Status CheckAveraging(int from, int iterations) {
-  if (from <= iterations) return absl::OkStatus();
-  return absl::InvalidArgumentError(absl::StrCat("weight averaging from iteration ", from,
-                                                 " would start after the last iteration (",
-                                                 iterations, ")"));
-}
-
 // A trainer's running mean of its network `Net` (a module holder).
 // Default-constructed it is off. Build it before the run seeds torch's
 // generator: the mean's own initial weights then draw nothing from it, and

@@ -145,9 +145,7 @@ const std::vector<std::string>& ContrastiveConfig::InferenceKeys() {
 
 absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Read(const std::string& dir,
                                                           const std::string& overrides) {
-  absl::StatusOr<std::string> text = ReadConfigText(dir);
-  if (!text.ok()) return text.status();
-  return Parse(*text + "\n" + overrides, dir + "/config.txt");
+  return ReadConfig<ContrastiveConfig>(dir, overrides);
 }
 
 }  // namespace stylus::model

@@ -274,21 +274,7 @@ absl::StatusOr<motion::Motion> ContrastiveModel::Impl::Render(
 }
 
 ModelFamily ContrastiveFamily() {
-  ModelFamily f;
-  f.name = "contrastive";
-  f.load = [](const std::string& dir,
-              const std::string& overrides) -> absl::StatusOr<std::unique_ptr<StyleModel>> {
-    absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(dir, overrides);
-    if (!m.ok()) return m.status();
-    return std::unique_ptr<StyleModel>(*std::move(m));
-  };
-  f.read_header = [](const std::string& dir) -> absl::StatusOr<ModelSummary> {
-    absl::StatusOr<ContrastiveConfig> c = ContrastiveConfig::Read(dir);
-    if (!c.ok()) return c.status();
-    return ModelSummary{c->family, c->window, c->hop, c->dim, c->trained_iterations};
-  };
-  f.inference_keys = ContrastiveConfig::InferenceKeys();
-  return f;
+  return MakeFamily<ContrastiveModel, ContrastiveConfig>("contrastive");
 }
 
 }  // namespace stylus::model

@@ -142,9 +142,7 @@ const std::vector<std::string>& CyclicConfig::InferenceKeys() {
 
 absl::StatusOr<CyclicConfig> CyclicConfig::Read(const std::string& dir,
                                                 const std::string& overrides) {
-  absl::StatusOr<std::string> text = ReadConfigText(dir);
-  if (!text.ok()) return text.status();
-  return Parse(*text + "\n" + overrides, dir + "/config.txt");
+  return ReadConfig<CyclicConfig>(dir, overrides);
 }
 
 }  // namespace stylus::model

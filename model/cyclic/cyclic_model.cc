@@ -225,22 +225,6 @@ absl::StatusOr<std::unique_ptr<StyleModel::Forms>> CyclicModel::PrepareTransfer(
                                      std::move(restyled));
 }
 
-ModelFamily CyclicFamily() {
-  ModelFamily f;
-  f.name = "cyclic";
-  f.load = [](const std::string& dir,
-              const std::string& overrides) -> absl::StatusOr<std::unique_ptr<StyleModel>> {
-    absl::StatusOr<std::unique_ptr<CyclicModel>> m = CyclicModel::Load(dir, overrides);
-    if (!m.ok()) return m.status();
-    return std::unique_ptr<StyleModel>(*std::move(m));
-  };
-  f.read_header = [](const std::string& dir) -> absl::StatusOr<ModelSummary> {
-    absl::StatusOr<CyclicConfig> c = CyclicConfig::Read(dir);
-    if (!c.ok()) return c.status();
-    return ModelSummary{c->family, c->window, c->hop, c->dim, c->trained_iterations};
-  };
-  f.inference_keys = CyclicConfig::InferenceKeys();
-  return f;
-}
+ModelFamily CyclicFamily() { return MakeFamily<CyclicModel, CyclicConfig>("cyclic"); }
 
 }  // namespace stylus::model

@@ -3,6 +3,7 @@
 #ifndef STYLUS_TESTS_TRAIN_CONTRASTIVE_TRAINING_SUPPORT_H_
 #define STYLUS_TESTS_TRAIN_CONTRASTIVE_TRAINING_SUPPORT_H_
 
+#include <algorithm>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -33,6 +34,17 @@ inline TrainOptions GuidedOptions(const std::string& out, int iterations) {
   o.threads = 1;
   o.log = [](const std::string&) {};
   return o;
+}
+
+// The mean of `field` over the last `rows` rows of a loss curve.
+inline double MeanOfLastRows(const std::vector<LossRecord>& curve, double LossRecord::*field,
+                             int rows = 5) {
+  double sum = 0;
+  const int n = std::min<int>(rows, static_cast<int>(curve.size()));
+  for (int i = static_cast<int>(curve.size()) - n; i < static_cast<int>(curve.size()); ++i) {
+    sum += curve[i].*field;
+  }
+  return n > 0 ? sum / n : 0;
 }
 
 // One run of `make(dir, 80)` unbroken and one stopped at its checkpoint at

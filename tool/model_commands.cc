@@ -112,7 +112,7 @@ int Train(const Argv& argv) {
     return Fail("train",
                 absl::InvalidArgumentError("--family: families are 'contrastive' and 'cyclic'"));
   }
-  model::TrainOptions opt;
+  model::ContrastiveTrainOptions opt;
   opt.data = DataSources(*args);
   opt.out = args->Get("out");
   if (opt.data.empty() || opt.out.empty()) {

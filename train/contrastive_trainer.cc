@@ -26,9 +26,9 @@ namespace stylus::model {
 namespace {
 
 struct Trainer {
-  explicit Trainer(const TrainOptions& options) : opt(options), config(options.config) {}
+  explicit Trainer(const ContrastiveTrainOptions& options) : opt(options), config(options.config) {}
 
-  const TrainOptions& opt;
+  const ContrastiveTrainOptions& opt;
   ContrastiveConfig config;
   TrainingSet data;
   ContrastiveNet net{nullptr};
@@ -326,7 +326,7 @@ struct Trainer {
 
 }  // namespace
 
-absl::Status TrainContrastive(const TrainOptions& options) {
+absl::Status TrainContrastive(const ContrastiveTrainOptions& options) {
   if (absl::Status s = CheckTrainingOptions(options, options.config); !s.ok()) return s;
   Trainer t(options);
   try {

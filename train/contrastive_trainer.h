@@ -21,7 +21,7 @@ struct LossRecord {
   double cls = 0, cyc = 0, critic = 0;
 };
 
-struct TrainOptions {
+struct ContrastiveTrainOptions {
   std::vector<std::string> data;  // Directories (training split) or .bvh files.
   std::string out;                // Package directory, e.g. models/contrastive/v5.
   ContrastiveConfig config;       // dim is filled from the data.
@@ -43,7 +43,7 @@ struct TrainOptions {
 // norm.txt, skeleton.bvh, weights.pt, loss.csv) at every checkpoint and at
 // the end. FAILED_PRECONDITION when `resume` is set but the checkpoint was
 // made with another configuration; INVALID_ARGUMENT for bad data.
-absl::Status TrainContrastive(const TrainOptions& options);
+absl::Status TrainContrastive(const ContrastiveTrainOptions& options);
 
 }  // namespace stylus::model
 

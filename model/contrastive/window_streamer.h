@@ -27,9 +27,10 @@ namespace stylus::model {
 
 class WindowStreamer : public FrameStreamer {
  public:
-  // INVALID_ARGUMENT when frames on `skeleton` at `frame_time` cannot feed the
-  // model or `style` does not fit it. Shares ownership of `model`.
-  // `post` as in Transfer, decided causally: contacts from the input frames
+  // INVALID_ARGUMENT when frames on `spec.skeleton` at `spec.frame_time`
+  // cannot feed the model or `spec.style` does not fit it. Shares ownership
+  // of `model`. ContrastiveModel::OpenStream makes one.
+  // `spec.post` as in a transfer, decided causally: contacts from the input frames
   // held (the current window and the history before it), locked feet pinned
   // where they were at the start of their contact.
   static absl::StatusOr<std::unique_ptr<WindowStreamer>> Create(

@@ -61,7 +61,7 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   EXPECT_EQ((*judges)->styles(), (std::vector<std::string>{"old", "proud"}));
   EXPECT_EQ((*judges)->contents(), (std::vector<std::string>{"run", "walk"}));
 
-  TrainOptions to;
+  ContrastiveTrainOptions to;
   to.data = {data};
   to.out = ::testing::TempDir() + "/eval_model";
   to.config.channels = 16;

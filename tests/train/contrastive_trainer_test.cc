@@ -42,7 +42,7 @@ namespace fs = std::filesystem;
 using testing::LabelledClips;
 
 TEST(ContrastiveTrainerTest, CriticLearnsTheLabelsAndTransfersFollowIt) {
-  TrainOptions o = GuidedOptions(testing::FreshDir("guided_learn"), 200);
+  ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("guided_learn"), 200);
   o.config.alpha = 0;
   std::vector<LossRecord> curve;
   o.on_record = [&](const LossRecord& r) { curve.push_back(r); };
@@ -115,7 +115,7 @@ TEST(ContrastiveTrainerTest, ResidualTrainingKeepsTheClipAndStillRestyles) {
   const motion::Motion other = *motion::ReadBvhFile(LabelledClips()[3]);
   std::map<bool, double> self_gap, other_gap;
   for (bool residual : {false, true}) {
-    TrainOptions o = GuidedOptions(testing::FreshDir(residual ? "residual" : "plain"), 200);
+    ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir(residual ? "residual" : "plain"), 200);
     o.config.alpha = 0;
     o.config.residual = residual;
     std::vector<LossRecord> curve;
@@ -148,7 +148,7 @@ TEST(ContrastiveTrainerTest, ResumesWithItsCritic) {
   EXPECT_NEAR(c.critic, a.critic, 1e-4 * std::fabs(a.critic));
   EXPECT_NEAR(c.total, a.total, 1e-4 * std::fabs(a.total));
   // A label-free checkpoint is another configuration.
-  TrainOptions od = GuidedOptions(runs.resumed_dir, 120);
+  ContrastiveTrainOptions od = GuidedOptions(runs.resumed_dir, 120);
   od.config.guided = false;
   od.resume = true;
   EXPECT_EQ(TrainContrastive(od).code(), absl::StatusCode::kFailedPrecondition);
@@ -156,7 +156,7 @@ TEST(ContrastiveTrainerTest, ResumesWithItsCritic) {
 
 TEST(ContrastiveTrainerTest, PairGanTrainsAndResumesWithItsDiscriminator) {
   auto options = [](const std::string& out, int iterations) {
-    TrainOptions o = GuidedOptions(out, iterations);
+    ContrastiveTrainOptions o = GuidedOptions(out, iterations);
     o.config.pair_gan = true;
     o.config.alpha = 0.5;
     return o;
@@ -178,7 +178,7 @@ TEST(ContrastiveTrainerTest, PairGanTrainsAndResumesWithItsDiscriminator) {
 }
 
 TEST(ContrastiveTrainerTest, NeedsLabelledClipNames) {
-  TrainOptions o = GuidedOptions(testing::FreshDir("guided_unlabelled"), 10);
+  ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("guided_unlabelled"), 10);
   o.data = testing::FourClips();  // normal.bvh, old.bvh, ...
   const absl::Status s = TrainContrastive(o);
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
@@ -190,13 +190,13 @@ TEST(ContrastiveTrainerTest, NeedsLabelledClipNames) {
 // network's); a package of another shape is refused.
 TEST(ContrastiveTrainerTest, FineTuningStartsFromTheTrainedWeights) {
   std::vector<LossRecord> trained, fresh, tuned;
-  TrainOptions base = GuidedOptions(testing::FreshDir("guided_base"), 120);
+  ContrastiveTrainOptions base = GuidedOptions(testing::FreshDir("guided_base"), 120);
   base.on_record = [&](const LossRecord& r) { trained.push_back(r); };
   ASSERT_TRUE(TrainContrastive(base).ok());
-  TrainOptions scratch = GuidedOptions(testing::FreshDir("guided_scratch"), 10);
+  ContrastiveTrainOptions scratch = GuidedOptions(testing::FreshDir("guided_scratch"), 10);
   scratch.on_record = [&](const LossRecord& r) { fresh.push_back(r); };
   ASSERT_TRUE(TrainContrastive(scratch).ok());
-  TrainOptions tune = GuidedOptions(testing::FreshDir("guided_tuned"), 10);
+  ContrastiveTrainOptions tune = GuidedOptions(testing::FreshDir("guided_tuned"), 10);
   tune.init_from = base.out;
   tune.config.content_class_weight = 3;
   tune.on_record = [&](const LossRecord& r) { tuned.push_back(r); };
@@ -211,12 +211,12 @@ TEST(ContrastiveTrainerTest, FineTuningStartsFromTheTrainedWeights) {
   ASSERT_TRUE(tuned_model.ok()) << tuned_model.status();
   EXPECT_DOUBLE_EQ((*tuned_model)->config().content_class_weight, 3);
 
-  TrainOptions other = GuidedOptions(testing::FreshDir("guided_other"), 10);
+  ContrastiveTrainOptions other = GuidedOptions(testing::FreshDir("guided_other"), 10);
   other.config.channels = 8;
   other.init_from = base.out;
   EXPECT_FALSE(TrainContrastive(other).ok());
   // Weights trained on other data (other normalization statistics) too.
-  TrainOptions elsewhere = GuidedOptions(testing::FreshDir("guided_elsewhere"), 10);
+  ContrastiveTrainOptions elsewhere = GuidedOptions(testing::FreshDir("guided_elsewhere"), 10);
   elsewhere.data.pop_back();
   elsewhere.config.guided = false;
   elsewhere.init_from = base.out;
@@ -232,20 +232,20 @@ TEST(ContrastiveTrainerTest, WeightAveragingPackagesTheMeanOfTheSampledWeights) 
     EXPECT_TRUE(LoadWeights(net, dir + "/weights.pt").ok()) << dir;
     return net;
   };
-  TrainOptions plain = GuidedOptions(testing::FreshDir("average_plain"), 20);
+  ContrastiveTrainOptions plain = GuidedOptions(testing::FreshDir("average_plain"), 20);
   std::vector<ContrastiveNet> sampled;
   for (int iterations : {20, 30, 40}) {
-    TrainOptions o = GuidedOptions(plain.out, iterations);
+    ContrastiveTrainOptions o = GuidedOptions(plain.out, iterations);
     o.resume = iterations > 20;
     ASSERT_TRUE(TrainContrastive(o).ok());
     absl::StatusOr<ContrastiveConfig> c = ReadPackageConfig(plain.out);
     ASSERT_TRUE(c.ok()) << c.status();
     sampled.push_back(weights_of(plain.out, *c));
   }
-  TrainOptions averaged = GuidedOptions(testing::FreshDir("average_run"), 40);
+  ContrastiveTrainOptions averaged = GuidedOptions(testing::FreshDir("average_run"), 40);
   averaged.config.average_from = 20, averaged.config.average_every = 10;
   ASSERT_TRUE(TrainContrastive(averaged).ok());
-  TrainOptions resumed = GuidedOptions(testing::FreshDir("average_resumed"), 30);
+  ContrastiveTrainOptions resumed = GuidedOptions(testing::FreshDir("average_resumed"), 30);
   resumed.config.average_from = 20, resumed.config.average_every = 10;
   ASSERT_TRUE(TrainContrastive(resumed).ok());
   resumed.config.iterations = 40;
@@ -268,7 +268,7 @@ TEST(ContrastiveTrainerTest, WeightAveragingPackagesTheMeanOfTheSampledWeights) 
   }
   EXPECT_GT(moved, 1e-3);  // The mean is not simply the last weights.
 
-  TrainOptions late = GuidedOptions(testing::FreshDir("average_late"), 40);
+  ContrastiveTrainOptions late = GuidedOptions(testing::FreshDir("average_late"), 40);
   late.config.average_from = 50;
   EXPECT_EQ(TrainContrastive(late).code(), absl::StatusCode::kInvalidArgument);
 }

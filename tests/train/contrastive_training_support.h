@@ -17,8 +17,8 @@
 
 namespace stylus::model::contrastive_testing {
 
-inline TrainOptions GuidedOptions(const std::string& out, int iterations) {
-  TrainOptions o;
+inline ContrastiveTrainOptions GuidedOptions(const std::string& out, int iterations) {
+  ContrastiveTrainOptions o;
   o.data = testing::LabelledClips();
   o.out = out;
   o.config.guided = true;
@@ -56,14 +56,14 @@ struct ResumedRuns {
 };
 
 inline void TrainUnbrokenAndResumed(const std::string& name,
-                             const std::function<TrainOptions(const std::string&, int)>& make,
+                             const std::function<ContrastiveTrainOptions(const std::string&, int)>& make,
                              ResumedRuns* runs) {
-  TrainOptions unbroken = make(testing::FreshDir(name + "_a"), 80);
+  ContrastiveTrainOptions unbroken = make(testing::FreshDir(name + "_a"), 80);
   unbroken.on_record = [runs](const LossRecord& r) { runs->unbroken.push_back(r); };
   ASSERT_TRUE(TrainContrastive(unbroken).ok());
-  TrainOptions stopped = make(testing::FreshDir(name + "_b"), 40);
+  ContrastiveTrainOptions stopped = make(testing::FreshDir(name + "_b"), 40);
   ASSERT_TRUE(TrainContrastive(stopped).ok());
-  TrainOptions resumed = make(stopped.out, 80);
+  ContrastiveTrainOptions resumed = make(stopped.out, 80);
   resumed.resume = true;
   resumed.on_record = [runs](const LossRecord& r) { runs->resumed.push_back(r); };
   ASSERT_TRUE(TrainContrastive(resumed).ok());

@@ -15,42 +15,22 @@
 #include "motion/kinematics.h"
 #include "motion/synth.h"
 #include "tests/model/transfer_support.h"
+#include "tests/model/contrastive/contrastive_support.h"
 #include "tests/model/synth_clips.h"
 
 namespace stylus::model {
 namespace {
 
 using ::stylus::testing::MotionOf;
+using namespace contrastive_testing;  // NOLINT: the family's test fixtures.
 
 namespace fs = std::filesystem;
-
-std::string Dir(const std::string& name) { return testing::FreshDir("contrastive_" + name); }
 using testing::FourClips;
-
-TrainOptions TinyOptions(const std::string& out, int iterations) {
-  TrainOptions o;
-  o.data = FourClips();
-  o.out = out;
-  o.config.channels = 16;
-  o.config.window = 16;
-  o.config.hop = 12;
-  o.config.batch = 8;
-  o.config.lr = 2e-3;
-  o.config.iterations = iterations;
-  o.config.seed = 7;
-  o.log_every = 10;
-  o.checkpoint_every = 40;
-  o.threads = 1;
-  o.log = [](const std::string&) {};
-  return o;
-}
-
-motion::Motion Clip(int i) { return *motion::ReadBvhFile(FourClips()[i]); }
 
 TEST(ContrastiveModelTest, TinyModelOverfitsFourClips) {
   // Without the adversarial term (whose game need not settle in 300 steps),
   // the reconstruction of four clips must fall well below where it starts.
-  TrainOptions o = TinyOptions(Dir("overfit"), 300);
+  ContrastiveTrainOptions o = TinyOptions(Dir("overfit"), 300);
   o.config.alpha = 0;
   std::vector<LossRecord> curve;
   o.on_record = [&](const LossRecord& r) { curve.push_back(r); };
@@ -70,35 +50,26 @@ TEST(ContrastiveModelTest, TrainingIsDeterministicAndResumable) {
   // Two runs with one seed agree; a run killed at its checkpoint and resumed
   // ends where an uninterrupted run ends.
   std::vector<LossRecord> a, b, c;
-  TrainOptions oa = TinyOptions(Dir("det_a"), 80);
+  ContrastiveTrainOptions oa = TinyOptions(Dir("det_a"), 80);
   oa.on_record = [&](const LossRecord& r) { a.push_back(r); };
   ASSERT_TRUE(TrainContrastive(oa).ok());
-  TrainOptions ob = TinyOptions(Dir("det_b"), 40);
+  ContrastiveTrainOptions ob = TinyOptions(Dir("det_b"), 40);
   ob.on_record = [&](const LossRecord& r) { b.push_back(r); };
   ASSERT_TRUE(TrainContrastive(ob).ok());
   for (size_t i = 0; i < b.size(); ++i) EXPECT_DOUBLE_EQ(a[i].total, b[i].total) << i;
-  TrainOptions oc = TinyOptions(ob.out, 80);
+  ContrastiveTrainOptions oc = TinyOptions(ob.out, 80);
   oc.resume = true;
   oc.on_record = [&](const LossRecord& r) { c.push_back(r); };
   ASSERT_TRUE(TrainContrastive(oc).ok());
   ASSERT_EQ(c.size(), 4u);
   EXPECT_NEAR(c.back().total, a.back().total, 1e-4 * std::fabs(a.back().total));
   // Resuming with another configuration is refused.
-  TrainOptions od = TinyOptions(ob.out, 120);
+  ContrastiveTrainOptions od = TinyOptions(ob.out, 120);
   od.config.channels = 8;
   od.resume = true;
   EXPECT_EQ(TrainContrastive(od).code(), absl::StatusCode::kFailedPrecondition);
 }
 
-class TrainedModelTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new std::string(Dir("trained"));
-    ASSERT_TRUE(TrainContrastive(TinyOptions(*dir_, 40)).ok());
-  }
-  static std::string* dir_;
-};
-std::string* TrainedModelTest::dir_ = nullptr;
 
 TEST_F(TrainedModelTest, TransferKeepsLayoutAndLengthForAnyLength) {
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(*dir_);
@@ -287,90 +258,5 @@ TEST_F(TrainedModelTest, CorruptOrMissingFilesAreClearErrors) {
 }
 
 // Appends `text` to the package's config.txt.
-void AppendConfig(const std::string& dir, const std::string& text) {
-  std::ofstream(dir + "/config.txt", std::ios::app) << text;
-}
-
-TEST_F(TrainedModelTest, ContentGuardLearnsTheLabelledClipsAndGuardsTransfers) {
-  const std::string dir = Dir("guarded");
-  fs::copy(*dir_, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
-  ContentGuardTrainOptions o;
-  o.model = dir;
-  o.data = testing::LabelledClips();
-  o.iterations = 150;
-  o.guards = 2;
-  o.log = [](const std::string&) {};
-  absl::StatusOr<ContentGuardAccuracy> acc = TrainContentGuard(o);
-  ASSERT_TRUE(acc.ok()) << acc.status();
-  EXPECT_EQ(acc->clips, 0);  // Single files: no held-out split.
-  for (const char* f : {"guard.txt", "guard_1.pt", "guard_2.pt"}) {
-    EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
-  }
-  absl::StatusOr<std::unique_ptr<ContrastiveModel>> plain = ContrastiveModel::Load(dir);
-  ASSERT_TRUE(plain.ok()) << plain.status();
-  const ContrastiveConfig& config = (*plain)->config();
-  absl::StatusOr<std::unique_ptr<ContentGuard>> guard =
-      ContentGuard::Load(dir, config.dim, config.window, config.hop);
-  ASSERT_TRUE(guard.ok()) << guard.status();
-  ASSERT_EQ((*guard)->contents(), (std::vector<std::string>{"run", "turn", "walk"}));
-  // The guards learned the four clips' actions (walk, walk, run, turn).
-  const int want[] = {2, 2, 0, 1};
-  for (int i = 0; i < 4; ++i) {
-    absl::StatusOr<motion::FeatureClip> f = (*plain)->NormalizedFeatures(Clip(i), "clip");
-    ASSERT_TRUE(f.ok()) << f.status();
-    const std::vector<double> p = (*guard)->Probabilities(*f);
-    ASSERT_EQ(p.size(), 3u);
-    EXPECT_NEAR(p[0] + p[1] + p[2], 1.0, 1e-6);
-    EXPECT_EQ((*guard)->Classify(*f), want[i]) << testing::LabelledClips()[i];
-  }
-  // Turned on, every transfer ends at one of the forms.
-  AppendConfig(dir, "content_guard = 1\nguard_strengths = 0.5,0\n");
-  absl::StatusOr<std::unique_ptr<ContrastiveModel>> guarded = ContrastiveModel::Load(dir);
-  ASSERT_TRUE(guarded.ok()) << guarded.status();
-  const StyleCode code = *(*guarded)->EncodeStyle(Clip(1));
-  for (int i : {0, 2, 3}) {
-    absl::StatusOr<TransferResult> result =
-        (*guarded)->Transfer(Clip(i), code, motion::PostProcessMode::kFull);
-    ASSERT_TRUE(result.ok()) << result.status();
-    const TransferNote& note = result->note;
-    EXPECT_TRUE(note.guarded);
-    EXPECT_EQ(note.residual_strength, note.backed_off ? (note.last_form ? 0 : 0.5) : 1) << i;
-    EXPECT_TRUE(!note.last_form || note.backed_off) << i;
-  }
-  // Off until config.txt turns it on.
-  absl::StatusOr<TransferResult> plain_result =
-      (*plain)->Transfer(Clip(0), code, motion::PostProcessMode::kFull);
-  ASSERT_TRUE(plain_result.ok()) << plain_result.status();
-  EXPECT_FALSE(plain_result->note.guarded);
-}
-
-TEST_F(TrainedModelTest, ContentGuardFilesAreCheckedOnLoad) {
-  const std::string dir = Dir("guard_files");
-  fs::copy(*dir_, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
-  AppendConfig(dir, "content_guard = 1\n");
-  auto error = [&](absl::StatusCode code, const std::string& text) {
-    const absl::Status s = ContrastiveModel::Load(dir).status();
-    EXPECT_EQ(s.code(), code) << s;
-    EXPECT_NE(s.message().find(text), std::string::npos) << s;
-  };
-  error(absl::StatusCode::kNotFound, "guard.txt: missing (train it with stylus-tool train-guard)");
-  std::ofstream(dir + "/guard.txt") << "styles = a,b\ncontents = c,d\nguards = 0\n";
-  error(absl::StatusCode::kInvalidArgument, "guard.txt:3: ");
-  std::ofstream(dir + "/guard.txt", std::ios::trunc) << "styles = a,b\nguards = 1\n";
-  error(absl::StatusCode::kInvalidArgument, "guard.txt: missing 'styles' or 'contents'");
-  std::ofstream(dir + "/guard.txt", std::ios::trunc) << "styles = a,b\ncontents = c,d\n";
-  error(absl::StatusCode::kNotFound, "guard_1.pt: missing");
-  std::ofstream(dir + "/guard_1.pt") << "not a torch archive";
-  error(absl::StatusCode::kInvalidArgument, "guard_1.pt: cannot load weights");
-  ContentGuardTrainOptions o;
-  o.model = dir;
-  o.data = testing::LabelledClips();
-  o.guards = 0;
-  EXPECT_EQ(TrainContentGuard(o).status().code(), absl::StatusCode::kInvalidArgument);
-  o.guards = 1;
-  o.data = FourClips();  // Not labelled.
-  EXPECT_EQ(TrainContentGuard(o).status().code(), absl::StatusCode::kInvalidArgument);
-}
-
 }  // namespace
 }  // namespace stylus::model

@@ -13,8 +13,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <csignal>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -33,7 +33,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 double Percentile(std::vector<double> v, double p) {
   std::sort(v.begin(), v.end());
@@ -67,8 +69,9 @@ int main(int argc, char** argv) {
   const std::string models = std::string(STYLUS_SOURCE_DIR) + "/models";
   const std::string port_file = "/tmp/stylus_server_bench." + std::to_string(getpid()) + ".port";
   std::remove(port_file.c_str());
-  std::vector<std::string> args = {server_bin, "--models", models, "--listen", "localhost:0",
-                                   "--port-file", port_file, "--threads", "2"};
+  std::vector<std::string> args = {server_bin, "--models",    models,
+                                   "--listen", "localhost:0", "--port-file",
+                                   port_file,  "--threads",   "2"};
   std::vector<char*> cargs;
   for (auto& a : args) cargs.push_back(a.data());
   cargs.push_back(nullptr);
@@ -95,8 +98,10 @@ int main(int argc, char** argv) {
   options.address = "localhost:" + std::to_string(port);
   stylus::Client client(options);
 
-  const auto content = *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("normal,frames=300"));
-  const auto style = *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("old,frames=120"));
+  const auto content =
+      *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("normal,frames=300"));
+  const auto style =
+      *stylus::motion::Synthesize(*stylus::motion::ParseSynthStyle("old,frames=120"));
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const long rss_idle = RssKb(pid);
 
@@ -120,8 +125,10 @@ int main(int argc, char** argv) {
     }
   }
   const double lm = Percentile(local, 0.5), um = Percentile(unary, 0.5);
-  std::printf("unary Transfer, 300 frames (saved style): median %.1f ms; in-process baseline %.1f ms;"
-              " ratio %.2f\n", 1000 * um, 1000 * lm, um / lm);
+  std::printf(
+      "unary Transfer, 300 frames (saved style): median %.1f ms; in-process baseline %.1f ms;"
+      " ratio %.2f\n",
+      1000 * um, 1000 * lm, um / lm);
 
   auto streamed = client.Stream(content, {&style, ""}, 30);
   if (!streamed.ok()) {
@@ -138,10 +145,11 @@ int main(int argc, char** argv) {
   // Frame f leaves once input reaches the start of the window after it plus
   // a window and one frame: on average (hop-1)/2 + window + 1 frames later.
   const double floor_ms = 1000.0 * ((info->hop() - 1) / 2.0 + info->window() + 1) / 30.0;
-  std::printf("TransferStream at 30 fps, 300 frames: per-frame latency p50 %.0f ms, p99 %.0f ms; "
-              "windowing floor (mean wait for the next window) %.0f ms; p50/floor %.2f\n",
-              1000 * Percentile(streamed->latency_s, 0.5), 1000 * Percentile(streamed->latency_s, 0.99),
-              floor_ms, 1000 * Percentile(streamed->latency_s, 0.5) / floor_ms);
+  std::printf(
+      "TransferStream at 30 fps, 300 frames: per-frame latency p50 %.0f ms, p99 %.0f ms; "
+      "windowing floor (mean wait for the next window) %.0f ms; p50/floor %.2f\n",
+      1000 * Percentile(streamed->latency_s, 0.5), 1000 * Percentile(streamed->latency_s, 0.99),
+      floor_ms, 1000 * Percentile(streamed->latency_s, 0.5) / floor_ms);
 
   const long rss_before = RssKb(pid);
   const auto t_calls = Clock::now();
@@ -157,10 +165,11 @@ int main(int argc, char** argv) {
   for (auto& t : workers) t.join();
   const double secs = Since(t_calls);
   const long rss_after = RssKb(pid);
-  std::printf("server RSS: idle %.1f MB; before the calls %.1f MB; after %d Transfer calls (%.1f s, "
-              "%.1f calls/s, %d failed) %.1f MB; after/before %.2f\n",
-              rss_idle / 1024.0, rss_before / 1024.0, calls, secs, calls / secs, failures.load(),
-              rss_after / 1024.0, static_cast<double>(rss_after) / rss_before);
+  std::printf(
+      "server RSS: idle %.1f MB; before the calls %.1f MB; after %d Transfer calls (%.1f s, "
+      "%.1f calls/s, %d failed) %.1f MB; after/before %.2f\n",
+      rss_idle / 1024.0, rss_before / 1024.0, calls, secs, calls / secs, failures.load(),
+      rss_after / 1024.0, static_cast<double>(rss_after) / rss_before);
   kill(pid, SIGTERM);
   int status = 0;
   waitpid(pid, &status, 0);

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "model/family_registry.h"
-#include "model/style_model.h"
 #include "model/runtime.h"
+#include "model/style_model.h"
 #include "motion/features.h"
 #include "motion/synth.h"
 

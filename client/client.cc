@@ -26,9 +26,9 @@ Client::Client(const ClientOptions& options) : options_(options) {
 
 std::unique_ptr<grpc::ClientContext> Client::Context(double deadline_scale) const {
   auto ctx = std::make_unique<grpc::ClientContext>();
-  ctx->set_deadline(std::chrono::system_clock::now() +
-                    std::chrono::duration_cast<std::chrono::milliseconds>(options_.deadline *
-                                                                          deadline_scale));
+  ctx->set_deadline(
+      std::chrono::system_clock::now() +
+      std::chrono::duration_cast<std::chrono::milliseconds>(options_.deadline * deadline_scale));
   return ctx;
 }
 
@@ -105,10 +105,11 @@ absl::StatusOr<std::vector<float>> Client::EncodeStyle(const motion::Motion& cli
   return std::vector<float>(response.code().begin(), response.code().end());
 }
 
-absl::StatusOr<motion::Motion> Client::Interpolate(
-    const motion::Motion& content, const std::vector<Style>& styles,
-    const std::vector<double>& weights, const std::vector<std::vector<double>>& schedule,
-    const CallOptions& options) {
+absl::StatusOr<motion::Motion> Client::Interpolate(const motion::Motion& content,
+                                                   const std::vector<Style>& styles,
+                                                   const std::vector<double>& weights,
+                                                   const std::vector<std::vector<double>>& schedule,
+                                                   const CallOptions& options) {
   if (absl::Status s = wire::CheckFinite(content, "content clip"); !s.ok()) return s;
   v1::InterpolateRequest request;
   request.set_model(options.model);
@@ -147,8 +148,9 @@ absl::StatusOr<StreamResult> Client::Stream(const motion::Motion& content, const
     if (!stream->Write(config)) return;
     const Clock::time_point start = Clock::now();
     for (int f = 0; f < content.num_frames; ++f) {
-      if (rate > 0) std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                              std::chrono::duration<double>(f / rate)));
+      if (rate > 0)
+        std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
+                                                  std::chrono::duration<double>(f / rate)));
       v1::StreamRequest r;
       wire::FrameToProto(content, f, f, r.mutable_frame());
       {
@@ -183,10 +185,12 @@ absl::StatusOr<StreamResult> Client::Stream(const motion::Motion& content, const
   return result;
 }
 
-absl::StatusOr<std::map<std::string, double>> Client::ComputeMetrics(
-    const motion::Motion& output, const motion::Motion* content, const motion::Motion* style) {
-  for (const auto& [clip, what] : {std::pair{&output, "output clip"}, std::pair{content, "content clip"},
-                                   std::pair{style, "style clip"}}) {
+absl::StatusOr<std::map<std::string, double>> Client::ComputeMetrics(const motion::Motion& output,
+                                                                     const motion::Motion* content,
+                                                                     const motion::Motion* style) {
+  for (const auto& [clip, what] :
+       {std::pair{&output, "output clip"}, std::pair{content, "content clip"},
+        std::pair{style, "style clip"}}) {
     if (clip == nullptr) continue;
     if (absl::Status s = wire::CheckFinite(*clip, what); !s.ok()) return s;
   }

@@ -1,20 +1,20 @@
 // stylus: the command-line client of a Stylus server.
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <set>
-#include <cstdio>
 #include <string>
 #include <vector>
 
-#include "absl/strings/str_cat.h"
-#include "absl/strings/str_join.h"
-#include "absl/strings/str_format.h"
-#include "absl/strings/str_split.h"
 #include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
+#include "cli/args.h"
 #include "client/client.h"
 #include "motion/bvh.h"
-#include "cli/args.h"
 
 namespace {
 
@@ -76,8 +76,8 @@ int Models(stylus::Client& client) {
   if (!models.ok()) return Fail("models", models.status());
   for (const auto& m : *models) {
     absl::PrintF("%s%s  family=%s joints=%d fps=%.1f window=%d hop=%d iterations=%d\n", m.id(),
-                 m.is_default() ? " (default)" : "", m.family(), m.skeleton().joints_size(), m.fps(),
-                 m.window(), m.hop(), m.trained_iterations());
+                 m.is_default() ? " (default)" : "", m.family(), m.skeleton().joints_size(),
+                 m.fps(), m.window(), m.hop(), m.trained_iterations());
   }
   return 0;
 }
@@ -85,16 +85,17 @@ int Models(stylus::Client& client) {
 int ModelInfo(stylus::Client& client, const Args& a) {
   auto m = client.GetModel(a.Get("model"));
   if (!m.ok()) return Fail("model-info", m.status());
-  absl::PrintF("id %s\nfamily %s\nversion %s\ndefault %s\njoints %d\nfps %.3f\nwindow %d\nhop %d\n"
-               "trained_iterations %d\n",
-               m->id(), m->family(), m->version(), m->is_default() ? "yes" : "no",
-               m->skeleton().joints_size(), m->fps(), m->window(), m->hop(),
-               m->trained_iterations());
+  absl::PrintF(
+      "id %s\nfamily %s\nversion %s\ndefault %s\njoints %d\nfps %.3f\nwindow %d\nhop %d\n"
+      "trained_iterations %d\n",
+      m->id(), m->family(), m->version(), m->is_default() ? "yes" : "no",
+      m->skeleton().joints_size(), m->fps(), m->window(), m->hop(), m->trained_iterations());
   return 0;
 }
 
 int Load(stylus::Client& client, const Args& a) {
-  if (a.Get("model").empty()) return Fail("load", absl::InvalidArgumentError("--model is required"));
+  if (a.Get("model").empty())
+    return Fail("load", absl::InvalidArgumentError("--model is required"));
   auto m = client.LoadModel(a.Get("model"));
   if (!m.ok()) return Fail("load", m.status());
   absl::PrintF("loaded %s%s\n", m->id(), m->is_default() ? " (default)" : "");
@@ -158,7 +159,8 @@ int Interpolate(stylus::Client& client, const Args& a) {
   std::vector<stylus::Style> styles;
   for (const auto& c : clips) styles.push_back({&c, ""});
   const std::string prefix = a.Get("out");
-  if (prefix.empty()) return Fail("interpolate", absl::InvalidArgumentError("-o PREFIX is required"));
+  if (prefix.empty())
+    return Fail("interpolate", absl::InvalidArgumentError("-o PREFIX is required"));
   std::vector<std::vector<double>> mixes;
   for (absl::string_view group : absl::StrSplit(a.Get("weights"), ',', absl::SkipEmpty())) {
     std::vector<double> mix;
@@ -172,10 +174,9 @@ int Interpolate(stylus::Client& client, const Args& a) {
     }
     if (mix.size() == 1 && clips.size() == 2) mix = {1 - mix[0], mix[0]};
     if (mix.size() != clips.size()) {
-      return Fail("interpolate",
-                  absl::InvalidArgumentError(absl::StrCat("--weights: group '", group, "' has ",
-                                                          mix.size(), " weights for ",
-                                                          clips.size(), " styles")));
+      return Fail("interpolate", absl::InvalidArgumentError(
+                                     absl::StrCat("--weights: group '", group, "' has ", mix.size(),
+                                                  " weights for ", clips.size(), " styles")));
     }
     mixes.push_back(mix);
   }
@@ -216,7 +217,8 @@ int Stream(stylus::Client& client, const Args& a) {
   }
   absl::PrintF("streamed %d frames at %.1f fps; got %d back; latency p50 %.1f ms, p99 %.1f ms\n",
                content->num_frames, *rate, result->output.num_frames,
-               1000 * Percentile(result->latency_s, 0.5), 1000 * Percentile(result->latency_s, 0.99));
+               1000 * Percentile(result->latency_s, 0.5),
+               1000 * Percentile(result->latency_s, 0.99));
   return 0;
 }
 
@@ -266,31 +268,58 @@ struct Command {
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command>* commands = new std::vector<Command>{
-      {"models", "list the server's models", "", {}, false,
+      {"models",
+       "list the server's models",
+       "",
+       {},
+       false,
        [](stylus::Client& c, const Args&) { return Models(c); }},
-      {"model-info", "one model (default: the server's default)", "[--model M]", {"model"}, false,
+      {"model-info",
+       "one model (default: the server's default)",
+       "[--model M]",
+       {"model"},
+       false,
        ModelInfo},
-      {"load", "load models/NAME/VERSION on the server", "--model NAME/VERSION", {"model"}, false,
+      {"load",
+       "load models/NAME/VERSION on the server",
+       "--model NAME/VERSION",
+       {"model"},
+       false,
        Load},
       {"unload", "unload a model", "--model NAME/VERSION", {"model"}, false, Unload},
-      {"transfer", "restyle a clip",
+      {"transfer",
+       "restyle a clip",
        "--content C.bvh (--style S.bvh | --style-name N) -o OUT.bvh",
-       {"content", "style", "style-name", "out"}, true, Transfer},
-      {"interpolate", "restyle a clip with blends of styles",
+       {"content", "style", "style-name", "out"},
+       true,
+       Transfer},
+      {"interpolate",
+       "restyle a clip with blends of styles",
        "--content C.bvh --style A.bvh --style B.bvh [--style ...] --weights W -o PREFIX\n\n"
        "  --weights 0,0.5,1        one output per weight of the first style against\n"
        "                           the second (two styles), or\n"
        "  --weights w1:w2:...,...  one mix per comma-separated group",
-       {"content", "style", "out", "weights"}, true, Interpolate},
-      {"stream", "stream a clip's frames at a rate; per-frame latency p50/p99",
+       {"content", "style", "out", "weights"},
+       true,
+       Interpolate},
+      {"stream",
+       "stream a clip's frames at a rate; per-frame latency p50/p99",
        "--content C.bvh --style S.bvh [--rate FPS] [-o OUT.bvh]\n\n"
        "  --rate FPS               frames sent per second (default: the clip's rate)",
-       {"content", "style", "rate", "out"}, true, Stream},
-      {"metrics", "kinematic and style metrics of a clip (JSON)",
-       "--output O.bvh [--content C.bvh] [--style S.bvh]", {"output", "content", "style"}, false,
+       {"content", "style", "rate", "out"},
+       true,
+       Stream},
+      {"metrics",
+       "kinematic and style metrics of a clip (JSON)",
+       "--output O.bvh [--content C.bvh] [--style S.bvh]",
+       {"output", "content", "style"},
+       false,
        Metrics},
-      {"encode-style", "a style clip's code, optionally saved under a name",
-       "--style S.bvh [--save-as NAME] [--model M]", {"style", "save-as", "model"}, false,
+      {"encode-style",
+       "a style clip's code, optionally saved under a name",
+       "--style S.bvh [--save-as NAME] [--model M]",
+       {"style", "save-as", "model"},
+       false,
        EncodeStyle},
   };
   return *commands;
@@ -298,7 +327,8 @@ const std::vector<Command>& Commands() {
 
 std::string CommandList() {
   std::string out;
-  for (const Command& c : Commands()) absl::StrAppendFormat(&out, "  %-14s %s\n", c.name, c.summary);
+  for (const Command& c : Commands())
+    absl::StrAppendFormat(&out, "  %-14s %s\n", c.name, c.summary);
   return out;
 }
 

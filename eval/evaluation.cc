@@ -129,7 +129,8 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       absl::StatusOr<Verdict> v = verdict(judges, out);
       if (!v.ok()) return v.status();
       EvalRow& row = report.rows[r];
-      report.verdicts.push_back({static_cast<int>(pair), static_cast<int>(r), v->style, v->content});
+      report.verdicts.push_back(
+          {static_cast<int>(pair), static_cast<int>(r), v->style, v->content});
       row.style_accuracy += v->style_right;
       row.content_accuracy += v->content_right;
       if (second_judges) {
@@ -216,9 +217,10 @@ std::string EvalReport::VerdictsCsv(const std::vector<EvalPair>& pairs) const {
     const EvalPair& p = pairs[v.pair];
     const auto style = motion::ParseClipName(p.style_path);
     const auto content = motion::ParseClipName(p.content_path);
-    const std::vector<std::string> fields = {p.content_path, p.style_path, rows[v.row].name,
-                                             style ? style->style : "", v.style,
-                                             content ? content->content : "", v.content};
+    const std::vector<std::string> fields = {p.content_path,   p.style_path,
+                                             rows[v.row].name, style ? style->style : "",
+                                             v.style,          content ? content->content : "",
+                                             v.content};
     for (size_t i = 0; i < fields.size(); ++i)
       absl::StrAppend(&s, i ? "," : "", CsvField(fields[i]));
     s += "\n";
@@ -289,17 +291,18 @@ std::string EvalReport::Markdown() const {
   for (const EvalRow& r : rows) {
     absl::StrAppendFormat(
         &s, "| %s | %d | %.3f | %.3f | %.2f | %.3f +- %.3f | %.2f | %.3f | %.4f | %.3f | %.3f |\n",
-        r.name, r.pairs, r.style_accuracy, r.content_accuracy, r.fmd, r.kid, r.kid_std,
-        r.diversity, r.content_distance, r.style_distance, r.d_s, r.d_c);
+        r.name, r.pairs, r.style_accuracy, r.content_accuracy, r.fmd, r.kid, r.kid_std, r.diversity,
+        r.content_distance, r.style_distance, r.d_s, r.d_c);
   }
   if (reference_clips > 0) {
-    absl::StrAppendFormat(&s,
-                          "\nFMD and KID against %d real clips (the feature judge's hidden layer: "
-                          "per-channel mean and standard deviation over time); real clips' own "
-                          "diversity: %.2f. D_S and D_C: paper 004's style similarity ratios of the Gram "
-                          "distances to the style and the content clip (low D_S: the output's "
-                          "style is the style clip's).\n",
-                          reference_clips, real_diversity);
+    absl::StrAppendFormat(
+        &s,
+        "\nFMD and KID against %d real clips (the feature judge's hidden layer: "
+        "per-channel mean and standard deviation over time); real clips' own "
+        "diversity: %.2f. D_S and D_C: paper 004's style similarity ratios of the Gram "
+        "distances to the style and the content clip (low D_S: the output's "
+        "style is the style clip's).\n",
+        reference_clips, real_diversity);
   }
   for (const EvalRow& r : rows) {
     if (r.guarded == 0) continue;
@@ -327,16 +330,15 @@ std::string EvalReport::Markdown() const {
                             r.ContentByEither());
     }
   }
-  s +=
-      "\nKinematics (means over pairs; feet measured where the content clip's feet are "
-      "planted, copy-style against the style clip itself):\n\n"
-      "| output | foot skating (units/s) | foot height error (units) | bone length error | "
-      "jitter (units/s^3) | Euler discontinuities | trajectory error (units) |\n"
-      "| --- | --- | --- | --- | --- | --- | --- |\n";
+  s += "\nKinematics (means over pairs; feet measured where the content clip's feet are "
+       "planted, copy-style against the style clip itself):\n\n"
+       "| output | foot skating (units/s) | foot height error (units) | bone length error | "
+       "jitter (units/s^3) | Euler discontinuities | trajectory error (units) |\n"
+       "| --- | --- | --- | --- | --- | --- | --- |\n";
   for (const EvalRow& r : rows) {
     absl::StrAppendFormat(&s, "| %s | %.2f | %.2f | %.4f%% | %.0f | %d | %.2f |\n", r.name,
-                          r.foot_skating, r.foot_height_error, 100 * r.bone_length_error,
-                          r.jitter, r.euler_discontinuities, r.trajectory_error);
+                          r.foot_skating, r.foot_height_error, 100 * r.bone_length_error, r.jitter,
+                          r.euler_discontinuities, r.trajectory_error);
   }
   if (identity_row >= 2) {
     const EvalRow &full = rows[1], &real = rows[identity_row];

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "model/style_model.h"
 #include "eval/feature_judge.h"
 #include "eval/judges.h"
+#include "model/style_model.h"
 
 namespace stylus::model {
 
@@ -30,12 +30,12 @@ absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::strin
 // feet should be planted: the content clip, or for copy-style the style clip.
 struct EvalRow {
   std::string name;
-  double style_accuracy = 0;    // Judged style == the style clip's style.
-  double content_accuracy = 0;  // Judged content == the content clip's content.
-  double foot_skating = 0;      // Mean horizontal foot speed in contact (units/s).
-  double foot_height_error = 0;  // Mean height of contact feet above their floor (units).
-  double bone_length_error = 0;  // Mean relative bone length error.
-  double jitter = 0;             // Mean jerk (units/s^3).
+  double style_accuracy = 0;      // Judged style == the style clip's style.
+  double content_accuracy = 0;    // Judged content == the content clip's content.
+  double foot_skating = 0;        // Mean horizontal foot speed in contact (units/s).
+  double foot_height_error = 0;   // Mean height of contact feet above their floor (units).
+  double bone_length_error = 0;   // Mean relative bone length error.
+  double jitter = 0;              // Mean jerk (units/s^3).
   int euler_discontinuities = 0;  // Summed over all pairs.
   // Feature-judge metrics (when a feature judge is given): distribution
   // distances of the outputs to real clips, their diversity, and the mean
@@ -75,8 +75,8 @@ struct EvalModel {
 
 // What the judges said about one output of one pair.
 struct EvalVerdict {
-  int pair = 0;  // Index into the evaluated pairs.
-  int row = 0;   // Index into EvalReport::rows.
+  int pair = 0;                // Index into the evaluated pairs.
+  int row = 0;                 // Index into EvalReport::rows.
   std::string style, content;  // Judged labels.
 };
 
@@ -87,7 +87,7 @@ struct EvalReport {
   int identity_row = -1;
   double real_diversity = 0;  // Of the reference clips (with a feature judge).
   int reference_clips = 0;
-  bool second_judges = false;  // The rows' second_* and content_by_* are set.
+  bool second_judges = false;         // The rows' second_* and content_by_* are set.
   std::vector<EvalVerdict> verdicts;  // Every row's verdict on every pair (first judges).
   std::string Markdown() const;
   // One line per pair and row: content_bvh, style_bvh, output, wanted and

@@ -9,8 +9,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "train/training_set.h"
 #include "model/window_tensor.h"
+#include "train/training_set.h"
 
 namespace stylus::model {
 namespace {
@@ -25,12 +25,14 @@ torch::Tensor Lrelu(const torch::Tensor& x) { return torch::leaky_relu(x, 0.2); 
 struct DaeImpl : nn::Module {
   explicit DaeImpl(int dim) {
     enc1 = register_module("enc1", nn::Conv1d(nn::Conv1dOptions(dim, kWidth, 7).padding(3)));
-    enc2 = register_module(
-        "enc2", nn::Conv1d(nn::Conv1dOptions(kWidth, kHidden, 4).stride(2).padding(1)));
+    enc2 = register_module("enc2",
+                           nn::Conv1d(nn::Conv1dOptions(kWidth, kHidden, 4).stride(2).padding(1)));
     dec1 = register_module("dec1", nn::Conv1d(nn::Conv1dOptions(kHidden, kWidth, 7).padding(3)));
     dec2 = register_module("dec2", nn::Conv1d(nn::Conv1dOptions(kWidth, dim, 7).padding(3)));
   }
-  torch::Tensor encode(const torch::Tensor& x) { return Lrelu(enc2->forward(Lrelu(enc1->forward(x)))); }
+  torch::Tensor encode(const torch::Tensor& x) {
+    return Lrelu(enc2->forward(Lrelu(enc1->forward(x))));
+  }
   torch::Tensor forward(const torch::Tensor& x) {
     torch::Tensor h = torch::nn::functional::interpolate(
         encode(x), torch::nn::functional::InterpolateFuncOptions()
@@ -48,10 +50,9 @@ torch::Tensor Corrupt(const torch::Tensor& x) {
   return (x + 0.3 * torch::randn_like(x)) * keep;
 }
 
-
 torch::Tensor ToTensor(const std::vector<std::vector<double>>& s) {
-  torch::Tensor t = torch::empty({static_cast<int64_t>(s.size()), static_cast<int64_t>(s[0].size())},
-                                 torch::kFloat64);
+  torch::Tensor t = torch::empty(
+      {static_cast<int64_t>(s.size()), static_cast<int64_t>(s[0].size())}, torch::kFloat64);
   auto a = t.accessor<double, 2>();
   for (size_t i = 0; i < s.size(); ++i)
     for (size_t j = 0; j < s[i].size(); ++j) a[i][j] = s[i][j];
@@ -77,7 +78,8 @@ absl::StatusOr<DaeTrainResult> TrainFeatureJudge(
     const std::function<void(const std::string&)>& log) {
   absl::StatusOr<DataFiles> shape = ReadDataFiles(out);
   if (!shape.ok()) return shape.status();
-  absl::StatusOr<TrainingSet> train = LoadTrainingSet(data, {kWindow, kHop}, {}, false, &shape->norm);
+  absl::StatusOr<TrainingSet> train =
+      LoadTrainingSet(data, {kWindow, kHop}, {}, false, &shape->norm);
   if (!train.ok()) return train.status();
   absl::StatusOr<TrainingSet> test = LoadTrainingSet(data, {kWindow, kHop}, {}, true, &shape->norm);
   if (!test.ok()) return test.status();
@@ -108,8 +110,8 @@ absl::StatusOr<DaeTrainResult> TrainFeatureJudge(
     for (const motion::FeatureClip& clip : test->clips) {
       motion::FeatureClip f = clip;
       PadToLength(&f, kWindow);
-      const torch::Tensor x = WindowTensor(
-          f, *motion::WindowStarts(f.frames, {kWindow, kHop}, true), kWindow);
+      const torch::Tensor x =
+          WindowTensor(f, *motion::WindowStarts(f.frames, {kWindow, kHop}, true), kWindow);
       const torch::Tensor noisy_x = Corrupt(x);
       noisy += torch::mse_loss(noisy_x, x).item<double>();
       denoised += torch::mse_loss(net->forward(noisy_x), x).item<double>();
@@ -236,7 +238,8 @@ double Diversity(const std::vector<std::vector<double>>& set, int pairs, uint64_
     size_t j = rng() % (set.size() - 1);
     if (j >= i) ++j;
     double d = 0;
-    for (size_t k = 0; k < set[i].size(); ++k) d += (set[i][k] - set[j][k]) * (set[i][k] - set[j][k]);
+    for (size_t k = 0; k < set[i].size(); ++k)
+      d += (set[i][k] - set[j][k]) * (set[i][k] - set[j][k]);
     sum += std::sqrt(d);
   }
   return sum / pairs;

@@ -14,7 +14,6 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "model/package.h"
-#include "train/training_set.h"
 #include "model/window_tensor.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
@@ -22,6 +21,7 @@
 #include "motion/files.h"
 #include "motion/splice.h"
 #include "motion/windowing.h"
+#include "train/training_set.h"
 
 namespace stylus::model {
 namespace {

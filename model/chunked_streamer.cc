@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-
 namespace stylus::model {
 namespace {
 
@@ -40,16 +39,14 @@ absl::StatusOr<std::unique_ptr<ChunkedStreamer>> ChunkedStreamer::Create(
   TransferOptions raw(motion::PostProcessMode::kNone);
   raw.content_guard = false;
   if (auto t = model->Transfer(probe, spec.style, raw); !t.ok()) return t.status();
-  return std::unique_ptr<ChunkedStreamer>(
-      new ChunkedStreamer(std::move(model), spec.style,
-                          motion::RestMotion(spec.skeleton, 0, spec.frame_time), spec.post, chunk,
-                          context));
+  return std::unique_ptr<ChunkedStreamer>(new ChunkedStreamer(
+      std::move(model), spec.style, motion::RestMotion(spec.skeleton, 0, spec.frame_time),
+      spec.post, chunk, context));
 }
 
-ChunkedStreamer::ChunkedStreamer(std::shared_ptr<const StyleModel> model,
-                                             StyleCode style, const motion::Motion& empty,
-                                             motion::PostProcessMode post, int chunk,
-                                             int context)
+ChunkedStreamer::ChunkedStreamer(std::shared_ptr<const StyleModel> model, StyleCode style,
+                                 const motion::Motion& empty, motion::PostProcessMode post,
+                                 int chunk, int context)
     : model_(std::move(model)),
       style_(std::move(style)),
       post_(post),
@@ -98,9 +95,8 @@ absl::StatusOr<motion::Motion> ChunkedStreamer::Emit(int n) {
     if (axis < 0) continue;
     const int slot = axis == cx ? 0 : 2;
     if (has_last_) {
-      const double step = first > 0 ? out->values[first * c + axis] -
-                                          out->values[(first - 1) * c + axis]
-                                    : 0.0;
+      const double step =
+          first > 0 ? out->values[first * c + axis] - out->values[(first - 1) * c + axis] : 0.0;
       const double shift = last_root_[slot] + step - chunk.values[axis];
       for (int f = 0; f < n; ++f) chunk.values[f * c + axis] += static_cast<float>(shift);
     }

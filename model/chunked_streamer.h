@@ -37,8 +37,8 @@ class ChunkedStreamer : public FrameStreamer {
 
  private:
   ChunkedStreamer(std::shared_ptr<const StyleModel> model, StyleCode style,
-                        const motion::Motion& empty, motion::PostProcessMode post, int chunk,
-                        int context);
+                  const motion::Motion& empty, motion::PostProcessMode post, int chunk,
+                  int context);
   // Transfers the next `n` frames (with their context) and returns them.
   absl::StatusOr<motion::Motion> Emit(int n);
 

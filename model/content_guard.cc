@@ -63,7 +63,7 @@ absl::StatusOr<std::unique_ptr<ContentGuard>> ContentGuard::Load(const std::stri
       return absl::NotFoundError(path + ": missing (train it with stylus-tool train-guard)");
     }
     GuardNet net(dim, static_cast<int>(impl->styles.size()),
-                    static_cast<int>(impl->contents.size()));
+                 static_cast<int>(impl->contents.size()));
     if (absl::Status s = LoadWeights(net, path); !s.ok()) return s;
     net->eval();
     impl->nets.push_back(net);

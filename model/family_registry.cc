@@ -57,9 +57,9 @@ absl::StatusOr<std::unique_ptr<StyleModel>> LoadStyleModel(const std::string& di
   std::string text;
   for (const auto& [key, value] : overrides) {
     if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          dir, ": '", key, "' is not an inference key of the ", (*family)->name,
-          " family (inference keys: ", absl::StrJoin(keys, ", "), ")"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(dir, ": '", key, "' is not an inference key of the ", (*family)->name,
+                       " family (inference keys: ", absl::StrJoin(keys, ", "), ")"));
     }
     AppendConfigLine(&text, key, value);
   }

@@ -14,8 +14,8 @@ absl::Status CheckStyleMix(const std::vector<StyleCode>& styles, const StyleWeig
   if (styles.empty()) return absl::InvalidArgumentError("no style given");
   for (const StyleCode& s : styles) {
     if (static_cast<int>(s.values.size()) != code_size) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "style code has ", s.values.size(), " values; this model's have ", code_size));
+      return absl::InvalidArgumentError(absl::StrCat("style code has ", s.values.size(),
+                                                     " values; this model's have ", code_size));
     }
   }
   const bool per_frame = !weights.per_frame.empty();
@@ -115,7 +115,8 @@ absl::StatusOr<std::unique_ptr<FrameStreamer>> StyleModel::OpenStream(
     return absl::FailedPreconditionError(
         absl::StrCat("model ", dir(), ": streams need a model owned by a std::shared_ptr"));
   }
-  absl::StatusOr<std::unique_ptr<ChunkedStreamer>> s = ChunkedStreamer::Create(std::move(self), spec);
+  absl::StatusOr<std::unique_ptr<ChunkedStreamer>> s =
+      ChunkedStreamer::Create(std::move(self), spec);
   if (!s.ok()) return s.status();
   return std::unique_ptr<FrameStreamer>(*std::move(s));
 }

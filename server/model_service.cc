@@ -1,5 +1,5 @@
-#include "wire/wire.h"
 #include "server/services.h"
+#include "wire/wire.h"
 
 namespace stylus::server {
 namespace {
@@ -25,7 +25,8 @@ grpc::ServerUnaryReactor* ModelServiceImpl::ListModels(grpc::CallbackServerConte
                                                        v1::ListModelsResponse* response) {
   return RunUnary(service_, ctx, "ListModels", [this, response] {
     const std::string def = service_->registry->default_id();
-    for (const HostedModel& m : service_->registry->List()) Describe(m, def, response->add_models());
+    for (const HostedModel& m : service_->registry->List())
+      Describe(m, def, response->add_models());
     return CallOutcome{absl::OkStatus(), "", 0};
   });
 }

@@ -103,10 +103,10 @@ absl::StatusOr<HostedModel> ModelRegistry::Get(const std::string& id) const {
     std::vector<std::string> have;
     for (const auto& [k, v] : models_) have.push_back(k);
     return absl::NotFoundError(
-        id.empty() ? absl::StrCat("no default model is loaded (loaded: ", absl::StrJoin(have, ", "),
-                                  ")")
-                   : absl::StrCat("unknown model '", id, "' (loaded: ",
-                                  have.empty() ? "none" : absl::StrJoin(have, ", "), ")"));
+        id.empty()
+            ? absl::StrCat("no default model is loaded (loaded: ", absl::StrJoin(have, ", "), ")")
+            : absl::StrCat("unknown model '", id,
+                           "' (loaded: ", have.empty() ? "none" : absl::StrJoin(have, ", "), ")"));
   }
   return HostedModel{it->first, it->second};
 }
@@ -145,7 +145,8 @@ absl::StatusOr<HostedModel> ModelRegistry::Load(const std::string& id) {
 
 absl::Status ModelRegistry::Unload(const std::string& id) {
   absl::MutexLock lock(&mu_);
-  if (!models_.erase(id)) return absl::NotFoundError(absl::StrCat("model '", id, "' is not loaded"));
+  if (!models_.erase(id))
+    return absl::NotFoundError(absl::StrCat("model '", id, "' is not loaded"));
   if (default_id_ == id) default_id_.clear();
   return absl::OkStatus();
 }

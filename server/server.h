@@ -15,10 +15,10 @@ namespace stylus::server {
 
 struct ServerOptions {
   std::string models_dir = "models";
-  std::string default_model;            // "<name>/<version>"; empty: the first found.
+  std::string default_model;               // "<name>/<version>"; empty: the first found.
   std::string listen = "localhost:50051";  // Port 0 picks a free port.
-  int threads = 2;                      // Compute executor threads.
-  int torch_threads = 1;                // LibTorch intra-op threads per forward.
+  int threads = 2;                         // Compute executor threads.
+  int torch_threads = 1;                   // LibTorch intra-op threads per forward.
   int max_streams = 16;
   int max_message_mb = 64;
   int64_t max_stream_frames = 30 * 60 * 60;

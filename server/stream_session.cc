@@ -5,10 +5,10 @@
 #include <memory>
 
 #include "absl/strings/str_cat.h"
-#include "wire/wire.h"
 #include "server/postprocess_option.h"
 #include "server/services.h"
 #include "server/status.h"
+#include "wire/wire.h"
 
 namespace stylus::server {
 namespace {
@@ -159,8 +159,8 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
           " was expected: frames must arrive in order, without gaps or repeats"));
     }
     if (streamer_->received() >= service_->max_stream_frames) {
-      return absl::ResourceExhaustedError(absl::StrCat(
-          "the stream reached the server's limit of ", service_->max_stream_frames, " frames"));
+      return absl::ResourceExhaustedError(absl::StrCat("the stream reached the server's limit of ",
+                                                       service_->max_stream_frames, " frames"));
     }
     chunk_.num_frames = 0;
     chunk_.values.clear();
@@ -287,7 +287,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   bool failed_ ABSL_GUARDED_BY(mu_) = false;
   bool finished_ ABSL_GUARDED_BY(mu_) = false;
   bool done_ ABSL_GUARDED_BY(mu_) = false;  // OnDone has run.
-  CallOutcome outcome_;  // status guarded by mu_; model/frames by the task.
+  CallOutcome outcome_;                     // status guarded by mu_; model/frames by the task.
 };
 
 }  // namespace

@@ -2,10 +2,10 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
-#include "wire/wire.h"
 #include "motion/metrics.h"
 #include "server/postprocess_option.h"
 #include "server/services.h"
+#include "wire/wire.h"
 
 namespace stylus::server {
 namespace {
@@ -41,8 +41,7 @@ absl::StatusOr<ContentCall> StartContentCall(const ServiceContext& service,
 }
 
 // What a model's content guard did, in the response and the call's log line.
-void NoteGuard(const model::TransferNote& note, v1::TransferResponse* response,
-               CallOutcome* out) {
+void NoteGuard(const model::TransferNote& note, v1::TransferResponse* response, CallOutcome* out) {
   if (!note.guarded) return;
   v1::ContentGuardNote* g = response->mutable_content_guard();
   g->set_backed_off(note.backed_off);
@@ -172,8 +171,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::ComputeMetrics(grpc::CallbackServerC
     if (!metrics.ok()) return out.status = metrics.status(), out;
     for (const auto& [k, v] : *metrics) (*response->mutable_metrics())[k] = v;
     // The same kinematic measures of the inputs, as baselines for the output's.
-    for (const auto& [prefix, clip] :
-         std::vector<std::pair<std::string, const v1::Clip*>>{
+    for (const auto& [prefix, clip] : std::vector<std::pair<std::string, const v1::Clip*>>{
              {"content_", request->has_content() ? &request->content() : nullptr},
              {"style_", request->has_style() ? &request->style() : nullptr}}) {
       if (clip == nullptr) continue;

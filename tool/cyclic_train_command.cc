@@ -3,8 +3,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "train/cyclic_trainer.h"
 #include "tool/cli_support.h"
+#include "train/cyclic_trainer.h"
 
 namespace stylus::tool {
 
@@ -64,16 +64,18 @@ int TrainCyclicModel(const Argv& argv) {
       "--average-from K: the package holds the mean of the network's weights\n"
       "sampled every --average-every iterations from iteration K on.\n";
   int code = 0;
-  const std::vector<std::string> weights = {"style-weight",  "content-weight", "gan-weight",
-                                            "cycle-weight",  "smooth-weight",  "bone-weight",
-                                            "traj-weight",   "foot-weight",    "class-weight",
-                                            "content-class-weight", "keep-weight",
-                                            "content-balance"};
-  ArgSpec spec{{"family", "data", "out", "iters", "ae-iters", "batch", "lr", "seed", "window",
-                "hop", "hidden", "kernel", "dropout", "kc-iters", "threads", "checkpoint-every", "log-every", "commit", "init-from",
-                "style-dim", "blocks", "average-from", "average-every"},
-               {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan",
-                "random-starts", "mirror", "keep-path", "adain-skip", "rotations"}};
+  const std::vector<std::string> weights = {
+      "style-weight",  "content-weight",       "gan-weight",  "cycle-weight",
+      "smooth-weight", "bone-weight",          "traj-weight", "foot-weight",
+      "class-weight",  "content-class-weight", "keep-weight", "content-balance"};
+  ArgSpec spec{{"family",    "data",         "out",          "iters",
+                "ae-iters",  "batch",        "lr",           "seed",
+                "window",    "hop",          "hidden",       "kernel",
+                "dropout",   "kc-iters",     "threads",      "checkpoint-every",
+                "log-every", "commit",       "init-from",    "style-dim",
+                "blocks",    "average-from", "average-every"},
+               {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan", "random-starts",
+                "mirror", "keep-path", "adain-skip", "rotations"}};
   for (const std::string& w : weights) spec.options.insert(w);
   auto args = ParseOrExit("train", argv, spec, kHelp, &code);
   if (!args) return code;
@@ -92,12 +94,19 @@ int TrainCyclicModel(const Argv& argv) {
   };
   int seed = static_cast<int>(c.seed);
   opt.threads = 0;
-  for (const IntFlag& f : {IntFlag{"iters", &c.iterations, 0}, {"ae-iters", &c.ae_iterations, 0},
-                           {"batch", &c.batch, 1}, {"seed", &seed, 0}, {"window", &c.window, 2},
-                           {"hop", &c.hop, 1}, {"hidden", &c.hidden, 1},
-                           {"kernel", &c.kernel, 1}, {"kc-iters", &c.kc_iters, 0},
-                           {"threads", &opt.threads, 0}, {"style-dim", &c.style_dim, 0},
-                           {"blocks", &c.blocks, 1}, {"average-from", &c.average_from, 0},
+  for (const IntFlag& f : {IntFlag{"iters", &c.iterations, 0},
+                           {"ae-iters", &c.ae_iterations, 0},
+                           {"batch", &c.batch, 1},
+                           {"seed", &seed, 0},
+                           {"window", &c.window, 2},
+                           {"hop", &c.hop, 1},
+                           {"hidden", &c.hidden, 1},
+                           {"kernel", &c.kernel, 1},
+                           {"kc-iters", &c.kc_iters, 0},
+                           {"threads", &opt.threads, 0},
+                           {"style-dim", &c.style_dim, 0},
+                           {"blocks", &c.blocks, 1},
+                           {"average-from", &c.average_from, 0},
                            {"average-every", &c.average_every, 1},
                            {"checkpoint-every", &opt.checkpoint_every, 1},
                            {"log-every", &opt.log_every, 1}}) {
@@ -110,14 +119,15 @@ int TrainCyclicModel(const Argv& argv) {
     *f.value = *v;
   }
   c.seed = seed;
-  double* weight_fields[] = {&c.style_weight,  &c.content_weight, &c.gan_weight,
-                             &c.cycle_weight,  &c.smooth_weight,  &c.bone_weight,
-                             &c.traj_weight,   &c.foot_weight,    &c.class_weight,
-                             &c.content_class_weight, &c.keep_weight, &c.content_balance};
+  double* weight_fields[] = {&c.style_weight,         &c.content_weight, &c.gan_weight,
+                             &c.cycle_weight,         &c.smooth_weight,  &c.bone_weight,
+                             &c.traj_weight,          &c.foot_weight,    &c.class_weight,
+                             &c.content_class_weight, &c.keep_weight,    &c.content_balance};
   for (size_t i = 0; i < weights.size(); ++i) {
     absl::StatusOr<double> v = args->GetDouble(weights[i], *weight_fields[i]);
     if (!v.ok() || *v < 0) {
-      return Fail("train", absl::InvalidArgumentError("--" + weights[i] + " must be a number >= 0"));
+      return Fail("train",
+                  absl::InvalidArgumentError("--" + weights[i] + " must be a number >= 0"));
     }
     *weight_fields[i] = *v;
   }

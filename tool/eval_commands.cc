@@ -6,16 +6,16 @@
 #include "absl/strings/str_format.h"
 #include "eval/evaluation.h"
 #include "eval/feature_judge.h"
-#include "tool/part_swap.h"
 #include "eval/judges.h"
 #include "model/package.h"
 #include "model/runtime.h"
-#include "tool/style_map.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 #include "motion/files.h"
 #include "tool/cli_support.h"
 #include "tool/model_spec.h"
+#include "tool/part_swap.h"
+#include "tool/style_map.h"
 
 namespace stylus::tool {
 

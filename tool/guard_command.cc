@@ -3,9 +3,9 @@
 
 #include "absl/strings/str_format.h"
 #include "model/content_guard.h"
-#include "train/guard_trainer.h"
 #include "model/runtime.h"
 #include "tool/cli_support.h"
+#include "train/guard_trainer.h"
 
 namespace stylus::tool {
 
@@ -25,8 +25,8 @@ int TrainGuard(const Argv& argv) {
       "(docs/notes/contrastive.md; for cyclic packages docs/notes/cyclic.md).\n";
   int code = 0;
   auto args = ParseOrExit("train-guard", argv,
-                          {{"model", "data", "iters", "batch", "seed", "threads", "guards"}, {}}, kHelp,
-                          &code);
+                          {{"model", "data", "iters", "batch", "seed", "threads", "guards"}, {}},
+                          kHelp, &code);
   if (!args) return code;
   model::ContentGuardTrainOptions o;
   o.model = args->Get("model");
@@ -37,13 +37,15 @@ int TrainGuard(const Argv& argv) {
   }
   absl::StatusOr<int> iters = args->GetInt("iters", o.iterations),
                       batch = args->GetInt("batch", o.batch), seed = args->GetInt("seed", 1),
-                      threads = args->GetInt("threads", 0), guards = args->GetInt("guards", o.guards);
+                      threads = args->GetInt("threads", 0),
+                      guards = args->GetInt("guards", o.guards);
   for (const absl::Status& s :
        {iters.status(), batch.status(), seed.status(), threads.status(), guards.status()}) {
     if (!s.ok()) return Fail("train-guard", s);
   }
   if (*iters < 1 || *batch < 1) {
-    return Fail("train-guard", absl::InvalidArgumentError("--iters and --batch must be at least 1"));
+    return Fail("train-guard",
+                absl::InvalidArgumentError("--iters and --batch must be at least 1"));
   }
   o.iterations = *iters, o.batch = *batch, o.seed = *seed, o.guards = *guards;
   model::SetComputeThreads(*threads);
@@ -55,7 +57,8 @@ int TrainGuard(const Argv& argv) {
     absl::PrintF("held-out clips: %d\ncontent accuracy: %.3f (each guard: %s)\n", acc->clips,
                  acc->content, each);
   } else {
-    absl::PrintF("held-out clips: 0 (single files have no held-out split; accuracy not measured)\n");
+    absl::PrintF(
+        "held-out clips: 0 (single files have no held-out split; accuracy not measured)\n");
   }
   absl::PrintF("%d guards written to %s (enable them with `content_guard = 1` in config.txt)\n",
                o.guards, o.model);

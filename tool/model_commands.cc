@@ -6,12 +6,12 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
-#include "train/contrastive_trainer.h"
 #include "model/runtime.h"
 #include "model/style_model.h"
 #include "motion/bvh.h"
 #include "tool/cli_support.h"
 #include "tool/model_spec.h"
+#include "train/contrastive_trainer.h"
 
 namespace stylus::tool {
 
@@ -78,35 +78,34 @@ int Train(const Argv& argv) {
       "same shape (fine-tuning; critics and optimizers start afresh).\n"
       "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
   int code = 0;
-  auto args =
-      ParseOrExit("train", argv,
-                  {{"family",
-                    "data",
-                    "out",
-                    "iters",
-                    "batch",
-                    "lr",
-                    "alpha",
-                    "beta",
-                    "gamma",
-                    "seed",
-                    "threads",
-                    "checkpoint-every",
-                    "log-every",
-                    "commit",
-                    "content-weight",
-                    "smooth-sigma",
-                    "class-weight",
-                    "cycle-weight",
-                    "content-class-weight",
-                    "content-balance",
-                    "init-from",
-                    "average-from",
-                    "average-every",
-                    "channels"},
-                   {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
-                    "random-starts", "mirror", "residual"}},
-                  kHelp, &code);
+  auto args = ParseOrExit("train", argv,
+                          {{"family",
+                            "data",
+                            "out",
+                            "iters",
+                            "batch",
+                            "lr",
+                            "alpha",
+                            "beta",
+                            "gamma",
+                            "seed",
+                            "threads",
+                            "checkpoint-every",
+                            "log-every",
+                            "commit",
+                            "content-weight",
+                            "smooth-sigma",
+                            "class-weight",
+                            "cycle-weight",
+                            "content-class-weight",
+                            "content-balance",
+                            "init-from",
+                            "average-from",
+                            "average-every",
+                            "channels"},
+                           {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path",
+                            "pair-gan", "random-starts", "mirror", "residual"}},
+                          kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
     return Fail("train",

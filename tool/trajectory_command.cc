@@ -61,7 +61,8 @@ std::string Panel(const std::string& content_name, const std::string& style_name
     const Path& p = *path;
     const bool content = path == &paths[0];
     std::string pts;
-    for (const auto& [x, z] : p.points) absl::StrAppend(&pts, absl::StrFormat("%.1f,%.1f ", px(x), py(z)));
+    for (const auto& [x, z] : p.points)
+      absl::StrAppend(&pts, absl::StrFormat("%.1f,%.1f ", px(x), py(z)));
     absl::StrAppendFormat(&s,
                           "<polyline fill='none' stroke='%s' stroke-width='%s' %spoints='%s'/>\n",
                           p.colour, content ? "1.5" : "2.5",
@@ -144,8 +145,8 @@ int Trajectories(const Argv& argv) {
       paths.push_back(RootPath(out->motion, roles, models[i].first, kColours[i % 5]));
     }
     body += Panel(std::filesystem::path(files[0]).stem().string(),
-                  std::filesystem::path(files[1]).stem().string(), paths,
-                  10 + panel * (size + 20), size);
+                  std::filesystem::path(files[1]).stem().string(), paths, 10 + panel * (size + 20),
+                  size);
     ++panel;
   }
   const double width = 20 + panel * (size + 20);
@@ -165,7 +166,8 @@ int Trajectories(const Argv& argv) {
       "font-family='sans-serif'>\n<rect width='100%%' height='100%%' fill='white'/>\n"
       "<text x='10' y='%.0f' font-size='12' fill='#444'>Root trajectories seen from above "
       "(postprocess %s)</text>\n%s%s</svg>\n",
-      std::max(width, lx + 10), size + 100, size + 92, motion::PostProcessModeName(*post), body, legend);
+      std::max(width, lx + 10), size + 100, size + 92, motion::PostProcessModeName(*post), body,
+      legend);
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), svg); !s.ok())
     return Fail("trajectories", s);
   absl::PrintF("wrote %s (%d panels)\n", args->Get("out"), panel);

@@ -4,8 +4,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "train/training_run.h"
 #include "motion/dataset.h"
+#include "train/training_run.h"
 
 namespace stylus::model {
 namespace {
@@ -33,9 +33,9 @@ absl::StatusOr<ClipClasses> ClipClasses::FromPaths(const std::vector<std::string
   for (const std::string& p : paths) {
     std::optional<motion::ClipLabel> label = motion::ParseClipName(p);
     if (!label) {
-      return absl::InvalidArgumentError(
-          p + ": labels are read from clip names, and this one has none "
-              "(dataset-N_{content}_{style}_{take}.bvh)");
+      return absl::InvalidArgumentError(p +
+                                        ": labels are read from clip names, and this one has none "
+                                        "(dataset-N_{content}_{style}_{take}.bvh)");
     }
     labels.push_back(*label);
     c.styles.push_back(label->style);
@@ -61,8 +61,8 @@ absl::StatusOr<ClipClasses> ClipClasses::ForTraining(
   for (const motion::FeatureClip& clip : data.clips) usable.push_back(clip.frames >= window);
   absl::StatusOr<ClipClasses> c = FromPaths(data.paths, usable);
   if (c.ok()) {
-    LogLine(log, absl::StrCat("label-guided: ", c->styles.size(), " styles, ",
-                              c->contents.size(), " contents"));
+    LogLine(log, absl::StrCat("label-guided: ", c->styles.size(), " styles, ", c->contents.size(),
+                              " contents"));
   }
   return c;
 }

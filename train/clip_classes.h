@@ -13,8 +13,8 @@
 namespace stylus::model {
 
 struct ClipClasses {
-  std::vector<std::string> styles, contents;  // Sorted, unique.
-  std::vector<int> style_of, content_of;      // Per clip: index into styles / contents.
+  std::vector<std::string> styles, contents;     // Sorted, unique.
+  std::vector<int> style_of, content_of;         // Per clip: index into styles / contents.
   std::vector<std::vector<int>> clips_of_style;  // The clips references are drawn from.
 
   // INVALID_ARGUMENT naming the first path that is not a labelled Bandai

@@ -8,19 +8,19 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
-#include "train/clip_classes.h"
 #include "model/contrastive/contrastive_net.h"
-#include "train/label_critic.h"
 #include "model/guard_net.h"
-#include "train/pair_discriminator.h"
 #include "model/package.h"
 #include "model/runtime.h"
+#include "model/weights_io.h"
+#include "motion/files.h"
+#include "train/clip_classes.h"
+#include "train/label_critic.h"
+#include "train/pair_discriminator.h"
 #include "train/torch_files.h"
 #include "train/training_run.h"
 #include "train/training_set.h"
 #include "train/weight_average.h"
-#include "model/weights_io.h"
-#include "motion/files.h"
 
 namespace stylus::model {
 namespace {
@@ -38,7 +38,7 @@ struct Trainer {
   // Label-guided training only.
   ClipClasses classes;
   LabelCritic critic;
-  PairGan pair_gan;  // With `pair_gan` only.
+  PairGan pair_gan;                // With `pair_gan` only.
   torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
@@ -140,7 +140,6 @@ struct Trainer {
     r.total = total.item<double>();
     return r;
   }
-
 
   // Label-guided step (docs/notes/contrastive.md): content windows x; for each, a
   // window of a clip of the same style doing something else (the
@@ -288,10 +287,9 @@ struct Trainer {
     spec.log = opt.log;
     if (opt.on_record) {
       spec.on_record = [this](const LossRow& row) {
-        LossRecord r{row.iteration,     row.Get("rec"),  row.Get("gan"),
-                     row.Get("nce"),    row.Get("tri"),  row.Get("disc"),
-                     row.Get("total"),  row.Get("cls"),  row.Get("cyc"),
-                     row.Get("critic")};
+        LossRecord r{row.iteration,  row.Get("rec"),   row.Get("gan"),   row.Get("nce"),
+                     row.Get("tri"), row.Get("disc"),  row.Get("total"), row.Get("cls"),
+                     row.Get("cyc"), row.Get("critic")};
         opt.on_record(r);
       };
     }

@@ -4,27 +4,26 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "train/clip_classes.h"
 #include "model/config_text.h"
 #include "model/cyclic/cyclic_net.h"
-#include "train/label_critic.h"
 #include "model/guard_net.h"
-#include "train/pair_discriminator.h"
 #include "model/package.h"
 #include "model/runtime.h"
+#include "model/weights_io.h"
+#include "motion/files.h"
+#include "train/clip_classes.h"
+#include "train/label_critic.h"
+#include "train/pair_discriminator.h"
 #include "train/torch_files.h"
 #include "train/training_set.h"
 #include "train/weight_average.h"
-#include "model/weights_io.h"
-#include "motion/files.h"
 
 namespace stylus::model {
 
 const std::vector<std::string>& CyclicLossNames() {
-  static const std::vector<std::string> names = {"rec",   "style", "content", "gan",
-                                                 "cycle", "smooth", "bone",   "traj",
-                                                 "foot",  "disc",  "cls",    "labels",
-                                                 "total"};
+  static const std::vector<std::string> names = {"rec",    "style",  "content", "gan",  "cycle",
+                                                 "smooth", "bone",   "traj",    "foot", "disc",
+                                                 "cls",    "labels", "total"};
   return names;
 }
 
@@ -113,8 +112,7 @@ struct CyclicTrainer {
   }
 
   torch::Tensor NetChannels(std::vector<float>* buf) const {
-    return torch::from_blob(buf->data(), {config.batch, config.dim, config.window},
-                            torch::kFloat32)
+    return torch::from_blob(buf->data(), {config.batch, config.dim, config.window}, torch::kFloat32)
         .index_select(1, channels)
         .clone();
   }
@@ -136,7 +134,6 @@ struct CyclicTrainer {
     return NetChannels(&buf);
   }
 
-
   Losses Step(int iteration, std::mt19937_64* rng) {
     Losses r;
     for (const std::string& name : CyclicLossNames()) r[name] = 0;
@@ -146,9 +143,8 @@ struct CyclicTrainer {
     const torch::Tensor c = Batch(rng, &content_clips);
     const torch::Tensor h_c = net->encode(c);
     const torch::Tensor reconstruction = net->decode(h_c);
-    const torch::Tensor rec =
-        torch::mse_loss(reconstruction, c) +
-        torch::mse_loss(net->decode(net->transform(h_c, CodeOf(c, h_c))), c);
+    const torch::Tensor rec = torch::mse_loss(reconstruction, c) +
+                              torch::mse_loss(net->decode(net->transform(h_c, CodeOf(c, h_c))), c);
     torch::Tensor total = config.rec_weight * rec;
     r["rec"] = rec.item<double>();
     torch::Tensor out;  // What the kinematic constraints judge.
@@ -165,18 +161,18 @@ struct CyclicTrainer {
       const torch::Tensor content = torch::mse_loss(h_gm, h_c.detach());
       total = total + config.style_weight * style + config.content_weight * content;
       if (config.keep_weight > 0) {
-        const torch::Tensor keep = ((gm - c).abs() * keep_mask).sum() /
-                                   (keep_mask.sum() * gm.size(0) * gm.size(2));
+        const torch::Tensor keep =
+            ((gm - c).abs() * keep_mask).sum() / (keep_mask.sum() * gm.size(0) * gm.size(2));
         total = total + config.keep_weight * keep;
       }
       r["style"] = style.item<double>(), r["content"] = content.item<double>();
       if (config.gan_weight > 0 && config.pair_gan) {
         double d_loss = 0;
-        const torch::Tensor gan = pair_gan.Step(
-            c, LabelTensor(content_clips, classes.style_of),
-            LabelTensor(content_clips, classes.content_of), s,
-            LabelTensor(style_clips, classes.style_of),
-            LabelTensor(style_clips, classes.content_of), gm, &d_loss);
+        const torch::Tensor gan =
+            pair_gan.Step(c, LabelTensor(content_clips, classes.style_of),
+                          LabelTensor(content_clips, classes.content_of), s,
+                          LabelTensor(style_clips, classes.style_of),
+                          LabelTensor(style_clips, classes.content_of), gm, &d_loss);
         total = total + config.gan_weight * gan;
         r["disc"] = d_loss, r["gan"] = gan.item<double>();
       } else if (config.gan_weight > 0) {
@@ -198,9 +194,9 @@ struct CyclicTrainer {
         const torch::Tensor target_style = LabelTensor(style_clips, classes.style_of);
         const torch::Tensor content_label = LabelTensor(content_clips, classes.content_of);
         // The label critic learns real windows' labels, never transfers'.
-        r["labels"] = label_critic.Learn(
-            {{c, LabelTensor(content_clips, classes.style_of), content_label},
-             {s, target_style, LabelTensor(style_clips, classes.content_of)}});
+        r["labels"] =
+            label_critic.Learn({{c, LabelTensor(content_clips, classes.style_of), content_label},
+                                {s, target_style, LabelTensor(style_clips, classes.content_of)}});
         const torch::Tensor cls =
             label_critic.Verdict(gm, target_style, content_label, config.content_class_weight);
         total = total + config.class_weight * cls;
@@ -248,8 +244,8 @@ struct CyclicTrainer {
     const int joints = data.skeleton.num_joints();
     channels = torch::tensor(CyclicChannels(joints, config.rotations));
     keep_mask = KeepMask();
-    kinematic = std::make_unique<KinematicLoss>(data.skeleton, data.roles, data.norm,
-                                                data.frame_time);
+    kinematic =
+        std::make_unique<KinematicLoss>(data.skeleton, data.roles, data.norm, data.frame_time);
     const int width = config.net_channels(joints);
     if (config.average_from > 0)  // Before the seed (see WeightAverage).
       average = WeightAverage<CyclicNet>(config.average_from, config.average_every,

@@ -106,7 +106,7 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
       torch::manual_seed(seed);
       std::mt19937_64 rng(seed);
       GuardNet net(train->dim(), static_cast<int>(styles.size()),
-                      static_cast<int>(contents.size()));
+                   static_cast<int>(contents.size()));
       torch::optim::Adam opt(net->parameters(), torch::optim::AdamOptions(o.lr));
       const int d = train->dim();
       for (int it = 1; it <= o.iterations; ++it) {
@@ -158,11 +158,12 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
   }
   for (int g = 1; g <= o.guards; ++g) {
     std::error_code ec;
-    std::filesystem::rename(ContentGuardWeightsPath(o.model, g) + ".tmp", ContentGuardWeightsPath(o.model, g), ec);
+    std::filesystem::rename(ContentGuardWeightsPath(o.model, g) + ".tmp",
+                            ContentGuardWeightsPath(o.model, g), ec);
     if (ec) {
-      return absl::InternalError(
-          absl::StrCat("content guard: cannot move ", ContentGuardWeightsPath(o.model, g), " into place: ",
-                       ec.message()));
+      return absl::InternalError(absl::StrCat("content guard: cannot move ",
+                                              ContentGuardWeightsPath(o.model, g),
+                                              " into place: ", ec.message()));
     }
   }
   const std::string info = absl::StrFormat(
@@ -171,13 +172,12 @@ absl::StatusOr<ContentGuardAccuracy> TrainContentGuard(const ContentGuardTrainOp
       "held_out_clips = %d\n",
       absl::StrJoin(styles, ","), absl::StrJoin(contents, ","), o.guards, o.iterations, o.seed,
       absl::StrJoin(o.data, ","), acc.content,
-      absl::StrJoin(acc.each, ",", [](std::string* out, double a) {
-        absl::StrAppendFormat(out, "%.4f", a);
-      }),
+      absl::StrJoin(acc.each, ",",
+                    [](std::string* out, double a) { absl::StrAppendFormat(out, "%.4f", a); }),
       acc.clips);
-  if (absl::Status s = motion::WriteFileAtomically(ContentGuardInfoPath(o.model), info); !s.ok()) return s;
+  if (absl::Status s = motion::WriteFileAtomically(ContentGuardInfoPath(o.model), info); !s.ok())
+    return s;
   return acc;
 }
-
 
 }  // namespace stylus::model

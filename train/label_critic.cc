@@ -6,8 +6,8 @@ namespace stylus::model {
 
 LabelCritic::LabelCritic(int dim, int styles, int contents, double lr)
     : net_(dim, styles, contents),
-      optimizer_(
-          std::make_unique<torch::optim::Adam>(net_->parameters(), torch::optim::AdamOptions(lr))) {}
+      optimizer_(std::make_unique<torch::optim::Adam>(net_->parameters(),
+                                                      torch::optim::AdamOptions(lr))) {}
 
 double LabelCritic::Learn(const std::vector<LabelledWindows>& batches) {
   optimizer_->zero_grad();

@@ -67,8 +67,8 @@ torch::Tensor PairGan::Step(const torch::Tensor& x, const torch::Tensor& x_style
                             const torch::Tensor& x_content, const torch::Tensor& y,
                             const torch::Tensor& y_style, const torch::Tensor& y_content,
                             const torch::Tensor& fake, double* d_loss) {
-  return PairAdversarialStep(disc_, *optimizer_, x, x_style, x_content, y, y_style, y_content,
-                             fake, d_loss);
+  return PairAdversarialStep(disc_, *optimizer_, x, x_style, x_content, y, y_style, y_content, fake,
+                             d_loss);
 }
 
 void PairGan::AddFiles(std::vector<TorchFile>* files) {

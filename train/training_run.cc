@@ -75,9 +75,10 @@ absl::Status TrainingRun::Resume(const std::function<std::string(const std::stri
   std::stringstream saved;
   saved << config.rdbuf();
   if (comparable(saved.str()) != comparable(spec_.config_text)) {
-    return absl::FailedPreconditionError(absl::StrCat(
-        dir, " was made with another configuration or data; train into a new --out or drop "
-             "--resume"));
+    return absl::FailedPreconditionError(
+        absl::StrCat(dir,
+                     " was made with another configuration or data; train into a new --out or drop "
+                     "--resume"));
   }
   std::ifstream state(dir + "/state.txt");
   std::string line, rng_line;
@@ -119,8 +120,8 @@ absl::Status TrainingRun::Run(const std::function<Losses(int iteration)>& step) 
     const Losses losses = step(iteration_);
     ++iteration_;
     if (losses.size() != n) {
-      return absl::InternalError(absl::StrCat("the trainer reported ", losses.size(),
-                                              " losses; it declared ", n));
+      return absl::InternalError(
+          absl::StrCat("the trainer reported ", losses.size(), " losses; it declared ", n));
     }
     for (size_t i = 0; i < n; ++i) {
       const auto it = losses.find(spec_.loss_names[i]);
@@ -147,8 +148,9 @@ absl::Status TrainingRun::Run(const std::function<Losses(int iteration)>& step) 
       if (spec_.on_record) spec_.on_record(row);
       const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
       const double its = (iteration_ - start) / std::max(secs, 1e-9);
-      absl::StrAppend(&line, absl::StrFormat("  |  %.1f it/s  ETA %.0f s", its,
-                                             (spec_.iterations - iteration_) / std::max(its, 1e-9)));
+      absl::StrAppend(&line,
+                      absl::StrFormat("  |  %.1f it/s  ETA %.0f s", its,
+                                      (spec_.iterations - iteration_) / std::max(its, 1e-9)));
       Log(line);
       std::fill(sum.begin(), sum.end(), 0);
       in_sum = 0;

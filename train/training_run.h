@@ -39,11 +39,11 @@ class TrainingRun {
   struct Spec {
     std::string out;  // Package directory; the checkpoint goes to out/checkpoint.
     std::vector<std::string> loss_names;  // The losses a step reports; loss.csv's columns.
-    std::string config_text;  // Saved with the checkpoint; compared on resume.
+    std::string config_text;              // Saved with the checkpoint; compared on resume.
     int iterations = 0;
     int log_every = 50, checkpoint_every = 500;
-    std::function<void(const std::string&)> log;        // Default: stderr.
-    std::function<void(const LossRow&)> on_record;      // May be empty.
+    std::function<void(const std::string&)> log;    // Default: stderr.
+    std::function<void(const LossRow&)> on_record;  // May be empty.
     // Writes the trainer's tensors (network, optimizer) into a directory.
     std::function<absl::Status(const std::string& dir)> save_tensors;
     // Reads them back from a checkpoint directory.

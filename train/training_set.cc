@@ -8,10 +8,10 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "train/training_run.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 #include "motion/mirror.h"
+#include "train/training_run.h"
 
 namespace stylus::model {
 namespace {
@@ -39,17 +39,16 @@ void TrainingSet::SampleBatch(int count, int length, std::mt19937_64* rng, std::
       i = pick(*rng);
     } else {
       const double u = unit(*rng) * window_cdf.back();
-      i = std::min<size_t>(std::upper_bound(window_cdf.begin(), window_cdf.end(), u) -
-                               window_cdf.begin(),
-                           windows.size() - 1);
+      i = std::min<size_t>(
+          std::upper_bound(window_cdf.begin(), window_cdf.end(), u) - window_cdf.begin(),
+          windows.size() - 1);
     }
     const Window& w = windows[i];
     const motion::FeatureClip& clip = clips[w.clip];
     if (clip_of) clip_of->push_back(w.clip);
     const int start =
-        random_starts
-            ? static_cast<int>((*rng)() % static_cast<uint64_t>(clip.frames - length + 1))
-            : w.start;
+        random_starts ? static_cast<int>((*rng)() % static_cast<uint64_t>(clip.frames - length + 1))
+                      : w.start;
     CopyWindow(clip, start, length, out->data() + static_cast<size_t>(b) * d * length);
   }
 }

@@ -107,10 +107,10 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "use_nce") return e.Bool(&c.use_nce);
     if (key == "use_tri") return e.Bool(&c.use_tri);
     if (key == "cross_view") return e.Bool(&c.cross_view);
-    if (std::optional<absl::Status> s = RefuseRemovedKey(
-            e, {"local_style", "keep_amplitude", "replicate_pad", "full_rate_content",
-                "centred_style", "self_rec_weight", "pair_offset_weight", "content_body",
-                "critics"}))
+    if (std::optional<absl::Status> s =
+            RefuseRemovedKey(e, {"local_style", "keep_amplitude", "replicate_pad",
+                                 "full_rate_content", "centred_style", "self_rec_weight",
+                                 "pair_offset_weight", "content_body", "critics"}))
       return *s;
     if (key == "random_starts") return e.Bool(&c.random_starts);
     if (key == "mirror") return e.Bool(&c.mirror);
@@ -136,10 +136,10 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
 }
 
 const std::vector<std::string>& ContrastiveConfig::InferenceKeys() {
-  static const std::vector<std::string>* keys = new std::vector<std::string>{
-      "keep_path",     "smooth_sigma",    "style_strength",        "residual",
-      "content_detail", "detail_sigma",   "content_guard",         "guard_strengths",
-      "guard_min_probability"};
+  static const std::vector<std::string>* keys =
+      new std::vector<std::string>{"keep_path",     "smooth_sigma",    "style_strength",
+                                   "residual",      "content_detail",  "detail_sigma",
+                                   "content_guard", "guard_strengths", "guard_min_probability"};
   return *keys;
 }
 

@@ -8,10 +8,10 @@
 #include "absl/strings/str_cat.h"
 #include "model/content_guard.h"
 #include "model/contrastive/contrastive_net.h"
+#include "model/contrastive/window_streamer.h"
 #include "model/weights_io.h"
 #include "model/window_blend.h"
 #include "model/window_tensor.h"
-#include "model/contrastive/window_streamer.h"
 #include "motion/features.h"
 #include "motion/windowing.h"
 

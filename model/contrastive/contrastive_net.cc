@@ -74,8 +74,7 @@ GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) 
                                        nn::LeakyReLU(nn::LeakyReLUOptions().negative_slope(0.2)),
                                        nn::Linear(c.channels, 4 * 4 * c.channels)));
   blocks = register_module("blocks", nn::ModuleList());
-  for (int i = 0; i < 4; ++i)
-    blocks->push_back(AdaInBlock(c.channels, c.res_kernel));
+  for (int i = 0; i < 4; ++i) blocks->push_back(AdaInBlock(c.channels, c.res_kernel));
   up_conv = register_module("up_conv", Conv(c.channels, c.channels, 7));
   out_conv = register_module("out_conv", Conv(c.channels, c.dim, 7));
 }

@@ -48,9 +48,8 @@ absl::StatusOr<motion::Motion> WindowStreamer::Push(const motion::Motion& frames
   const int channels = input_.skeleton.num_channels();
   for (size_t i = 0; i < frames.values.size(); ++i) {
     if (!std::isfinite(frames.values[i])) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("frame ", received_ + static_cast<int64_t>(i / channels),
-                       " has a non-finite value"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "frame ", received_ + static_cast<int64_t>(i / channels), " has a non-finite value"));
     }
   }
   if (!started_ && frames.num_frames > 0) {

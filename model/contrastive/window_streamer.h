@@ -62,7 +62,7 @@ class WindowStreamer : public FrameStreamer {
   std::shared_ptr<const ContrastiveModel> model_;
   StyleCode style_;
   int window_, hop_;
-  motion::Motion input_;    // Held input frames; frame 0 is stream frame base_.
+  motion::Motion input_;  // Held input frames; frame 0 is stream frame base_.
   int64_t base_ = 0;
   int64_t received_ = 0;
   int64_t next_start_ = 0;       // Start of the next regular window.
@@ -74,7 +74,7 @@ class WindowStreamer : public FrameStreamer {
   std::vector<motion::Quat> signs_;
   bool started_ = false;
   motion::PostProcessMode post_;
-  motion::Motion done_;  // The last post-processed output frames (history).
+  motion::Motion done_;    // The last post-processed output frames (history).
   int64_t done_base_ = 0;  // Stream index of done_'s first frame.
 };
 

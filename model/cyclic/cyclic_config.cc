@@ -92,11 +92,16 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
       const char* name;
       double* value;
     };
-    for (const Weight& w : {Weight{"rec_weight", &c.rec_weight}, {"style_weight", &c.style_weight},
-                            {"content_weight", &c.content_weight}, {"gan_weight", &c.gan_weight},
-                            {"cycle_weight", &c.cycle_weight}, {"smooth_weight", &c.smooth_weight},
-                            {"bone_weight", &c.bone_weight}, {"traj_weight", &c.traj_weight},
-                            {"foot_weight", &c.foot_weight}, {"keep_weight", &c.keep_weight}}) {
+    for (const Weight& w : {Weight{"rec_weight", &c.rec_weight},
+                            {"style_weight", &c.style_weight},
+                            {"content_weight", &c.content_weight},
+                            {"gan_weight", &c.gan_weight},
+                            {"cycle_weight", &c.cycle_weight},
+                            {"smooth_weight", &c.smooth_weight},
+                            {"bone_weight", &c.bone_weight},
+                            {"traj_weight", &c.traj_weight},
+                            {"foot_weight", &c.foot_weight},
+                            {"keep_weight", &c.keep_weight}}) {
       if (key == w.name) return e.Double(w.value, 0, 1e6);
     }
     if (key == "use_cycle") return e.Bool(&c.use_cycle);
@@ -120,23 +125,29 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "average_from") return e.Int(&c.average_from, 0, 1 << 30);
     if (key == "average_every") return e.Int(&c.average_every, 1, 1 << 30);
     if (std::optional<absl::Status> s = ParseTrainingKey(
-            e, {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data,
-                &c.commit}))
+            e,
+            {&c.batch, &c.lr, &c.iterations, &c.trained_iterations, &c.seed, &c.data, &c.commit}))
       return *s;
     return e.Error("unknown key '" + key + "'");
   });
   if (!parsed.ok()) return parsed;
   if (c.dim <= 0) return absl::InvalidArgumentError(source + ": missing 'dim'");
   if (c.adain_skip && c.style_dim == 0) {
-    return absl::InvalidArgumentError(source + ": 'adain_skip' needs a style network ('style_dim')");
+    return absl::InvalidArgumentError(source +
+                                      ": 'adain_skip' needs a style network ('style_dim')");
   }
   return c;
 }
 
 const std::vector<std::string>& CyclicConfig::InferenceKeys() {
-  static const std::vector<std::string>* keys = new std::vector<std::string>{
-      "keep_path", "kc_iters", "kc_lr", "use_kc", "content_guard", "guard_strengths",
-      "guard_min_probability"};
+  static const std::vector<std::string>* keys =
+      new std::vector<std::string>{"keep_path",
+                                   "kc_iters",
+                                   "kc_lr",
+                                   "use_kc",
+                                   "content_guard",
+                                   "guard_strengths",
+                                   "guard_min_probability"};
   return *keys;
 }
 

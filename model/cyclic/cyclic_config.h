@@ -17,11 +17,11 @@ namespace stylus::model {
 // own features plus k times the change the style transform makes).
 struct CyclicConfig : GuardKeys {
   // Architecture: fixed when the network is trained.
-  int window = 60;      // Training window (2 s at 30 fps).
-  int hop = 30;         // Window stride (50% overlap).
-  int dim = 0;          // Full feature width (motion/features.h), set from the data.
-  int hidden = 256;     // Hidden units of the autoencoder.
-  int kernel = 15;      // Temporal kernel of encoder and decoder (~0.5 s).
+  int window = 60;     // Training window (2 s at 30 fps).
+  int hop = 30;        // Window stride (50% overlap).
+  int dim = 0;         // Full feature width (motion/features.h), set from the data.
+  int hidden = 256;    // Hidden units of the autoencoder.
+  int kernel = 15;     // Temporal kernel of encoder and decoder (~0.5 s).
   double dropout = 0;  // Paper: 0.25 (docs/notes/cyclic.md: why 0 here).
   // With `residual`, G(C, S) = C + decode(h) - decode(encode(C)) where h is
   // the restyled hidden features: the decoder supplies the change the style

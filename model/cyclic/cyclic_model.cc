@@ -34,8 +34,7 @@ struct CyclicModel::Impl {
     if (!f.ok()) return f.status();
     motion::FeatureClip norm = *f;
     data.norm.Normalize(&norm);
-    torch::Tensor x = torch::from_blob(norm.values.data(), {norm.frames, norm.dim},
-                                       torch::kFloat32)
+    torch::Tensor x = torch::from_blob(norm.values.data(), {norm.frames, norm.dim}, torch::kFloat32)
                           .index_select(1, channels)
                           .t()
                           .unsqueeze(0);
@@ -110,8 +109,7 @@ absl::StatusOr<StyleCode> CyclicModel::EncodeStyle(const motion::Motion& clip) c
 
 absl::StatusOr<torch::Tensor> CyclicModel::Impl::Restyle(const torch::Tensor& hx,
                                                          const std::vector<StyleCode>& styles,
-                                                         const StyleWeights& weights,
-                                                         int frames) {
+                                                         const StyleWeights& weights, int frames) {
   const int code_size = config.code_size();
   const int64_t steps = hx.size(2);
   std::vector<StyleCode> codes;
@@ -134,8 +132,7 @@ absl::StatusOr<motion::Motion> CyclicModel::Impl::Render(bool optimize,
                                                          const motion::Motion& content,
                                                          const motion::FeatureClip& real,
                                                          const torch::Tensor& x,
-                                                         const torch::Tensor& hx,
-                                                         torch::Tensor h) {
+                                                         const torch::Tensor& hx, torch::Tensor h) {
   const int frames = real.frames;
   motion::FeatureClip out = real;  // Rotations: the content's, as the fit's twist.
   try {
@@ -221,8 +218,7 @@ absl::StatusOr<std::unique_ptr<StyleModel::Forms>> CyclicModel::PrepareTransfer(
     return impl_->Internal(e);
   }
   return std::make_unique<ClipForms>(impl_.get(), content, std::move(input->first),
-                                     std::move(input->second), std::move(hx),
-                                     std::move(restyled));
+                                     std::move(input->second), std::move(hx), std::move(restyled));
 }
 
 ModelFamily CyclicFamily() { return MakeFamily<CyclicModel, CyclicConfig>("cyclic"); }

@@ -34,8 +34,8 @@ CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels)
   if (style_dim > 0) {
     sty_a = register_module(
         "sty_a", nn::Conv1d(nn::Conv1dOptions(channels, c.hidden, c.kernel).padding(pad)));
-    sty_b = register_module("sty_b",
-                            nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 5).padding(2)));
+    sty_b =
+        register_module("sty_b", nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 5).padding(2)));
     sty_out = register_module("sty_out", nn::Conv1d(nn::Conv1dOptions(c.hidden, style_dim, 1)));
     block_mod = register_module("block_mod", nn::ModuleList());
     block_a = register_module("block_a", nn::ModuleList());
@@ -55,10 +55,8 @@ CyclicNetImpl::CyclicNetImpl(const CyclicConfig& c, int channels)
   }
   style_a = register_module("style_a", nn::Conv1d(nn::Conv1dOptions(2 * c.hidden, c.hidden, 1)));
   style_b = register_module("style_b", nn::Conv1d(nn::Conv1dOptions(c.hidden, 2 * c.hidden, 1)));
-  mix_a = register_module("mix_a",
-                          nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(1)));
-  mix_b = register_module("mix_b",
-                          nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(1)));
+  mix_a = register_module("mix_a", nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(1)));
+  mix_b = register_module("mix_b", nn::Conv1d(nn::Conv1dOptions(c.hidden, c.hidden, 3).padding(1)));
   // The transform starts as the identity: G(C, S) = autoencoder(C).
   mix_b->weight.mul_(0.1);
   mix_b->bias.zero_();
@@ -112,8 +110,7 @@ torch::Tensor CyclicNetImpl::AdaInSkip(const torch::Tensor& content,
 
 torch::Tensor CyclicNetImpl::code(const torch::Tensor& x) {
   if (style_dim == 0) return stats(encode(x));
-  const torch::Tensor h =
-      torch::max_pool1d(torch::leaky_relu(sty_a(x), 0.2), 2);
+  const torch::Tensor h = torch::max_pool1d(torch::leaky_relu(sty_a(x), 0.2), 2);
   const torch::Tensor code = sty_out(torch::leaky_relu(sty_b(h), 0.2).mean(2, /*keepdim=*/true));
   return adain_skip ? torch::cat({code, SkipStats(encode(x))}, 1) : code;
 }
@@ -146,7 +143,8 @@ torch::Tensor CyclicNetImpl::output(const torch::Tensor& x, const torch::Tensor&
   return residual ? x + decode(h) - decode(hx) : decode(h);
 }
 
-torch::Tensor CyclicNetImpl::generate(const torch::Tensor& content, const torch::Tensor& style_clip) {
+torch::Tensor CyclicNetImpl::generate(const torch::Tensor& content,
+                                      const torch::Tensor& style_clip) {
   const torch::Tensor hc = encode(content);
   return output(content, hc, transform(hc, code(style_clip)));
 }
@@ -190,8 +188,8 @@ KinematicLoss::KinematicLoss(const motion::Skeleton& skeleton, const motion::Hum
   bone_child_ = torch::tensor(child);
   bone_parent_ = torch::tensor(parent);
   bone_length_ = torch::tensor(length).view({1, -1, 1});
-  feet_ = torch::tensor(std::vector<int64_t>{roles.left_ankle, roles.left_toe, roles.right_ankle,
-                                             roles.right_toe});
+  feet_ = torch::tensor(
+      std::vector<int64_t>{roles.left_ankle, roles.left_toe, roles.right_ankle, roles.right_toe});
 }
 
 torch::Tensor KinematicLoss::Own(const torch::Tensor& x) const {
@@ -239,8 +237,8 @@ KinematicLoss::Terms KinematicLoss::Compute(const torch::Tensor& out,
   // the next), the output foot's horizontal velocity in the character's frame
   // equals the content's (leg lengths/s), so with the content's trajectory
   // it stays on the ground where the content's does.
-  const torch::Tensor contact =
-      ((Own(content) * std_ + mean_).slice(1, tr + 4, tr + 8) > 0.5).to(torch::kFloat32);  // (B,4,T)
+  const torch::Tensor contact = ((Own(content) * std_ + mean_).slice(1, tr + 4, tr + 8) > 0.5)
+                                    .to(torch::kFloat32);  // (B,4,T)
   const int64_t n = out.size(2);
   const torch::Tensor both = contact.slice(2, 0, n - 1) * contact.slice(2, 1, n);
   auto foot_velocity = [&](const torch::Tensor& p) {

@@ -103,7 +103,7 @@ class KinematicLoss {
   torch::Tensor Positions(const torch::Tensor& x) const;  // (B, J, 3, T), leg lengths.
   // Relative bone length errors (B, bones, T) of positions `p`.
   torch::Tensor BoneErrors(const torch::Tensor& p) const;
-  torch::Tensor mean_, std_;  // (1, C, 1) of the network channels.
+  torch::Tensor mean_, std_;                              // (1, C, 1) of the network channels.
   torch::Tensor bone_child_, bone_parent_, bone_length_;  // Bones below the pelvis.
   torch::Tensor feet_;  // Left ankle, left toe, right ankle, right toe.
   int joints_;

@@ -3,11 +3,11 @@
 #include <cstdio>
 #include <string>
 
+#include "eval/evaluation.h"
+#include "eval/judges.h"
 #include "gtest/gtest.h"
 #include "model/content_guard.h"
 #include "model/contrastive/contrastive_model.h"
-#include "eval/evaluation.h"
-#include "eval/judges.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 #include "motion/kinematics.h"
@@ -104,8 +104,7 @@ std::string Variant(const std::string& name, double strength) {
     return testing::CopyPackage(kModel, "v5_" + name, {"content_guard", "guard_strengths"});
   }
   return testing::CopyPackage(
-      kModel, "v5_" + name,
-      {"content_guard", "guard_strengths", "content_detail", "detail_sigma"},
+      kModel, "v5_" + name, {"content_guard", "guard_strengths", "content_detail", "detail_sigma"},
       "residual = 1\nstyle_strength = " + std::to_string(strength) + "\n");
 }
 
@@ -146,11 +145,12 @@ TEST(DefaultModelTest, ContentGuardBacksOffWhereTheActionWouldBeLost) {
     // The form the guard chose: 0 the configured one, k the residual form at
     // guard_strengths[k - 1].
     const std::vector<double>& strengths = config.guard_strengths;
-    const int step =
-        note.backed_off ? static_cast<int>(std::find(strengths.begin(), strengths.end(),
-                                                     note.residual_strength) -
-                                           strengths.begin()) + 1
-                        : 0;
+    const int step = note.backed_off
+                         ? static_cast<int>(std::find(strengths.begin(), strengths.end(),
+                                                      note.residual_strength) -
+                                            strengths.begin()) +
+                               1
+                         : 0;
     ASSERT_LE(step, static_cast<int>(strengths.size())) << name;
     EXPECT_EQ(note.last_form, step == static_cast<int>(strengths.size())) << name;
     auto read = [&](const motion::Motion& m) {

@@ -2,23 +2,23 @@
 // the held-out pair rule on the Bandai data.
 #include "eval/evaluation.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <algorithm>
-#include <cmath>
 #include <random>
 #include <set>
 
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_model.h"
-#include "train/contrastive_trainer.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 #include "motion/metrics.h"
 #include "motion/synth.h"
 #include "tests/test_support.h"
+#include "train/contrastive_trainer.h"
 
 namespace stylus::model {
 namespace {
@@ -84,8 +84,9 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   std::vector<motion::Motion> reference;
   for (const auto& e : fs::directory_iterator(data))
     reference.push_back(*motion::ReadBvhFile(e.path().string()));
-  absl::StatusOr<EvalReport> report = Evaluate({{"model", model->get(), true}, {"again", model->get(), false}},
-                                               **judges, features->get(), reference, *pairs);
+  absl::StatusOr<EvalReport> report =
+      Evaluate({{"model", model->get(), true}, {"again", model->get(), false}}, **judges,
+               features->get(), reference, *pairs);
   ASSERT_TRUE(report.ok()) << report.status();
   ASSERT_EQ(report->rows.size(), 5u);
   EXPECT_EQ(report->identity_row, 3);
@@ -118,11 +119,11 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
     ASSERT_TRUE(label.has_value());
     identity_right += v.content == label->content;
   }
-  EXPECT_EQ(identity_right, static_cast<int>(std::lround(report->rows[3].content_accuracy *
-                                                         pairs->size())));
+  EXPECT_EQ(identity_right,
+            static_cast<int>(std::lround(report->rows[3].content_accuracy * pairs->size())));
   const std::string csv = report->VerdictsCsv(*pairs);
-  EXPECT_EQ(csv.rfind("content_bvh,style_bvh,output,style,judged_style,content,judged_content\n", 0),
-            0u);
+  EXPECT_EQ(
+      csv.rfind("content_bvh,style_bvh,output,style,judged_style,content,judged_content\n", 0), 0u);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'),
             static_cast<long>(report->verdicts.size() + 1));
   EXPECT_NE(csv.find(",identity (output = content),"), std::string::npos);
@@ -138,7 +139,8 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   ASSERT_TRUE(twice->second_judges);
   for (size_t r = 0; r < twice->rows.size(); ++r) {
     const EvalRow& row = twice->rows[r];
-    EXPECT_DOUBLE_EQ(row.content_accuracy, report->rows[r == 0 || r == 1 ? r : r + 1].content_accuracy);
+    EXPECT_DOUBLE_EQ(row.content_accuracy,
+                     report->rows[r == 0 || r == 1 ? r : r + 1].content_accuracy);
     EXPECT_DOUBLE_EQ(row.second_style_accuracy, row.style_accuracy) << row.name;
     EXPECT_DOUBLE_EQ(row.second_content_accuracy, row.content_accuracy) << row.name;
     EXPECT_DOUBLE_EQ(row.content_by_both, row.content_accuracy) << row.name;
@@ -148,9 +150,9 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
 
   // own_style: the row restyles each content clip with its own style code;
   // its verdicts are the judges' on exactly those transfers.
-  absl::StatusOr<EvalReport> own = Evaluate(
-      {{"model", model->get(), false}, {"own", model->get(), false, /*own_style=*/true}}, **judges,
-      nullptr, {}, *pairs);
+  absl::StatusOr<EvalReport> own =
+      Evaluate({{"model", model->get(), false}, {"own", model->get(), false, /*own_style=*/true}},
+               **judges, nullptr, {}, *pairs);
   ASSERT_TRUE(own.ok()) << own.status();
   ASSERT_EQ(own->rows[1].name, "own, no post-processing");
   // Its foot skating is the mean over exactly those transfers, and differs
@@ -160,8 +162,10 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   for (const EvalVerdict& v : own->verdicts) {
     if (v.row != 1) continue;
     const motion::Motion content = *motion::ReadBvhFile((*pairs)[v.pair].content_path);
-    const motion::Motion back = (*model)->Transfer(content, *(*model)->EncodeStyle(content),
-                                                    motion::PostProcessMode::kNone)->motion;
+    const motion::Motion back =
+        (*model)
+            ->Transfer(content, *(*model)->EncodeStyle(content), motion::PostProcessMode::kNone)
+            ->motion;
     EXPECT_EQ(v.content, (*judges)->contents()[*(*judges)->ClassifyContent(back)]);
     EXPECT_EQ(v.style, (*judges)->styles()[*(*judges)->ClassifyStyle(back)]);
     skating += motion::FootSkating(back, content, (*model)->data().roles);
@@ -201,8 +205,7 @@ TEST(EvaluationTest, JudgesTrainedOnRandomStartsOrSwappedPartsRecordIt) {
     jo.log = [](const std::string&) {};
     absl::StatusOr<JudgeAccuracy> acc = TrainJudges(jo);
     ASSERT_TRUE(acc.ok()) << acc.status();
-    std::printf("%s: held-out style %.2f content %.2f\n", v.name.c_str(), acc->style,
-                acc->content);
+    std::printf("%s: held-out style %.2f content %.2f\n", v.name.c_str(), acc->style, acc->content);
     EXPECT_GE(acc->content, 0.75) << v.name;
     std::ifstream labels(jo.out + "/labels.txt");
     const std::string text((std::istreambuf_iterator<char>(labels)), {});
@@ -230,7 +233,7 @@ TEST(FeatureMetricsTest, DistancesAreZeroForIdenticalSetsAndGrowWithAShift) {
     for (double& x : shifted.back()) x += 1.0;
   }
   EXPECT_NEAR(FrechetDistance(a, a), 0, 1e-6);
-  EXPECT_LT(FrechetDistance(a, b), 0.5);  // Same distribution, other samples.
+  EXPECT_LT(FrechetDistance(a, b), 0.5);               // Same distribution, other samples.
   EXPECT_NEAR(FrechetDistance(a, shifted), 8.0, 0.2);  // |mean shift|^2 = 8.
   const auto same = KernelInceptionDistance(a, b, 10, 100, 1);
   const auto moved = KernelInceptionDistance(a, shifted, 10, 100, 1);

@@ -1,5 +1,7 @@
 // model/chunked_streamer: streaming any family through its whole-clip
 // transfer, on a tiny cyclic package.
+#include "model/chunked_streamer.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,7 +11,6 @@
 
 #include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
-#include "model/chunked_streamer.h"
 #include "model/content_guard.h"
 #include "model/cyclic/cyclic_model.h"
 #include "model/cyclic/cyclic_net.h"
@@ -76,8 +77,8 @@ TEST(ChunkedStreamerTest, StreamsEveryFrameInOrderWithAContinuousRoot) {
     return worst;
   };
   EXPECT_LT(largest_step(out), 2 * largest_step(whole) + 1e-3);
-  EXPECT_LT(motion::MaxPositionDifference(out, whole), 0.25 * motion::FindHumanoidRoles(
-                                                                  content.skeleton)->leg_length);
+  EXPECT_LT(motion::MaxPositionDifference(out, whole),
+            0.25 * motion::FindHumanoidRoles(content.skeleton)->leg_length);
 }
 
 }  // namespace

@@ -8,16 +8,16 @@
 
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_model.h"
-#include "train/guard_trainer.h"
-#include "train/contrastive_trainer.h"
 #include "model/window_tensor.h"
 #include "motion/bvh.h"
 #include "motion/features.h"
 #include "motion/kinematics.h"
 #include "motion/synth.h"
-#include "tests/model/transfer_support.h"
 #include "tests/model/contrastive/contrastive_support.h"
 #include "tests/model/synth_clips.h"
+#include "tests/model/transfer_support.h"
+#include "train/contrastive_trainer.h"
+#include "train/guard_trainer.h"
 
 namespace stylus::model {
 namespace {

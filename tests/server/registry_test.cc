@@ -18,7 +18,8 @@ TEST(RegistryTest, BareNameTakesTheHighestVersionByNumber) {
   fs::remove_all(root);
   fs::create_directories(root / "cyclic");
   const fs::path v1 = fs::path(testing::SourceDir()) / "models/cyclic/v1";
-  for (const char* v : {"dev", "v2", "v9", "v10"}) fs::create_directory_symlink(v1, root / "cyclic" / v);
+  for (const char* v : {"dev", "v2", "v9", "v10"})
+    fs::create_directory_symlink(v1, root / "cyclic" / v);
   auto registry = server::ModelRegistry::Create(root.string(), "");
   ASSERT_TRUE(registry.ok()) << registry.status();
   auto bare = (*registry)->Get("cyclic");

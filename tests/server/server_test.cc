@@ -9,7 +9,6 @@
 #include <limits>
 #include <thread>
 
-#include "wire/wire.h"
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_model.h"
 #include "model/style_model.h"
@@ -18,6 +17,7 @@
 #include "server/status.h"
 #include "tests/model/transfer_support.h"
 #include "tests/server/server_test_support.h"
+#include "wire/wire.h"
 
 namespace stylus {
 namespace {
@@ -30,7 +30,6 @@ using testing::LiveServer;
 using testing::Sample;
 
 const std::string kModel = testing::SourceDir() + "/models/contrastive/v5";
-
 
 motion::Motion BandaiClip(const std::string& dir, const std::string& name) {
   return *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_" + name + ".bvh");
@@ -65,8 +64,7 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   EXPECT_EQ(client().GetModel("cyclic")->id(), "cyclic/v2");  // A bare name: its highest version.
   EXPECT_EQ(client().GetModel("")->id(), "contrastive/v5");
   EXPECT_EQ(client().GetModel("nope/v9").status().code(), absl::StatusCode::kNotFound);
-  EXPECT_EQ(client().LoadModel("contrastive/v5").status().code(),
-            absl::StatusCode::kAlreadyExists);
+  EXPECT_EQ(client().LoadModel("contrastive/v5").status().code(), absl::StatusCode::kAlreadyExists);
   EXPECT_EQ(client().LoadModel("../etc").status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(client().LoadModel("contrastive/v504").status().code(), absl::StatusCode::kNotFound);
   ASSERT_TRUE(client().UnloadModel("contrastive/v5").ok());
@@ -202,8 +200,8 @@ TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
   auto model = model::ContrastiveModel::Load(
       testing::CopyPackage(kModel, "unguarded_v5", {"content_guard", "guard_strengths"}));
   ASSERT_TRUE(model.ok()) << model.status();
-  auto unary = MotionOf((*model)->Transfer(content, *(*model)->EncodeStyle(style),
-                                  motion::PostProcessMode::kNone));
+  auto unary = MotionOf(
+      (*model)->Transfer(content, *(*model)->EncodeStyle(style), motion::PostProcessMode::kNone));
   ASSERT_TRUE(unary.ok()) << unary.status();
   // Stated tolerance (docs/service.md): 0.5 mm on any joint of any frame.
   EXPECT_LT(motion::MaxPositionDifference(streamed->output, *unary), 0.05);
@@ -240,14 +238,16 @@ TEST_F(ServerTest, MetricsOfAClipAgainstItsContent) {
     EXPECT_TRUE(m->count(k)) << k;
   EXPECT_NEAR(m->at("trajectory_error"), 0, 1e-9);
   EXPECT_NEAR(m->at("jitter"), m->at("content_jitter"), 1e-9);
-  const motion::Motion other = *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
+  const motion::Motion other =
+      *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
   EXPECT_EQ(client().ComputeMetrics(content, &other, nullptr).status().code(),
             absl::StatusCode::kInvalidArgument);
 }
 
 TEST_F(ServerTest, BadClipsGetInvalidArgumentNamingTheProblem) {
   const motion::Motion content = Sample("walk_normal.bvh"), style = Sample("walk_old.bvh");
-  const motion::Motion other = *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
+  const motion::Motion other =
+      *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
   auto wrong = client().Transfer(other, {&style, ""});
   EXPECT_EQ(wrong.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(wrong.status().message().find("skeleton"), std::string::npos) << wrong.status();
@@ -307,8 +307,8 @@ TEST_F(ServerTest, BadClipsGetInvalidArgumentNamingTheProblem) {
 // Sends `requests` on one TransferStream and returns the final status.
 grpc::Status RawStream(const std::string& address, const std::vector<v1::StreamRequest>& requests,
                        int* received = nullptr) {
-  auto stub = v1::StyleService::NewStub(
-      grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
+  auto stub =
+      v1::StyleService::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
   grpc::ClientContext ctx;
   auto stream = stub->TransferStream(&ctx);
   for (const auto& r : requests) {
@@ -368,7 +368,8 @@ TEST_F(ServerTest, StreamProtocolErrorsGetClearStatuses) {
   unknown_model[0].mutable_config()->set_model("nope/v1");
   EXPECT_EQ(RawStream(live_->address, unknown_model).error_code(), grpc::StatusCode::NOT_FOUND);
 
-  const motion::Motion other = *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
+  const motion::Motion other =
+      *motion::ReadBvhFile(testing::FixturePath("bvh/good/three_joint.bvh"));
   auto wrong_skeleton = StreamRequests(content, style, good);
   wire::SkeletonToProto(other.skeleton, wrong_skeleton[0].mutable_config()->mutable_skeleton());
   EXPECT_EQ(RawStream(live_->address, wrong_skeleton).error_code(),

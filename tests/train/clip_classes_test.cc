@@ -1,4 +1,6 @@
 // train/clip_classes: labels from clip names, references drawn by label.
+#include "train/clip_classes.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,25 +11,23 @@
 #include <sstream>
 
 #include "gtest/gtest.h"
-#include "train/clip_classes.h"
 #include "model/contrastive/contrastive_model.h"
 #include "model/contrastive/contrastive_net.h"
-#include "train/contrastive_trainer.h"
-#include "train/label_critic.h"
 #include "model/guard_net.h"
-#include "train/training_set.h"
-#include "train/weight_average.h"
 #include "model/weights_io.h"
 #include "motion/bvh.h"
 #include "motion/kinematics.h"
 #include "motion/metrics.h"
 #include "motion/normalization.h"
 #include "motion/windowing.h"
-#include "tests/model/transfer_support.h"
 #include "tests/model/synth_clips.h"
+#include "tests/model/transfer_support.h"
 #include "tests/test_support.h"
 #include "tests/train/contrastive_training_support.h"
-
+#include "train/contrastive_trainer.h"
+#include "train/label_critic.h"
+#include "train/training_set.h"
+#include "train/weight_average.h"
 
 namespace stylus::model {
 namespace {

@@ -1,6 +1,8 @@
 // train/contrastive_trainer: label-guided training of the contrastive family
 // (the critic, residual training, resume, fine-tuning, weight averaging, the
 // error for clips without labelled names). Synthesized clips; runs in seconds.
+#include "train/contrastive_trainer.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,26 +13,24 @@
 #include <sstream>
 
 #include "gtest/gtest.h"
-#include "train/clip_classes.h"
 #include "model/contrastive/contrastive_model.h"
 #include "model/contrastive/contrastive_net.h"
-#include "train/contrastive_trainer.h"
-#include "train/label_critic.h"
-#include "train/pair_discriminator.h"
 #include "model/guard_net.h"
-#include "train/training_set.h"
-#include "train/weight_average.h"
 #include "model/weights_io.h"
 #include "motion/bvh.h"
 #include "motion/kinematics.h"
 #include "motion/metrics.h"
 #include "motion/normalization.h"
 #include "motion/windowing.h"
-#include "tests/model/transfer_support.h"
 #include "tests/model/synth_clips.h"
+#include "tests/model/transfer_support.h"
 #include "tests/test_support.h"
 #include "tests/train/contrastive_training_support.h"
-
+#include "train/clip_classes.h"
+#include "train/label_critic.h"
+#include "train/pair_discriminator.h"
+#include "train/training_set.h"
+#include "train/weight_average.h"
 
 namespace stylus::model {
 namespace {
@@ -78,7 +78,8 @@ TEST(ContrastiveTrainerTest, CriticLearnsTheLabelsAndTransfersFollowIt) {
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> k = ContrastiveModel::Load(kept);
   ASSERT_TRUE(k.ok()) << k.status();
   ASSERT_TRUE((*k)->config().keep_path);
-  absl::StatusOr<motion::Motion> on_path = MotionOf((*k)->Transfer(content, *(*k)->EncodeStyle(style)));
+  absl::StatusOr<motion::Motion> on_path =
+      MotionOf((*k)->Transfer(content, *(*k)->EncodeStyle(style)));
   ASSERT_TRUE(on_path.ok()) << on_path.status();
   auto path_error = [&](const motion::Motion& m) {
     return motion::TrajectoryError(m, content, (*k)->data().roles);
@@ -96,7 +97,8 @@ TEST(ContrastiveTrainerTest, CriticLearnsTheLabelsAndTransfersFollowIt) {
   std::ofstream(kept + "/config.txt", std::ios::app) << "smooth_sigma = 2\n";
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> sm = ContrastiveModel::Load(kept);
   ASSERT_TRUE(sm.ok()) << sm.status();
-  absl::StatusOr<motion::Motion> smooth = MotionOf((*sm)->Transfer(content, *(*sm)->EncodeStyle(style)));
+  absl::StatusOr<motion::Motion> smooth =
+      MotionOf((*sm)->Transfer(content, *(*sm)->EncodeStyle(style)));
   ASSERT_TRUE(smooth.ok()) << smooth.status();
   EXPECT_EQ(smooth->num_frames, content.num_frames);
   std::printf("jitter: raw %.1f, smoothed %.1f\n", motion::Jitter(*on_path),
@@ -115,7 +117,8 @@ TEST(ContrastiveTrainerTest, ResidualTrainingKeepsTheClipAndStillRestyles) {
   const motion::Motion other = *motion::ReadBvhFile(LabelledClips()[3]);
   std::map<bool, double> self_gap, other_gap;
   for (bool residual : {false, true}) {
-    ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir(residual ? "residual" : "plain"), 200);
+    ContrastiveTrainOptions o =
+        GuidedOptions(testing::FreshDir(residual ? "residual" : "plain"), 200);
     o.config.alpha = 0;
     o.config.residual = residual;
     std::vector<LossRecord> curve;
@@ -128,7 +131,8 @@ TEST(ContrastiveTrainerTest, ResidualTrainingKeepsTheClipAndStillRestyles) {
     EXPECT_EQ((*m)->config().residual, residual);
     auto gap = [&](const motion::Motion& style) {
       return motion::MaxPositionDifference(
-          (*m)->Transfer(clip, *(*m)->EncodeStyle(style), motion::PostProcessMode::kNone)->motion, clip);
+          (*m)->Transfer(clip, *(*m)->EncodeStyle(style), motion::PostProcessMode::kNone)->motion,
+          clip);
     };
     self_gap[residual] = gap(clip);
     other_gap[residual] = gap(other);

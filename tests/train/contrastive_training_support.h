@@ -12,27 +12,18 @@
 
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_config.h"
+#include "tests/model/contrastive/contrastive_support.h"
 #include "tests/model/synth_clips.h"
 #include "train/contrastive_trainer.h"
 
 namespace stylus::model::contrastive_testing {
 
+// TinyOptions for label-guided training on the labelled walks.
 inline ContrastiveTrainOptions GuidedOptions(const std::string& out, int iterations) {
-  ContrastiveTrainOptions o;
+  ContrastiveTrainOptions o = TinyOptions(out, iterations);
   o.data = testing::LabelledClips();
-  o.out = out;
   o.config.guided = true;
-  o.config.channels = 16;
-  o.config.window = 16;
-  o.config.hop = 12;
-  o.config.batch = 8;
-  o.config.lr = 2e-3;
-  o.config.iterations = iterations;
   o.config.seed = 3;
-  o.log_every = 10;
-  o.checkpoint_every = 40;
-  o.threads = 1;
-  o.log = [](const std::string&) {};
   return o;
 }
 
@@ -55,9 +46,10 @@ struct ResumedRuns {
   std::string unbroken_dir, resumed_dir;
 };
 
-inline void TrainUnbrokenAndResumed(const std::string& name,
-                             const std::function<ContrastiveTrainOptions(const std::string&, int)>& make,
-                             ResumedRuns* runs) {
+inline void TrainUnbrokenAndResumed(
+    const std::string& name,
+    const std::function<ContrastiveTrainOptions(const std::string&, int)>& make,
+    ResumedRuns* runs) {
   ContrastiveTrainOptions unbroken = make(testing::FreshDir(name + "_a"), 80);
   unbroken.on_record = [runs](const LossRecord& r) { runs->unbroken.push_back(r); };
   ASSERT_TRUE(TrainContrastive(unbroken).ok());

@@ -1,5 +1,7 @@
 // train/cyclic_trainer: the label-guided stage, starting from an autoencoder,
 // the content-keeping term and weight averaging, on synthesized walks.
+#include "train/cyclic_trainer.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,7 +25,6 @@
 #include "tests/model/cyclic/cyclic_support.h"
 #include "tests/model/transfer_support.h"
 #include "tests/test_support.h"
-#include "train/cyclic_trainer.h"
 
 namespace stylus::model {
 namespace {
@@ -85,7 +86,8 @@ TEST(CyclicTrainerTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabel
   // The encoder and decoder come from the autoencoder; the style network is new.
   bool partial = false;
   for (const std::string& line : log)
-    partial = partial || (line.find("initialized 4 of ") == 0 && line.find(ae_out) != std::string::npos);
+    partial =
+        partial || (line.find("initialized 4 of ") == 0 && line.find(ae_out) != std::string::npos);
   EXPECT_TRUE(partial);
   ASSERT_GE(rows.size(), 10u);
   // Once the critic knows the real windows' labels, the transfers' verdict
@@ -104,7 +106,8 @@ TEST(CyclicTrainerTest, StyleNetworkStartsFromAnAutoencoderAndLearnsFromTheLabel
   absl::StatusOr<StyleCode> code = (*m)->EncodeStyle(style_clip);
   ASSERT_TRUE(code.ok()) << code.status();
   EXPECT_EQ(code->values.size(), 8u);
-  absl::StatusOr<motion::Motion> out = MotionOf((*m)->Transfer(content, *code, motion::PostProcessMode::kNone));
+  absl::StatusOr<motion::Motion> out =
+      MotionOf((*m)->Transfer(content, *code, motion::PostProcessMode::kNone));
   ASSERT_TRUE(out.ok()) << out.status();
   EXPECT_EQ(out->num_frames, content.num_frames);
 
@@ -140,7 +143,9 @@ TEST(CyclicTrainerTest, KeepWeightHoldsTheLegsToTheContent) {
     const motion::Motion content = motion::ReadBvhFile(o.data[0]).value();
     const motion::Motion style = motion::ReadBvhFile(o.data[3]).value();
     const motion::Motion out =
-        (*m)->Transfer(content, *(*m)->EncodeStyle(style), motion::PostProcessMode::kNone).value().motion;
+        (*m)->Transfer(content, *(*m)->EncodeStyle(style), motion::PostProcessMode::kNone)
+            .value()
+            .motion;
     const motion::HumanoidRoles roles = *motion::FindHumanoidRoles(content.skeleton);
     const auto a = motion::GlobalPositions(content), b = motion::GlobalPositions(out);
     double sum = 0;

@@ -54,7 +54,8 @@ TEST(ContrastiveConfigTest, ContentGuardRoundTripsAndChecksItsStrengths) {
   EXPECT_EQ(back->guard_strengths, (std::vector<double>{0.9, 0.5, 0}));
   EXPECT_DOUBLE_EQ(back->guard_min_probability, 0.4);
   EXPECT_FALSE(ContrastiveConfig::Parse("dim = 10\n", "c")->content_guard);  // Off by default.
-  for (const char* bad : {"1,1", "0.4,0.7", "1,x", "1.5", "", "1,0.9,0.8,0.7,0.6,0.5,0.4,0.3,0.2"}) {
+  for (const char* bad :
+       {"1,1", "0.4,0.7", "1,x", "1.5", "", "1,0.9,0.8,0.7,0.6,0.5,0.4,0.3,0.2"}) {
     const absl::Status s =
         ContrastiveConfig::Parse(std::string("dim = 10\nguard_strengths = ") + bad + "\n", "c.txt")
             .status();
@@ -76,9 +77,9 @@ TEST(ContrastiveConfigTest, ErrorsNameTheLine) {
 // Keys of experiments that were taken out: an old package that sets one
 // fails to load with a message naming the key and its line.
 TEST(ContrastiveConfigTest, RemovedExperimentKeysAreNamed) {
-  for (const char* key : {"local_style", "keep_amplitude", "replicate_pad", "full_rate_content",
-                          "centred_style", "self_rec_weight", "pair_offset_weight",
-                          "content_body"}) {
+  for (const char* key :
+       {"local_style", "keep_amplitude", "replicate_pad", "full_rate_content", "centred_style",
+        "self_rec_weight", "pair_offset_weight", "content_body"}) {
     const absl::Status s =
         ContrastiveConfig::Parse(std::string("dim = 10\n") + key + " = 0\n", "c.txt").status();
     EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << key;

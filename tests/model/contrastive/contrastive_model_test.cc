@@ -7,16 +7,16 @@
 
 #include "gtest/gtest.h"
 #include "model/content_guard.h"
-#include "train/guard_trainer.h"
-#include "train/contrastive_trainer.h"
 #include "model/window_tensor.h"
 #include "motion/bvh.h"
 #include "motion/features.h"
 #include "motion/kinematics.h"
 #include "motion/synth.h"
-#include "tests/model/transfer_support.h"
 #include "tests/model/contrastive/contrastive_support.h"
 #include "tests/model/synth_clips.h"
+#include "tests/model/transfer_support.h"
+#include "train/contrastive_trainer.h"
+#include "train/guard_trainer.h"
 
 namespace stylus::model {
 namespace {
@@ -70,7 +70,6 @@ TEST(ContrastiveModelTest, TrainingIsDeterministicAndResumable) {
   EXPECT_EQ(TrainContrastive(od).code(), absl::StatusCode::kFailedPrecondition);
 }
 
-
 TEST_F(TrainedModelTest, TransferKeepsLayoutAndLengthForAnyLength) {
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(*dir_);
   ASSERT_TRUE(m.ok()) << m.status();
@@ -108,7 +107,8 @@ TEST_F(TrainedModelTest, InterpolationEndpointsEqualTransfer) {
   // A per-frame schedule that holds style A matches transfer with A.
   StyleWeights hold_a;
   hold_a.per_frame.assign(content.num_frames, {1.0, 0.0});
-  EXPECT_LT(motion::MaxPositionDifference(m->Interpolate(content, {a, b}, hold_a)->motion, ta), 1e-4);
+  EXPECT_LT(motion::MaxPositionDifference(m->Interpolate(content, {a, b}, hold_a)->motion, ta),
+            1e-4);
   // Bad schedules are errors.
   StyleWeights short_schedule;
   short_schedule.per_frame.assign(3, {1.0, 0.0});
@@ -130,10 +130,12 @@ TEST_F(TrainedModelTest, StyleStrengthMovesFromTheContentsOwnStyle) {
   const auto none = with_strength(0);
   const StyleCode a = *full->EncodeStyle(Clip(1)), b = *full->EncodeStyle(Clip(2));
   const motion::Motion content = Clip(0);
-  EXPECT_LT(motion::MaxPositionDifference(none->Transfer(content, a)->motion, none->Transfer(content, b)->motion),
+  EXPECT_LT(motion::MaxPositionDifference(none->Transfer(content, a)->motion,
+                                          none->Transfer(content, b)->motion),
             1e-4);
   const auto half = with_strength(0.5);  // The later key wins.
-  const motion::Motion target = full->Transfer(content, a)->motion, own = none->Transfer(content, a)->motion,
+  const motion::Motion target = full->Transfer(content, a)->motion,
+                       own = none->Transfer(content, a)->motion,
                        mid = half->Transfer(content, a)->motion;
   EXPECT_GT(motion::MaxPositionDifference(target, own), 1e-3);
   EXPECT_LT(motion::MaxPositionDifference(mid, target), motion::MaxPositionDifference(own, target));
@@ -155,8 +157,8 @@ TEST_F(TrainedModelTest, ResidualTransferKeepsWhatTheGeneratorLoses) {
   const motion::Motion content = Clip(0);
   const StyleCode a = *plain->EncodeStyle(Clip(1));
   auto off = [&](const ContrastiveModel& m) {
-    return motion::MaxPositionDifference(m.Transfer(content, a, motion::PostProcessMode::kNone)->motion,
-                                         content);
+    return motion::MaxPositionDifference(
+        m.Transfer(content, a, motion::PostProcessMode::kNone)->motion, content);
   };
   EXPECT_LT(off(*own), 1e-3);
   EXPECT_GT(off(*plain), 100 * off(*own));

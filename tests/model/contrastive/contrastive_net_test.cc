@@ -77,8 +77,10 @@ TEST(ContrastiveNetTest, GanLossesAreNonSaturating) {
 TEST(SmoothOverTimeTest, KeepsSlowMotionAndRemovesShake) {
   const torch::Tensor t = torch::arange(32, torch::kFloat32);
   const torch::Tensor ramp = (t * 0.1).view({1, 1, 32});
-  const torch::Tensor shake = torch::where(t.remainder(2) == 0, torch::ones({32}), -torch::ones({32}));
-  const torch::Tensor x = torch::cat({ramp, shake.view({1, 1, 32}), torch::full({1, 1, 32}, 3.0)}, 1);
+  const torch::Tensor shake =
+      torch::where(t.remainder(2) == 0, torch::ones({32}), -torch::ones({32}));
+  const torch::Tensor x =
+      torch::cat({ramp, shake.view({1, 1, 32}), torch::full({1, 1, 32}, 3.0)}, 1);
   const torch::Tensor y = SmoothOverTime(x, 1.5);
   ASSERT_EQ(y.sizes(), x.sizes());
   // A ramp is kept away from the edges, a constant everywhere; the

@@ -19,7 +19,6 @@ using testing::Frames;
 
 const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v5";
 
-
 void Append(const motion::Motion& chunk, motion::Motion* all) {
   all->values.insert(all->values.end(), chunk.values.begin(), chunk.values.end());
   all->num_frames += chunk.num_frames;
@@ -78,10 +77,10 @@ TEST(StreamTransferTest, RealClipStreamedMatchesWholeClipTransfer) {
   std::shared_ptr<const ContrastiveModel> model = std::move(*loaded);
   const motion::Motion content =
       *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_normal_001.bvh");
-  const motion::Motion style =
-      *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_old_001.bvh");
+  const motion::Motion style = *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_old_001.bvh");
   const StyleCode code = *model->EncodeStyle(style);
-  const motion::Motion whole = model->Transfer(content, code, motion::PostProcessMode::kNone)->motion;
+  const motion::Motion whole =
+      model->Transfer(content, code, motion::PostProcessMode::kNone)->motion;
   for (int max_chunk : {1, 7, 40}) {
     const motion::Motion streamed = Stream(model, code, content, max_chunk, max_chunk);
     ASSERT_EQ(streamed.num_frames, whole.num_frames);
@@ -98,8 +97,8 @@ TEST(StreamTransferTest, StreamedFeetAreLockedCausally) {
   std::shared_ptr<const ContrastiveModel> model = std::move(*loaded);
   const motion::Motion content =
       *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_normal_001.bvh");
-  const StyleCode code = *model->EncodeStyle(
-      *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_old_001.bvh"));
+  const StyleCode code =
+      *model->EncodeStyle(*motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_old_001.bvh"));
   const auto& roles = model->data().roles;
   const motion::Motion raw = Stream(model, code, content, 9, 3, motion::PostProcessMode::kNone);
   const motion::Motion locked = Stream(model, code, content, 9, 3, motion::PostProcessMode::kFull);
@@ -118,7 +117,8 @@ TEST(StreamTransferTest, ShortStreamIsPaddedLikeAShortClip) {
       *motion::ReadBvhFile(testing::SourceDir() + "/samples/walk_normal.bvh");
   const motion::Motion shortclip = Frames(clip, 0, 20);
   const StyleCode code = *model->EncodeStyle(clip);
-  const motion::Motion whole = model->Transfer(shortclip, code, motion::PostProcessMode::kNone)->motion;
+  const motion::Motion whole =
+      model->Transfer(shortclip, code, motion::PostProcessMode::kNone)->motion;
   const motion::Motion streamed = Stream(model, code, shortclip, 5, 1);
   ASSERT_EQ(streamed.num_frames, 20);
   EXPECT_LT(motion::MaxPositionDifference(streamed, whole), 1e-3);
@@ -143,7 +143,8 @@ TEST(StreamTransferTest, RejectsAnotherSkeletonAndEmptyStreams) {
   // A model that no std::shared_ptr owns cannot stream.
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> unshared = ContrastiveModel::Load(kModel);
   ASSERT_TRUE(unshared.ok()) << unshared.status();
-  EXPECT_EQ((*unshared)->OpenStream({code, model->data().skeleton, model->data().frame_time})
+  EXPECT_EQ((*unshared)
+                ->OpenStream({code, model->data().skeleton, model->data().frame_time})
                 .status()
                 .code(),
             absl::StatusCode::kFailedPrecondition);

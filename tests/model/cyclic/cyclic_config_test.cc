@@ -50,8 +50,10 @@ TEST(CyclicConfigTest, RoundTripAndErrors) {
   EXPECT_TRUE(back->mirror);
   EXPECT_TRUE(back->rotations);
   EXPECT_FALSE(CyclicConfig::Parse("dim = 5\n", "cfg.txt")->rotations);
-  EXPECT_NE(CyclicConfig::Parse("dim = 5\ncritics = 2\n", "cfg.txt").status().message().find(
-                "cfg.txt:2: 'critics' was an experiment"),
+  EXPECT_NE(CyclicConfig::Parse("dim = 5\ncritics = 2\n", "cfg.txt")
+                .status()
+                .message()
+                .find("cfg.txt:2: 'critics' was an experiment"),
             std::string::npos);
   EXPECT_EQ(CyclicConfig::Parse("dim = 5\ncritics = 0\n", "cfg.txt").status().code(),
             absl::StatusCode::kInvalidArgument);

@@ -1,6 +1,8 @@
 // model/cyclic/cyclic_model: packages of tiny trained networks load and serve
 // transfers (rotations, the normalized skip, the residual output, the content
 // guard).
+#include "model/cyclic/cyclic_model.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,8 +14,6 @@
 #include "gtest/gtest.h"
 #include "model/chunked_streamer.h"
 #include "model/content_guard.h"
-#include "train/guard_trainer.h"
-#include "model/cyclic/cyclic_model.h"
 #include "model/cyclic/cyclic_net.h"
 #include "model/family_registry.h"
 #include "model/package.h"
@@ -26,6 +26,7 @@
 #include "tests/model/transfer_support.h"
 #include "tests/test_support.h"
 #include "train/cyclic_trainer.h"
+#include "train/guard_trainer.h"
 
 namespace stylus::model {
 namespace {
@@ -84,28 +85,34 @@ TEST(CyclicModelTest, CycleLossFallsAndThePackageServesTransfers) {
   };
   const motion::Motion ta = (*m)->Transfer(content, sa, motion::PostProcessMode::kNone)->motion;
   const motion::Motion tb = (*m)->Transfer(content, sb, motion::PostProcessMode::kNone)->motion;
-  EXPECT_LT(same((*m)->Interpolate(content, {sa, sb}, {{1, 0}, {}}, motion::PostProcessMode::kNone)->motion,
+  EXPECT_LT(same((*m)->Interpolate(content, {sa, sb}, {{1, 0}, {}}, motion::PostProcessMode::kNone)
+                     ->motion,
                  ta),
             1e-3);
-  EXPECT_LT(same((*m)->Interpolate(content, {sa, sb}, {{0, 1}, {}}, motion::PostProcessMode::kNone)->motion,
+  EXPECT_LT(same((*m)->Interpolate(content, {sa, sb}, {{0, 1}, {}}, motion::PostProcessMode::kNone)
+                     ->motion,
                  tb),
             1e-3);
   auto again = CyclicModel::Load(o.out);
   ASSERT_TRUE(again.ok());
-  EXPECT_LT(same((*again)->Transfer(content, sa, motion::PostProcessMode::kNone)->motion, ta), 1e-4);
+  EXPECT_LT(same((*again)->Transfer(content, sa, motion::PostProcessMode::kNone)->motion, ta),
+            1e-4);
   // Without the inference-time optimization the output differs.
   auto no_kc = CyclicModel::Load(o.out, "kc_iters = 0\n");
   ASSERT_TRUE(no_kc.ok());
-  const motion::Motion ta0 = (*no_kc)->Transfer(content, sa, motion::PostProcessMode::kNone)->motion;
+  const motion::Motion ta0 =
+      (*no_kc)->Transfer(content, sa, motion::PostProcessMode::kNone)->motion;
   EXPECT_GT(same(ta0, ta), 1e-3);
   // A per-frame schedule of constant weights is the fixed blend (compared
   // without the optimization, whose Adam steps amplify rounding
   // differences).
   std::vector<std::vector<double>> schedule(content.num_frames, {1, 0});
-  EXPECT_LT(same((*no_kc)->Interpolate(content, {sa, sb}, {{}, schedule},
-                                        motion::PostProcessMode::kNone)->motion,
-                 ta0),
-            1e-2);  // Degrees and units: float rounding of a per-step vs one code.
+  EXPECT_LT(
+      same((*no_kc)
+               ->Interpolate(content, {sa, sb}, {{}, schedule}, motion::PostProcessMode::kNone)
+               ->motion,
+           ta0),
+      1e-2);  // Degrees and units: float rounding of a per-step vs one code.
 
   // keep_path: the output walks the content's path. The pelvis path
   // (TrajectoryError) then differs from the content's only by the generated
@@ -189,7 +196,8 @@ TEST(CyclicModelTest, AdaInSkipPackageTrainsLoadsAndTransfers) {
   absl::StatusOr<StyleCode> ca = (*m)->EncodeStyle(a), cb = (*m)->EncodeStyle(b);
   ASSERT_TRUE(ca.ok() && cb.ok());
   EXPECT_EQ(ca->values.size(), static_cast<size_t>(8 + 2 * o.config.hidden));
-  absl::StatusOr<motion::Motion> out = MotionOf((*m)->Transfer(content, *ca, motion::PostProcessMode::kNone));
+  absl::StatusOr<motion::Motion> out =
+      MotionOf((*m)->Transfer(content, *ca, motion::PostProcessMode::kNone));
   ASSERT_TRUE(out.ok()) << out.status();
   EXPECT_EQ(out->num_frames, content.num_frames);
   StyleWeights half;
@@ -242,8 +250,8 @@ TEST(CyclicModelTest, RotationsPackageGeneratesWhatPositionsLeaveOpen) {
     ASSERT_TRUE(m.ok()) << m.status();
     EXPECT_EQ((*m)->config().rotations, rotations);
     EXPECT_EQ((*m)->config().net_channels(joints), rotations ? 7 * joints + 8 : 3 * joints + 8);
-    absl::StatusOr<motion::Motion> out =
-        MotionOf((*m)->Transfer(content, *(*m)->EncodeStyle(style), motion::PostProcessMode::kNone));
+    absl::StatusOr<motion::Motion> out = MotionOf(
+        (*m)->Transfer(content, *(*m)->EncodeStyle(style), motion::PostProcessMode::kNone));
     ASSERT_TRUE(out.ok()) << out.status();
     EXPECT_LT(motion::BoneLengthError(*out, roles), 1e-4);
     change[rotations] = leaf_change(*out);
@@ -325,8 +333,9 @@ TEST(CyclicModelTest, ResidualOutputKeepsTheContentTheAutoencoderLoses) {
     ASSERT_TRUE(TrainCyclic(o).ok());
     auto m = CyclicModel::Load(o.out, "kc_iters = 0\n");
     ASSERT_TRUE(m.ok()) << m.status();
-    const motion::Motion out = (*m)->Transfer(content, *(*m)->EncodeStyle(content),
-                                               motion::PostProcessMode::kNone)->motion;
+    const motion::Motion out =
+        (*m)->Transfer(content, *(*m)->EncodeStyle(content), motion::PostProcessMode::kNone)
+            ->motion;
     gap[residual] = motion::MaxPositionDifference(out, content);
   }
   std::printf("self-transfer max joint gap: decoder-only %.2f, residual %.2f\n", gap[false],

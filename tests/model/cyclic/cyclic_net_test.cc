@@ -1,5 +1,7 @@
 // model/cyclic/cyclic_net: shapes, the kinematic terms and the inference-time
 // optimization, the style network, on a tiny configuration.
+#include "model/cyclic/cyclic_net.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,7 +14,6 @@
 #include "model/chunked_streamer.h"
 #include "model/content_guard.h"
 #include "model/cyclic/cyclic_model.h"
-#include "model/cyclic/cyclic_net.h"
 #include "model/family_registry.h"
 #include "model/package.h"
 #include "model/weights_io.h"
@@ -129,7 +130,6 @@ TEST(CyclicNetTest, StyleNetworkShapesAndStartsNearTheIdentity) {
   EXPECT_EQ(net->transform(h, net->code(style).expand({1, 8, h.size(2)})).sizes(), h.sizes());
 }
 
-
 // --adain-skip: the content's own channel statistics never reach the
 // restyled features; the style clip's take their place.
 TEST(CyclicNetTest, AdaInSkipGivesTheContentTheStyleClipsChannelStatistics) {
@@ -154,8 +154,9 @@ TEST(CyclicNetTest, AdaInSkipGivesTheContentTheStyleClipsChannelStatistics) {
 
   const torch::Tensor h = skip->encode(s.x);
   // A clip's own statistics give its features back.
-  EXPECT_LT((CyclicNetImpl::AdaInSkip(h, CyclicNetImpl::SkipStats(h)) - h).abs().max().item<double>(),
-            1e-4);
+  EXPECT_LT(
+      (CyclicNetImpl::AdaInSkip(h, CyclicNetImpl::SkipStats(h)) - h).abs().max().item<double>(),
+      1e-4);
   // Others give those statistics' means.
   const torch::Tensor moved = CyclicNetImpl::AdaInSkip(h, CyclicNetImpl::SkipStats(hs));
   EXPECT_LT((moved.mean(2) - hs.mean(2)).abs().max().item<double>(), 1e-4);
@@ -167,11 +168,10 @@ TEST(CyclicNetTest, AdaInSkipGivesTheContentTheStyleClipsChannelStatistics) {
   const double with_skip =
       (skip->transform(h + shift, code) - skip->transform(h, code)).abs().max().item<double>();
   const torch::Tensor plain_code = plain->code(style);
-  const double without =
-      (plain->transform(h + shift, plain_code) - plain->transform(h, plain_code))
-          .abs()
-          .max()
-          .item<double>();
+  const double without = (plain->transform(h + shift, plain_code) - plain->transform(h, plain_code))
+                             .abs()
+                             .max()
+                             .item<double>();
   std::printf("content shift reaches the output: %.2e (normalized skip), %.2e (plain)\n", with_skip,
               without);
   EXPECT_LT(with_skip, 1e-4);

@@ -79,7 +79,7 @@ inline ClipChannels MakeClipChannels(int i) {
 // options of a guided style-network run (8 values, 2 blocks) of
 // `iterations` that starts from it, into Dir(name).
 inline CyclicTrainOptions StyleNetworkAfterAutoencoder(const std::string& name, int iterations,
-                                                std::vector<LossRow>* ae_rows = nullptr) {
+                                                       std::vector<LossRow>* ae_rows = nullptr) {
   CyclicTrainOptions ae = TinyOptions(Dir(name + "_ae"));
   ae.data = testing::LabelledClips();
   ae.config.iterations = ae.config.ae_iterations;  // The autoencoder stage only.

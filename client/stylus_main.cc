@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "absl/strings/numbers.h"
+#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
@@ -332,8 +333,14 @@ std::string CommandList() {
   return out;
 }
 
+// "usage: stylus NAME SYNOPSIS", the summary, then the options the usage
+// explains (after its first blank line) and the call options.
 void PrintCommandHelp(const Command& c, FILE* f) {
-  absl::FPrintF(f, "usage: stylus %s %s\n\n%s.\n", c.name, c.usage, c.summary);
+  const std::string usage = c.usage;
+  const size_t split = usage.find("\n\n");
+  absl::FPrintF(f, "usage: stylus %s %s\n\n%c%s.\n", c.name, usage.substr(0, split),
+                absl::ascii_toupper(c.summary[0]), c.summary + 1);
+  if (split != std::string::npos) absl::FPrintF(f, "\n%s\n", usage.substr(split + 2));
   if (c.call_options) absl::FPrintF(f, "\n%s", kCallOptions);
   absl::FPrintF(f,
                 "\nglobal options: --server ADDR (default $STYLUS_SERVER, else "

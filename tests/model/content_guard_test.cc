@@ -8,7 +8,6 @@
 
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_model.h"
-#include "model/window_tensor.h"
 #include "motion/bvh.h"
 #include "motion/features.h"
 #include "motion/kinematics.h"

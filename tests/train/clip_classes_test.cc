@@ -12,9 +12,6 @@
 
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_model.h"
-#include "model/contrastive/contrastive_net.h"
-#include "model/guard_net.h"
-#include "model/weights_io.h"
 #include "motion/bvh.h"
 #include "motion/kinematics.h"
 #include "motion/metrics.h"
@@ -25,9 +22,7 @@
 #include "tests/test_support.h"
 #include "tests/train/contrastive_training_support.h"
 #include "train/contrastive_trainer.h"
-#include "train/label_critic.h"
 #include "train/training_set.h"
-#include "train/weight_average.h"
 
 namespace stylus::model {
 namespace {

@@ -34,6 +34,29 @@ using namespace cyclic_testing;  // NOLINT: the family's test fixtures.
 
 namespace fs = std::filesystem;
 
+// Normalized network channels (1, C, T) of a clip, with what the loss needs.
+struct ClipChannels {
+  motion::Motion clip;
+  motion::HumanoidRoles roles;
+  motion::NormStats norm;
+  torch::Tensor x;
+};
+
+ClipChannels MakeClipChannels(int i) {
+  ClipChannels s;
+  s.clip = Clip(i);
+  s.roles = *motion::FindHumanoidRoles(s.clip.skeleton);
+  motion::FeatureClip f = *motion::ExtractFeatures(s.clip, s.roles);
+  s.norm = *motion::NormStats::Compute({&f});
+  s.norm.Normalize(&f);
+  s.x = torch::from_blob(f.values.data(), {f.frames, f.dim}, torch::kFloat32)
+            .index_select(1, torch::tensor(CyclicChannels(s.clip.skeleton.num_joints(), false)))
+            .t()
+            .unsqueeze(0)
+            .clone();
+  return s;
+}
+
 TEST(CyclicNetTest, ShapesAndStyleCode) {
   const CyclicConfig c = Tiny();
   const ClipChannels s = MakeClipChannels(0);

@@ -4,13 +4,10 @@
 #ifndef STYLUS_TESTS_MODEL_CYCLIC_CYCLIC_SUPPORT_H_
 #define STYLUS_TESTS_MODEL_CYCLIC_CYCLIC_SUPPORT_H_
 
-#include <torch/torch.h>
-
 #include <string>
 #include <vector>
 
 #include "model/cyclic/cyclic_config.h"
-#include "model/cyclic/cyclic_net.h"
 #include "motion/bvh.h"
 #include "motion/features.h"
 #include "motion/humanoid.h"
@@ -51,28 +48,6 @@ inline CyclicTrainOptions TinyOptions(const std::string& out) {
   return o;
 }
 
-// Normalized network channels (1, C, T) of a clip, with what the loss needs.
-struct ClipChannels {
-  motion::Motion clip;
-  motion::HumanoidRoles roles;
-  motion::NormStats norm;
-  torch::Tensor x;
-};
-
-inline ClipChannels MakeClipChannels(int i) {
-  ClipChannels s;
-  s.clip = Clip(i);
-  s.roles = *motion::FindHumanoidRoles(s.clip.skeleton);
-  motion::FeatureClip f = *motion::ExtractFeatures(s.clip, s.roles);
-  s.norm = *motion::NormStats::Compute({&f});
-  s.norm.Normalize(&f);
-  s.x = torch::from_blob(f.values.data(), {f.frames, f.dim}, torch::kFloat32)
-            .index_select(1, torch::tensor(CyclicChannels(s.clip.skeleton.num_joints(), false)))
-            .t()
-            .unsqueeze(0)
-            .clone();
-  return s;
-}
 
 // Trains the autoencoder stage alone on the labelled clips (into
 // Dir(name + "_ae"); its loss rows into `ae_rows` when given) and returns the

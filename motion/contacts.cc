@@ -20,8 +20,11 @@ std::vector<std::array<bool, 4>> DetectFootContacts(const std::vector<std::vecto
   for (int k = 0; k < 4; ++k) {
     const int j = feet[k];
     double ground = 1e300;
-    for (int f = 0; f < n; ++f) ground = std::min(ground, pos[f][j].y);
+    if (!params.running_floor) {
+      for (int f = 0; f < n; ++f) ground = std::min(ground, pos[f][j].y);
+    }
     for (int f = 0; f < n; ++f) {
+      if (params.running_floor) ground = std::min(ground, pos[f][j].y);
       // Central difference inside the clip, one-sided at its ends.
       const int a = std::max(0, f - 1), b = std::min(n - 1, f + 1);
       double speed = 0;

@@ -17,6 +17,11 @@ struct ContactParams {
   double height = 0.06;
   // ... and "still" below this horizontal speed, in leg lengths per second.
   double speed = 0.6;
+  // Measure height above the joint's lowest point in frames 0..f instead of
+  // in the whole clip, so frame f's contact needs no frame after f + 1
+  // (live models, which cannot wait for the clip's end). A foot still in
+  // the air in the first frames reads as low until it has touched down.
+  bool running_floor = false;
 };
 
 // The four foot joints in feature order: left ankle, left toe, right ankle,

@@ -25,7 +25,112 @@ std::vector<bool> AbovePelvis(const Skeleton& sk, const HumanoidRoles& r) {
   return above;
 }
 
+// Frame pose features into `row` (positions and rotations; the rotation
+// signs continue from `prev_q`, or CanonicalSign when `first`); returns
+// the global positions, with the root and facing yaw.
+std::vector<Vec3> PoseRow(const Skeleton& sk, const HumanoidRoles& roles,
+                          const std::vector<bool>& above, const LocalPose& local, bool first,
+                          std::vector<Quat>* prev_q, Vec3* root, double* yaw, float* row) {
+  const FeatureLayout layout(sk.num_joints());
+  const GlobalPose g = ForwardKinematics(sk, local);
+  *root = {g.positions[roles.pelvis].x, 0, g.positions[roles.pelvis].z};
+  *yaw = FacingYaw(g.positions, roles);
+  const Quat inv_yaw = Conjugate(YawRotation(*yaw));
+  for (int j = 0; j < sk.num_joints(); ++j) {
+    const Vec3 p = above[j] ? local.translations[j] : Rotate(inv_yaw, g.positions[j] - *root);
+    Quat q = j == roles.pelvis ? inv_yaw * g.rotations[j] : local.rotations[j];
+    q = first ? CanonicalSign(q) : SameHemisphere(q, (*prev_q)[j]);
+    (*prev_q)[j] = q;
+    for (int c = 0; c < 3; ++c) row[layout.position(j) + c] = static_cast<float>(p[c]);
+    const double qv[4] = {q.w, q.x, q.y, q.z};
+    for (int c = 0; c < 4; ++c) row[layout.rotation(j) + c] = static_cast<float>(qv[c]);
+  }
+  return g.positions;
+}
+
+// The root trajectory channels of a frame from the frames a and b after it.
+void TrajectoryRow(const FeatureLayout& layout, const Vec3& root_a, double yaw_a,
+                   const Vec3& root_b, double yaw_b, double pelvis_dy, double fps, float* row) {
+  const Vec3 v = Rotate(Conjugate(YawRotation(yaw_a)), root_b - root_a) * fps;
+  row[layout.trajectory() + 0] = static_cast<float>(v.x);
+  row[layout.trajectory() + 1] = static_cast<float>(v.z);
+  row[layout.trajectory() + 2] = static_cast<float>(WrapAngle(yaw_b - yaw_a) * fps);
+  row[layout.trajectory() + 3] = static_cast<float>(pelvis_dy * fps);
+}
+
 }  // namespace
+
+FeatureStream::FeatureStream(const Skeleton& skeleton, const HumanoidRoles& roles,
+                             double frame_time, ContactParams contacts)
+    : skeleton_(skeleton),
+      roles_(roles),
+      fps_(1.0 / frame_time),
+      contacts_(contacts),
+      layout_(skeleton.num_joints()),
+      above_(AbovePelvis(skeleton, roles)),
+      prev_q_(skeleton.num_joints()) {
+  ground_.fill(1e300);
+}
+
+bool FeatureStream::Push(const double* frame, float* out) {
+  Motion one = RestMotion(skeleton_, 1, 1 / fps_);
+  std::copy(frame, frame + skeleton_.num_channels(), one.values.begin());
+  Frame next;
+  next.row.assign(layout_.dim(), 0.f);
+  next.positions = PoseRow(skeleton_, roles_, above_, PoseAt(one, 0), frames_ == 0, &prev_q_,
+                           &next.root, &next.yaw, next.row.data());
+  const std::array<int, 4> feet = FootJoints(roles_);
+  for (int k = 0; k < 4; ++k) {
+    const double y = next.positions[feet[k]].y;
+    ground_[k] = std::min(ground_[k], y);  // The running floor, always.
+    next.low[k] = y - ground_[k] <= contacts_.height * roles_.leg_length;
+  }
+  ++frames_;
+  bool wrote = false;
+  if (has_waiting_) {
+    Complete(&next, out);
+    wrote = true;
+    before_ = std::move(waiting_);
+    has_before_ = true;
+  }
+  waiting_ = std::move(next);
+  has_waiting_ = true;
+  return wrote;
+}
+
+bool FeatureStream::Finish(float* out) {
+  if (!has_waiting_) return false;
+  Complete(nullptr, out);
+  has_waiting_ = false;
+  return true;
+}
+
+void FeatureStream::Complete(const Frame* after, float* out) {
+  const Frame& f = waiting_;
+  std::copy(f.row.begin(), f.row.end(), out);
+  // Velocities: forward difference; the last frame repeats the one before.
+  const Frame* a = after != nullptr ? &f : (has_before_ ? &before_ : nullptr);
+  const Frame* b = after != nullptr ? after : (has_before_ ? &f : nullptr);
+  if (a != nullptr) {
+    TrajectoryRow(layout_, a->root, a->yaw, b->root, b->yaw,
+                  b->positions[roles_.pelvis].y - a->positions[roles_.pelvis].y, fps_, out);
+  }
+  // Contacts: low (checked when the frame came) and still (central
+  // difference, one-sided at the clip's ends).
+  const Frame* s0 = has_before_ ? &before_ : &f;
+  const Frame* s1 = after != nullptr ? after : &f;
+  const int span = (has_before_ ? 1 : 0) + (after != nullptr ? 1 : 0);
+  const std::array<int, 4> feet = FootJoints(roles_);
+  for (int k = 0; k < 4; ++k) {
+    double speed = 0;
+    if (span > 0) {
+      const Vec3 d = s1->positions[feet[k]] - s0->positions[feet[k]];
+      speed = std::hypot(d.x, d.z) * fps_ / span;
+    }
+    out[layout_.contacts() + k] =
+        f.low[k] && speed <= contacts_.speed * roles_.leg_length ? 1.f : 0.f;
+  }
+}
 
 std::vector<std::string> FeatureLayout::ChannelNames(const Skeleton& sk,
                                                      const HumanoidRoles& roles) const {
@@ -76,36 +181,17 @@ absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const Humanoid
   const bool referenced = sign_reference != nullptr && static_cast<int>(sign_reference->size()) == nj;
   if (referenced) prev_q = *sign_reference;
   for (int f = 0; f < n; ++f) {
-    const LocalPose local = PoseAt(motion, f);
-    const GlobalPose g = ForwardKinematics(sk, local);
-    positions[f] = g.positions;
-    root[f] = {g.positions[roles.pelvis].x, 0, g.positions[roles.pelvis].z};
-    yaw[f] = FacingYaw(g.positions, roles);
-    const Quat inv_yaw = Conjugate(YawRotation(yaw[f]));
-    float* row = out.row(f);
-    for (int j = 0; j < nj; ++j) {
-      const Vec3 p = above[j] ? local.translations[j] : Rotate(inv_yaw, g.positions[j] - root[f]);
-      Quat q = j == roles.pelvis ? inv_yaw * g.rotations[j] : local.rotations[j];
-      q = f == 0 && !referenced ? CanonicalSign(q) : SameHemisphere(q, prev_q[j]);
-      prev_q[j] = q;
-      for (int c = 0; c < 3; ++c) row[layout.position(j) + c] = static_cast<float>(p[c]);
-      const double qv[4] = {q.w, q.x, q.y, q.z};
-      for (int c = 0; c < 4; ++c) row[layout.rotation(j) + c] = static_cast<float>(qv[c]);
-    }
+    positions[f] = PoseRow(sk, roles, above, PoseAt(motion, f), f == 0 && !referenced, &prev_q,
+                           &root[f], &yaw[f], out.row(f));
   }
   const double fps = motion.fps();
   for (int f = 0; f < n; ++f) {
     // Forward difference; the last frame repeats the one before it.
     const int a = (f + 1 < n) ? f : std::max(0, f - 1);
     const int b = std::min(n - 1, a + 1);
-    float* row = out.row(f);
     if (b > a) {
-      const Vec3 v = Rotate(Conjugate(YawRotation(yaw[a])), root[b] - root[a]) * fps;
-      row[layout.trajectory() + 0] = static_cast<float>(v.x);
-      row[layout.trajectory() + 1] = static_cast<float>(v.z);
-      row[layout.trajectory() + 2] = static_cast<float>(WrapAngle(yaw[b] - yaw[a]) * fps);
-      row[layout.trajectory() + 3] =
-          static_cast<float>((positions[b][roles.pelvis].y - positions[a][roles.pelvis].y) * fps);
+      TrajectoryRow(layout, root[a], yaw[a], root[b], yaw[b],
+                    positions[b][roles.pelvis].y - positions[a][roles.pelvis].y, fps, out.row(f));
     }
   }
   const auto contacts = DetectFootContacts(positions, roles, fps, contact_params);

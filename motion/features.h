@@ -16,6 +16,8 @@
 #ifndef STYLUS_MOTION_FEATURES_H_
 #define STYLUS_MOTION_FEATURES_H_
 
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -68,6 +70,49 @@ struct RootStart {
 absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const HumanoidRoles& roles,
                                             const ContactParams& contacts = {},
                                             const std::vector<Quat>* sign_reference = nullptr);
+// ExtractFeatures one frame at a time, for streams: each frame's features
+// are final once the frame after it has arrived (velocities and contact
+// speeds look one frame ahead), and equal ExtractFeatures of the whole clip
+// with `contacts.running_floor` (the only floor a stream can know; it is
+// used whatever `contacts.running_floor` says).
+// O(1) time and memory per frame.
+class FeatureStream {
+ public:
+  FeatureStream(const Skeleton& skeleton, const HumanoidRoles& roles, double frame_time,
+                ContactParams contacts);
+  // Takes the next frame (skeleton.num_channels() values). When a frame
+  // before it is waiting, writes that frame's features into `out` (dim
+  // values) and returns true.
+  bool Push(const double* frame, float* out);
+  // Writes the features of the frame still waiting (the clip's last, whose
+  // velocities repeat the frame before it) and returns true; false when no
+  // frame waits.
+  bool Finish(float* out);
+  int dim() const { return layout_.dim(); }
+  int64_t frames() const { return frames_; }  // Frames pushed.
+
+ private:
+  struct Frame {
+    std::vector<Vec3> positions;
+    Vec3 root;
+    double yaw = 0;
+    std::vector<float> row;  // Pose channels filled; the rest zero.
+    std::array<bool, 4> low{};
+  };
+  void Complete(const Frame* after, float* out);
+  Skeleton skeleton_;
+  HumanoidRoles roles_;
+  double fps_;
+  ContactParams contacts_;
+  FeatureLayout layout_;
+  std::vector<bool> above_;
+  std::vector<Quat> prev_q_;
+  std::array<double, 4> ground_;
+  Frame before_, waiting_;  // Frames f - 1 and f (f waits for f + 1).
+  bool has_before_ = false, has_waiting_ = false;
+  int64_t frames_ = 0;
+};
+
 // The feature quaternions of frame `f` of `features` (one per joint): the
 // sign_reference for a stretch that starts at frame f + 1.
 std::vector<Quat> FeatureRotations(const FeatureClip& features, int f);

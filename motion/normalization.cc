@@ -56,17 +56,19 @@ absl::StatusOr<NormStats> NormStats::Compute(const std::vector<const FeatureClip
 }
 
 void NormStats::Normalize(FeatureClip* clip) const {
-  for (int f = 0; f < clip->frames; ++f) {
-    float* r = clip->row(f);
-    for (int k = 0; k < dim(); ++k) r[k] = (r[k] - mean[k]) / std[k];
-  }
+  for (int f = 0; f < clip->frames; ++f) Normalize(clip->row(f));
 }
 
 void NormStats::Denormalize(FeatureClip* clip) const {
-  for (int f = 0; f < clip->frames; ++f) {
-    float* r = clip->row(f);
-    for (int k = 0; k < dim(); ++k) r[k] = r[k] * std[k] + mean[k];
-  }
+  for (int f = 0; f < clip->frames; ++f) Denormalize(clip->row(f));
+}
+
+void NormStats::Normalize(float* r) const {
+  for (int k = 0; k < dim(); ++k) r[k] = (r[k] - mean[k]) / std[k];
+}
+
+void NormStats::Denormalize(float* r) const {
+  for (int k = 0; k < dim(); ++k) r[k] = r[k] * std[k] + mean[k];
 }
 
 namespace {

@@ -28,6 +28,9 @@ struct NormStats {
   // In place: (x - mean) / std and its inverse. The clip must be dim() wide.
   void Normalize(FeatureClip* clip) const;
   void Denormalize(FeatureClip* clip) const;
+  // One frame of dim() values.
+  void Normalize(float* frame) const;
+  void Denormalize(float* frame) const;
 
   // Text format: a "stylus-norm 1 <dim>" line, then "name mean std" per channel.
   std::string Serialize() const;

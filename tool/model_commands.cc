@@ -32,6 +32,7 @@ int Train(const Argv& argv) {
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
+      "         [--live [--lookahead 2]] [--window 32] [--hop 24]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
@@ -74,6 +75,11 @@ int Train(const Argv& argv) {
       "--average-from K: the package holds the mean of the generator's weights\n"
       "sampled every --average-every iterations from iteration K on (weight\n"
       "averaging; steadier than the last iteration's weights).\n"
+      "--live trains a live package (docs/families.md \"Live packages\"): causal\n"
+      "networks that stream one frame per step, each output frame final once\n"
+      "--lookahead (1 or 2) more input frames have arrived.\n"
+      "--window / --hop set the training windows (frames); a live package's\n"
+      "network sees about 30 frames of history, so it trains on 64-frame windows.\n"
       "--init-from PACKAGE starts the networks from a trained package of the\n"
       "same shape (fine-tuning; critics and optimizers start afresh).\n"
       "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
@@ -102,9 +108,12 @@ int Train(const Argv& argv) {
                             "init-from",
                             "average-from",
                             "average-every",
-                            "channels"},
+                            "channels",
+                            "lookahead",
+                            "window",
+                            "hop"},
                            {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path",
-                            "pair-gan", "random-starts", "mirror", "residual"}},
+                            "pair-gan", "random-starts", "mirror", "residual", "live"}},
                           kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -190,6 +199,31 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--channels must be a number in [1, 4096]"));
   }
   c.channels = *channels;
+  c.live = args->switches.count("live") > 0;
+  if (c.live) c.window = 64, c.hop = 32;
+  absl::StatusOr<int> lookahead = args->GetInt("lookahead", c.lookahead),
+                      window = args->GetInt("window", c.window), hop = args->GetInt("hop", c.hop);
+  if (args->Has("lookahead") && !c.live) {
+    return Fail("train", absl::InvalidArgumentError("--lookahead needs --live"));
+  }
+  if (!lookahead.ok() || *lookahead < 1 || *lookahead > 2) {
+    return Fail("train", absl::InvalidArgumentError("--lookahead must be 1 or 2"));
+  }
+  if (!window.ok() || *window < 4 || *window > 4096 || *window % 2) {
+    return Fail("train", absl::InvalidArgumentError("--window must be an even number in [4, 4096]"));
+  }
+  if (!hop.ok() || *hop < 1 || *hop > *window) {
+    return Fail("train", absl::InvalidArgumentError("--hop must be a number in [1, --window]"));
+  }
+  c.lookahead = *lookahead, c.window = *window, c.hop = *hop;
+  if (c.live && c.smooth_sigma > 0) {
+    return Fail("train", absl::InvalidArgumentError(
+                             "--smooth-sigma needs whole windows; a live package has none"));
+  }
+  if (c.live && c.residual) {
+    return Fail("train", absl::InvalidArgumentError(
+                             "--residual needs whole windows; a live package has none"));
+  }
   opt.threads = *threads;
   opt.checkpoint_every = *ckpt;
   opt.log_every = *log_every;

@@ -87,7 +87,8 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
                                             const motion::WindowSpec& spec,
                                             const std::function<void(int, int)>& progress,
                                             bool test, const motion::NormStats* fixed_norm,
-                                            std::vector<motion::Motion>* motions) {
+                                            std::vector<motion::Motion>* motions,
+                                            const motion::ContactParams& contacts) {
   std::vector<std::string> paths, dirs;
   for (const std::string& s : sources) {
     if (!test || !absl::EndsWith(s, ".bvh"))
@@ -124,7 +125,7 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
                                                        paths[0]));
       }
     }
-    absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(*m, set.roles);
+    absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(*m, set.roles, contacts);
     if (!f.ok())
       return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", f.status().message()));
     set.clips.push_back(*std::move(f));
@@ -177,7 +178,8 @@ std::string MirroredPath(const std::string& path) {
 // Appends the mirrors of `motions` (the set's clips as read, one each) to
 // `set` (see LoadTrainingData).
 absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
-                              const motion::WindowSpec& spec, TrainingSet* set) {
+                              const motion::WindowSpec& spec,
+                              const motion::ContactParams& contacts, TrainingSet* set) {
   std::vector<const motion::Motion*> samples;
   for (const motion::Motion& m : motions) samples.push_back(&m);
   absl::StatusOr<motion::MirrorMap> map = motion::PlanMirror(set->skeleton, samples);
@@ -185,7 +187,7 @@ absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
   const size_t real = set->clips.size();
   for (size_t i = 0; i < real; ++i) {
     absl::StatusOr<motion::FeatureClip> f =
-        motion::ExtractFeatures(motion::MirrorMotion(motions[i], *map), set->roles);
+        motion::ExtractFeatures(motion::MirrorMotion(motions[i], *map), set->roles, contacts);
     if (!f.ok()) {
       return absl::InvalidArgumentError(
           absl::StrCat(set->paths[i], " (mirrored): ", f.status().message()));
@@ -205,14 +207,16 @@ absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
 absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
                                              const motion::WindowSpec& windows,
                                              const std::function<void(const std::string&)>& log,
-                                             bool mirror) {
+                                             bool mirror,
+                                             const motion::ContactParams& contacts) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<motion::Motion> motions;
   absl::StatusOr<TrainingSet> loaded =
-      LoadTrainingSet(sources, windows, {}, false, nullptr, mirror ? &motions : nullptr);
+      LoadTrainingSet(sources, windows, {}, false, nullptr,
+                                                            mirror ? &motions : nullptr, contacts);
   if (!loaded.ok()) return loaded.status();
   if (mirror) {
-    if (absl::Status s = AddMirroredClips(motions, windows, &*loaded); !s.ok()) return s;
+    if (absl::Status s = AddMirroredClips(motions, windows, contacts, &*loaded); !s.ok()) return s;
   }
   LogLine(log, absl::StrFormat(
                    "loaded %d clips%s, %d windows of %d frames, %d channels in %.1f s",

@@ -66,7 +66,8 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
                                             const std::function<void(int, int)>& progress = {},
                                             bool test = false,
                                             const motion::NormStats* norm = nullptr,
-                                            std::vector<motion::Motion>* motions = nullptr);
+                                            std::vector<motion::Motion>* motions = nullptr,
+                                            const motion::ContactParams& contacts = {});
 
 // LoadTrainingSet of the training split for a trainer: logs "loaded N clips,
 // W windows of T frames, D channels in S s" through `log` (stderr when
@@ -80,15 +81,18 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
 absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
                                              const motion::WindowSpec& windows,
                                              const std::function<void(const std::string&)>& log,
-                                             bool mirror = false);
+                                             bool mirror = false,
+                                             const motion::ContactParams& contacts = {});
 
 // A trainer's data: LoadTrainingData of `options.data` in `config`'s windows
-// (mirrored with config->mirror, random starts with config->random_starts),
+// (mirrored with config->mirror, random starts with config->random_starts,
+// foot contacts as config->Contacts() says),
 // and the provenance it fills into `config` (dim, data, commit).
 template <typename Options, typename Config>
 absl::StatusOr<TrainingSet> LoadRunData(const Options& options, Config* config) {
   absl::StatusOr<TrainingSet> data =
-      LoadTrainingData(options.data, {config->window, config->hop}, options.log, config->mirror);
+      LoadTrainingData(options.data, {config->window, config->hop}, options.log, config->mirror,
+                       config->Contacts());
   if (!data.ok()) return data.status();
   data->random_starts = config->random_starts;
   config->dim = data->dim();

@@ -20,6 +20,10 @@ std::string ContrastiveConfig::Serialize() const {
   put("dim", absl::StrCat(dim));
   put("channels", absl::StrCat(channels));
   put("res_kernel", absl::StrCat(res_kernel));
+  if (live) {
+    put("live", "1");
+    put("lookahead", absl::StrCat(lookahead));
+  }
   put("alpha", absl::StrCat(alpha));
   put("beta", absl::StrCat(beta));
   put("gamma", absl::StrCat(gamma));
@@ -83,6 +87,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
       if (s.ok() && c.res_kernel % 2 == 0) s = e.Error("res_kernel must be odd");
       return s;
     }
+    if (key == "live") return e.Bool(&c.live);
+    if (key == "lookahead") return e.Int(&c.lookahead, 1, 2);
     if (key == "alpha") return e.Double(&c.alpha, 0, 1e6);
     if (key == "beta") return e.Double(&c.beta, 0, 1e6);
     if (key == "gamma") return e.Double(&c.gamma, 0, 1e6);
@@ -127,6 +133,19 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
         source +
         ": 'content_detail' cannot be used with 'residual' (its output already is the "
         "content window plus a change)");
+  }
+  if (c.live) {
+    const char* whole_window = c.smooth_sigma > 0          ? "smooth_sigma"
+                               : c.residual                ? "residual"
+                               : c.content_detail > 0      ? "content_detail"
+                               : c.style_strength != 1     ? "style_strength"
+                               : c.content_guard           ? "content_guard"
+                                                           : nullptr;
+    if (whole_window != nullptr) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          source, ": '", whole_window,
+          "' needs whole windows of frames; a live package (live = 1) has none"));
+    }
   }
   if (c.content_detail > 0 && c.DetailSigma() <= 0) {
     return absl::InvalidArgumentError(

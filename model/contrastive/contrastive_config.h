@@ -10,6 +10,7 @@
 
 #include "absl/status/statusor.h"
 #include "model/config_text.h"
+#include "motion/contacts.h"
 
 namespace stylus::model {
 
@@ -23,6 +24,16 @@ struct ContrastiveConfig : GuardKeys {
   int dim = 0;         // Feature channels d (set from the data).
   int channels = 144;  // Width of codes and hidden layers.
   int res_kernel = 3;  // Kernel of the residual blocks' convolutions.
+  // A live package (docs/families.md "Live packages"): causal content encoder
+  // and generator (model/contrastive/live_net.h) that stream one frame per
+  // step, output frame t final once input frame t + lookahead has arrived
+  // (1 or 2; the features take one of those frames: motion/features.h).
+  // Its features' foot contacts measure height above the lowest point so
+  // far (ContactParams::running_floor), so no feature waits for a clip's end.
+  // The inference keys that need a whole window (smooth_sigma, residual,
+  // content_detail, style_strength below 1, the content guard) are refused.
+  bool live = false;
+  int lookahead = 2;
   // Inference keys (InferenceKeys(), with the guard's of GuardKeys; may be
   // set at load time). With `keep_path`, a transfer's root trajectory and
   // foot contacts are the content clip's (the style restyles the body along
@@ -118,6 +129,13 @@ struct ContrastiveConfig : GuardKeys {
   // The Gaussian that splits off the content's detail: detail_sigma, or
   // smooth_sigma when it is 0.
   double DetailSigma() const { return detail_sigma > 0 ? detail_sigma : smooth_sigma; }
+
+  // How a package's features are extracted (motion/features.h).
+  motion::ContactParams Contacts() const {
+    motion::ContactParams p;
+    p.running_floor = live;
+    return p;
+  }
 
   // The keys that may be set on top of a package's config.txt at load time
   // (model/family_registry.h).

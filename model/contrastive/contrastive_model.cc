@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "model/content_guard.h"
 #include "model/contrastive/contrastive_net.h"
+#include "model/contrastive/live_streamer.h"
 #include "model/contrastive/window_streamer.h"
 #include "model/weights_io.h"
 #include "model/window_blend.h"
@@ -121,7 +122,7 @@ absl::StatusOr<motion::FeatureClip> ContrastiveModel::NormalizedFeatures(
     const std::vector<motion::Quat>* sign_reference) const {
   if (absl::Status s = CheckClipFitsModel(clip, impl_->data, what); !s.ok()) return s;
   absl::StatusOr<motion::FeatureClip> f =
-      motion::ExtractFeatures(clip, impl_->data.roles, {}, sign_reference);
+      motion::ExtractFeatures(clip, impl_->data.roles, impl_->config.Contacts(), sign_reference);
   if (!f.ok()) return f.status();
   impl_->data.norm.Normalize(&*f);
   return f;
@@ -230,6 +231,138 @@ class ContrastiveModel::ClipForms : public StyleModel::Forms {
   Impl::SharedPasses shared_;
 };
 
+// A live package's transfer of a whole clip: one causal pass, each frame
+// with its own style code, the same frames a stream of the clip generates
+// before post-processing. It has one form (live packages have no guard).
+class ContrastiveModel::LiveForms : public StyleModel::Forms {
+ public:
+  LiveForms(Impl* impl, const motion::Motion& content, motion::FeatureClip features,
+            torch::Tensor codes)
+      : impl_(impl), content_(content), features_(std::move(features)), codes_(std::move(codes)) {}
+
+  absl::StatusOr<motion::Motion> Draft(size_t step) override {
+    if (step != 0) return absl::InternalError("a live package has one form");
+    const ContrastiveConfig& config = impl_->config;
+    motion::FeatureClip out;
+    try {
+      c10::InferenceMode guard;
+      const torch::Tensor x = WindowTensor(features_, {0}, features_.frames);
+      torch::Tensor y = impl_->net->decode(impl_->net->content(x), codes_);
+      const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
+      if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
+      // (1, dim, T) -> frames x dim.
+      y = y[0].transpose(0, 1).contiguous();
+      out.frames = features_.frames;
+      out.dim = config.dim;
+      out.values.assign(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
+    } catch (const std::exception& e) {
+      return impl_->Internal(e);
+    }
+    impl_->data.norm.Denormalize(&out);
+    return motion::MotionFromFeatures(out, content_.skeleton, impl_->data.roles,
+                                      content_.frame_time,
+                                      motion::RootAt(content_, impl_->data.roles, 0));
+  }
+
+ private:
+  Impl* impl_;
+  const motion::Motion& content_;
+  motion::FeatureClip features_;
+  torch::Tensor codes_;  // (1, C) or (1, C, T).
+};
+
+absl::StatusOr<std::vector<float>> ContrastiveModel::LiveStyleParams(
+    const StyleCode& style) const {
+  if (!impl_->config.live) return absl::FailedPreconditionError("not a live package");
+  if (static_cast<int>(style.values.size()) != code_size()) {
+    return absl::InvalidArgumentError(absl::StrCat("style code has ", style.values.size(),
+                                                   " values; this model's have ", code_size()));
+  }
+  try {
+    c10::InferenceMode guard;
+    const torch::Tensor code =
+        torch::from_blob(const_cast<float*>(style.values.data()), {1, code_size()});
+    const torch::Tensor p = impl_->net->live_generator->Params(code).contiguous();
+    return std::vector<float>(p.data_ptr<float>(), p.data_ptr<float>() + p.numel());
+  } catch (const std::exception& e) {
+    return impl_->Internal(e);
+  }
+}
+
+LiveCarry ContrastiveModel::NewLiveCarry() const {
+  LiveCarry carry;
+  if (!impl_->config.live) return carry;
+  c10::InferenceMode guard;
+  LiveState state;
+  impl_->net->live_content->InitState(1, &state);
+  carry.content = state.buffers.size();
+  impl_->net->live_generator->InitState(1, &state);
+  for (const torch::Tensor& b : state.buffers) carry.buffers.emplace_back(b.numel(), 0.f);
+  return carry;
+}
+
+absl::Status ContrastiveModel::StepLive(const std::vector<LiveStep>& steps) const {
+  const ContrastiveConfig& config = impl_->config;
+  if (!config.live) return absl::FailedPreconditionError("not a live package");
+  if (steps.empty()) return absl::OkStatus();
+  const int64_t batch = static_cast<int64_t>(steps.size());
+  try {
+    c10::InferenceMode guard;
+    ContrastiveNetImpl& net = *impl_->net;
+    LiveState state;
+    net.live_content->InitState(batch, &state);
+    net.live_generator->InitState(batch, &state);
+    for (size_t l = 0; l < state.buffers.size(); ++l) {
+      float* dst = state.buffers[l].data_ptr<float>();
+      const int64_t per = state.buffers[l].numel() / batch;
+      for (int64_t b = 0; b < batch; ++b) {
+        const std::vector<float>& src = steps[b].carry->buffers[l];
+        if (static_cast<int64_t>(src.size()) != per)
+          return absl::InvalidArgumentError("a live stream's state does not fit this model");
+        std::copy(src.begin(), src.end(), dst + b * per);
+      }
+    }
+    const int64_t params = static_cast<int64_t>(kLiveGeneratorBlocks) * 4 * config.channels;
+    torch::Tensor x = torch::empty({batch, config.dim, 1});
+    torch::Tensor p = torch::empty({batch, params});
+    for (int64_t b = 0; b < batch; ++b) {
+      std::copy(steps[b].features, steps[b].features + config.dim,
+                x.data_ptr<float>() + b * config.dim);
+      std::copy(steps[b].params, steps[b].params + params, p.data_ptr<float>() + b * params);
+    }
+    size_t slot = 0;
+    const torch::Tensor code = net.live_content->step(x, &state, &slot);
+    const torch::Tensor y = net.live_generator->step(code, p, &state, &slot).contiguous();
+    for (int64_t b = 0; b < batch; ++b) {
+      std::copy(y.data_ptr<float>() + b * config.dim, y.data_ptr<float>() + (b + 1) * config.dim,
+                steps[b].out);
+    }
+    for (size_t l = 0; l < state.buffers.size(); ++l) {
+      const torch::Tensor buf = state.buffers[l].contiguous();
+      const int64_t per = buf.numel() / batch;
+      for (int64_t b = 0; b < batch; ++b) {
+        std::copy(buf.data_ptr<float>() + b * per, buf.data_ptr<float>() + (b + 1) * per,
+                  steps[b].carry->buffers[l].data());
+      }
+    }
+    for (const LiveStep& s : steps) ++s.carry->steps;
+  } catch (const std::exception& e) {
+    return impl_->Internal(e);
+  }
+  return absl::OkStatus();
+}
+
+int64_t ContrastiveModel::MacsPerStep() const {
+  const ContrastiveConfig& c = impl_->config;
+  if (c.live) return impl_->net->live_content->macs() + impl_->net->live_generator->macs();
+  // Offline: the encoder's first conv at T frames, the rest at T / 2, and
+  // the generator's two output convs at T again (contrastive_net.h).
+  const int64_t t = c.window, h = c.window / 2, ch = c.channels, k = c.res_kernel;
+  const int64_t encoder = c.dim * ch * 7 * t + ch * ch * 4 * h + ch * ch * 7 * h + 6 * ch * ch * k * h;
+  const int64_t generator = 8 * ch * ch * k * h + ch * ch * 7 * t + ch * c.dim * 7 * t;
+  return encoder + generator;
+}
+
 absl::StatusOr<std::unique_ptr<StyleModel::Forms>> ContrastiveModel::PrepareTransfer(
     const motion::Motion& content, const std::vector<StyleCode>& styles,
     const StyleWeights& weights) const {
@@ -237,6 +370,27 @@ absl::StatusOr<std::unique_ptr<StyleModel::Forms>> ContrastiveModel::PrepareTran
   const bool per_frame = !weights.per_frame.empty();
   absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(content, "content clip");
   if (!f.ok()) return f.status();
+  if (config.live) {
+    torch::Tensor codes;
+    try {
+      c10::InferenceMode guard;
+      if (per_frame) {
+        codes = torch::empty({1, config.channels, f->frames});
+        for (int t = 0; t < f->frames; ++t) {
+          const StyleCode code = MixStyles(styles, weights.per_frame[t]);
+          codes[0].select(1, t).copy_(torch::from_blob(const_cast<float*>(code.values.data()),
+                                                       {config.channels}));
+        }
+      } else {
+        const StyleCode code = MixStyles(styles, weights.fixed);
+        codes = torch::from_blob(const_cast<float*>(code.values.data()), {1, config.channels})
+                    .clone();
+      }
+    } catch (const std::exception& e) {
+      return impl_->Internal(e);
+    }
+    return std::make_unique<LiveForms>(impl_.get(), content, *std::move(f), std::move(codes));
+  }
   PadToLength(&*f, config.window);
   std::vector<int> starts = impl_->Starts(f->frames);
   std::vector<StyleCode> codes(starts.size());
@@ -253,6 +407,12 @@ absl::StatusOr<std::unique_ptr<FrameStreamer>> ContrastiveModel::OpenStream(
     const StreamSpec& spec) const {
   std::shared_ptr<const StyleModel> self = weak_from_this().lock();
   if (self == nullptr) return StyleModel::OpenStream(spec);  // Its error.
+  if (impl_->config.live) {
+    absl::StatusOr<std::unique_ptr<LiveStreamer>> s = LiveStreamer::Create(
+        std::static_pointer_cast<const ContrastiveModel>(std::move(self)), spec);
+    if (!s.ok()) return s.status();
+    return std::unique_ptr<FrameStreamer>(*std::move(s));
+  }
   absl::StatusOr<std::unique_ptr<WindowStreamer>> s = WindowStreamer::Create(
       std::static_pointer_cast<const ContrastiveModel>(std::move(self)), spec);
   if (!s.ok()) return s.status();

@@ -16,6 +16,7 @@
 
 #include "absl/status/statusor.h"
 #include "model/contrastive/contrastive_config.h"
+#include "model/contrastive/live_carry.h"
 #include "model/family_registry.h"
 #include "model/style_model.h"
 #include "motion/features.h"
@@ -48,6 +49,23 @@ class ContrastiveModel : public StyleModel {
   // Streams window by window (model/contrastive/window_streamer.h).
   absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenStream(const StreamSpec& spec) const override;
 
+  // Live packages (config().live; docs/families.md "Live packages"): a
+  // stream runs one frame per step through the causal networks, with the
+  // state each stream carries in a LiveCarry.
+  // The generator's per-frame scale and bias for `style`, computed once per
+  // style. INVALID_ARGUMENT for a code of another size.
+  absl::StatusOr<std::vector<float>> LiveStyleParams(const StyleCode& style) const;
+  // A stream's state before its first frame. Empty for an offline package.
+  LiveCarry NewLiveCarry() const;
+  // Steps each stream one feature frame, all in one forward pass: steps[i]'s
+  // output is the generated frame of the feature frame config().lookahead - 1
+  // steps before its input (the first lookahead - 1 outputs of a stream
+  // stand for no frame). FAILED_PRECONDITION for an offline package.
+  absl::Status StepLive(const std::vector<LiveStep>& steps) const;
+  // Multiply-adds of the content encoder and generator per live step, or,
+  // offline, per window.
+  int64_t MacsPerStep() const;
+
   // Lower-level steps of Transfer, for streaming (model/contrastive/window_streamer.h).
   // The clip's normalized features, checked as Transfer checks a content clip
   // and not padded.
@@ -75,6 +93,7 @@ class ContrastiveModel : public StyleModel {
 
  private:
   class ClipForms;
+  class LiveForms;
   struct Impl;
   explicit ContrastiveModel(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;

@@ -102,9 +102,15 @@ torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) {
 }
 
 ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c) {
-  content_encoder = register_module("content_encoder", Encoder(c, /*instance_norm=*/true));
-  style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));
-  generator = register_module("generator", Generator(c));
+  if (c.live) {
+    live_content = register_module("live_content", LiveContentEncoder(c));
+    style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));
+    live_generator = register_module("live_generator", LiveGenerator(c));
+  } else {
+    content_encoder = register_module("content_encoder", Encoder(c, /*instance_norm=*/true));
+    style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));
+    generator = register_module("generator", Generator(c));
+  }
   nce_w = register_parameter("nce_w", torch::eye(c.channels));
 }
 

@@ -6,6 +6,7 @@
 #include <torch/torch.h>
 
 #include "model/contrastive/contrastive_config.h"
+#include "model/contrastive/live_net.h"
 
 namespace stylus::model {
 
@@ -61,17 +62,25 @@ struct DiscriminatorImpl : torch::nn::Module {
 TORCH_MODULE(Discriminator);
 
 // Everything inference needs (Ec, Es, G) plus the InfoNCE bilinear W. The
-// discriminator lives apart: it is only for training and is not shipped.
+// discriminator lives apart: it is only for training and is not shipped. A
+// live package (config `live`) has the causal content encoder and generator
+// of model/contrastive/live_net.h; its style encoder is the offline one
+// (a style clip is whole before it is encoded).
 struct ContrastiveNetImpl : torch::nn::Module {
   explicit ContrastiveNetImpl(const ContrastiveConfig& c);
-  torch::Tensor content(const torch::Tensor& x) { return content_encoder->forward(x); }
+  torch::Tensor content(const torch::Tensor& x) {
+    return live_content ? live_content->forward(x) : content_encoder->forward(x);
+  }
   // (B, C): temporal mean of the style encoder's output.
   torch::Tensor style(const torch::Tensor& x) { return style_encoder->forward(x).mean(2); }
+  // `s`: (B, C); a live package also takes (B, C, T), a code per frame.
   torch::Tensor decode(const torch::Tensor& c, const torch::Tensor& s) {
-    return generator->forward(c, s);
+    return live_generator ? live_generator->forward(c, s) : generator->forward(c, s);
   }
   Encoder content_encoder{nullptr}, style_encoder{nullptr};
   Generator generator{nullptr};
+  LiveContentEncoder live_content{nullptr};  // Live packages only, with...
+  LiveGenerator live_generator{nullptr};     // ...this generator.
   torch::Tensor nce_w;
 };
 TORCH_MODULE(ContrastiveNet);

@@ -41,8 +41,7 @@ WindowStreamer::WindowStreamer(std::shared_ptr<const ContrastiveModel> model, St
       hop_(model_->config().hop),
       input_(empty),
       blender_(window_, window_ - hop_, model_->data().norm.dim()),
-      post_(post),
-      done_(empty) {}
+      cleaner_(empty, model_->data().roles, post, window_) {}
 
 absl::StatusOr<motion::Motion> WindowStreamer::Push(const motion::Motion& frames) {
   const int channels = input_.skeleton.num_channels();
@@ -133,50 +132,8 @@ absl::StatusOr<motion::Motion> WindowStreamer::Emit(int64_t end) {
   const int64_t first = blender_.taken() - out.frames;
   absl::StatusOr<motion::Motion> raw = motion::MotionFromFeatures(
       out, input_.skeleton, model_->data().roles, input_.frame_time, &decode_);
-  if (!raw.ok() || post_ == motion::PostProcessMode::kNone) return raw;
-  return Clean(*raw, first);
-}
-
-absl::StatusOr<motion::Motion> WindowStreamer::Clean(const motion::Motion& raw, int64_t first) {
-  const int channels = input_.skeleton.num_channels();
-  // Output: the post-processed history, then the new raw frames; content: the
-  // held input over the same frames and every later one received (the
-  // look-ahead the current window already has).
-  const int64_t from = std::max({base_, done_base_, first - window_});
-  motion::Motion output = done_;
-  output.num_frames = static_cast<int>(first - from);
-  output.values.assign(done_.values.begin() + (from - done_base_) * channels, done_.values.end());
-  output.values.insert(output.values.end(), raw.values.begin(), raw.values.end());
-  output.num_frames += raw.num_frames;
-  motion::Motion content = input_;
-  content.num_frames = static_cast<int>(received_ - from);
-  content.values.assign(input_.values.begin() + (from - base_) * channels, input_.values.end());
-  motion::PostProcessParams params;
-  params.pin_at_span_start = true;
-  absl::StatusOr<motion::Motion> cleaned =
-      motion::PostProcess(output, content, model_->data().roles, post_, params);
-  if (!cleaned.ok()) return cleaned.status();
-  // The new frames' Euler angles continue from the last frame sent (the
-  // history was re-solved above and may sit on another Euler branch).
-  motion::Motion fresh = raw;
-  const int64_t lead = first > from ? 1 : 0;
-  fresh.values.assign(done_.values.end() - lead * channels, done_.values.end());
-  fresh.values.insert(fresh.values.end(), cleaned->values.begin() + (first - from) * channels,
-                      cleaned->values.end());
-  fresh.num_frames = raw.num_frames + static_cast<int>(lead);
-  motion::MakeEulerContinuous(&fresh);
-  fresh.values.erase(fresh.values.begin(), fresh.values.begin() + lead * channels);
-  fresh.num_frames = raw.num_frames;
-  // Keep one window of the frames as sent.
-  done_.values.erase(done_.values.begin(), done_.values.begin() + (from - done_base_) * channels);
-  done_.values.insert(done_.values.end(), fresh.values.begin(), fresh.values.end());
-  done_.num_frames = static_cast<int>(done_.values.size() / channels);
-  done_base_ = from;
-  const int64_t keep = std::max(done_base_, first + raw.num_frames - window_);
-  done_.values.erase(done_.values.begin(), done_.values.begin() + (keep - done_base_) * channels);
-  done_.num_frames -= static_cast<int>(keep - done_base_);
-  done_base_ = keep;
-  return fresh;
+  if (!raw.ok()) return raw;
+  return cleaner_.Clean(*raw, first, input_, base_);
 }
 
 void WindowStreamer::Trim() {

@@ -19,6 +19,7 @@
 #include "absl/status/statusor.h"
 #include "model/contrastive/contrastive_model.h"
 #include "model/frame_streamer.h"
+#include "model/stream_cleaner.h"
 #include "model/window_blend.h"
 #include "motion/features.h"
 #include "motion/motion.h"
@@ -51,8 +52,6 @@ class WindowStreamer : public FrameStreamer {
  private:
   WindowStreamer(std::shared_ptr<const ContrastiveModel> model, StyleCode style,
                  const motion::Motion& empty, motion::PostProcessMode post);
-  // Post-processes output frames [emitted, emitted + raw.num_frames).
-  absl::StatusOr<motion::Motion> Clean(const motion::Motion& raw, int64_t first);
   // Generates the window starting at `start` using input features computed
   // over the frames held; `end` is one past the last frame they may use.
   absl::Status Generate(int64_t start, int64_t end);
@@ -73,9 +72,7 @@ class WindowStreamer : public FrameStreamer {
   // so held frames get the signs the whole clip would give them.
   std::vector<motion::Quat> signs_;
   bool started_ = false;
-  motion::PostProcessMode post_;
-  motion::Motion done_;    // The last post-processed output frames (history).
-  int64_t done_base_ = 0;  // Stream index of done_'s first frame.
+  StreamCleaner cleaner_;  // Post-processing, with one window of history.
 };
 
 }  // namespace stylus::model

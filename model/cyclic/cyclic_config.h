@@ -9,6 +9,7 @@
 
 #include "absl/status/statusor.h"
 #include "model/config_text.h"
+#include "motion/contacts.h"
 
 namespace stylus::model {
 
@@ -130,6 +131,8 @@ struct CyclicConfig : GuardKeys {
   // The keys that may be set on top of a package's config.txt at load time
   // (model/family_registry.h).
   static const std::vector<std::string>& InferenceKeys();
+  // How its features are extracted (motion/features.h): the defaults.
+  motion::ContactParams Contacts() const { return {}; }
 
   std::string Serialize() const;
   // INVALID_ARGUMENT naming `source` and the line of a malformed or

@@ -146,5 +146,81 @@ TEST(FeaturesTest, HumanoidRolesNeedNamedLegs) {
   EXPECT_NE(s.message().find("not a recognizable humanoid"), std::string::npos);
 }
 
+
+namespace {
+
+// ExtractFeatures with the running floor, frame by frame through a FeatureStream.
+FeatureClip Streamed(const Fixture& fx) {
+  FeatureStream stream(fx.motion.skeleton, fx.roles, fx.motion.frame_time, {});
+  FeatureClip out;
+  out.dim = stream.dim();
+  std::vector<float> row(out.dim);
+  for (int f = 0; f < fx.motion.num_frames; ++f) {
+    if (stream.Push(fx.motion.frame(f), row.data())) {
+      out.values.insert(out.values.end(), row.begin(), row.end());
+      ++out.frames;
+    }
+    EXPECT_EQ(out.frames, f) << "frame f's features wait for frame f + 1";
+  }
+  EXPECT_TRUE(stream.Finish(row.data()));
+  EXPECT_FALSE(stream.Finish(row.data()));
+  out.values.insert(out.values.end(), row.begin(), row.end());
+  ++out.frames;
+  return out;
+}
+
+}  // namespace
+
+TEST(FeatureStreamTest, FrameByFrameEqualsTheWholeClipWithTheRunningFloor) {
+  // A walk that starts with a foot in the air and turns, so contacts,
+  // hemisphere flips and yaw rates all occur.
+  const Fixture fx = Walk("old,turn=60,frames=90");
+  ContactParams running;
+  running.running_floor = true;
+  absl::StatusOr<FeatureClip> whole = ExtractFeatures(fx.motion, fx.roles, running);
+  ASSERT_TRUE(whole.ok()) << whole.status();
+  const FeatureClip streamed = Streamed(fx);
+  ASSERT_EQ(streamed.frames, whole->frames);
+  ASSERT_EQ(streamed.dim, whole->dim);
+  int contacts = 0;
+  for (size_t i = 0; i < whole->values.size(); ++i) {
+    ASSERT_NEAR(streamed.values[i], whole->values[i], 1e-5)
+        << "frame " << i / whole->dim << " channel " << i % whole->dim;
+    if (static_cast<int>(i % whole->dim) >= FeatureLayout(fx.motion.skeleton.num_joints()).contacts())
+      contacts += whole->values[i] > 0.5f;
+  }
+  EXPECT_GT(contacts, 0);
+}
+
+TEST(FeatureStreamTest, TheRunningFloorOnlyDiffersBeforeTheFeetHaveTouchedDown) {
+  const Fixture fx = Walk("normal,frames=90");
+  ContactParams running;
+  running.running_floor = true;
+  const FeatureClip a = *ExtractFeatures(fx.motion, fx.roles);
+  const FeatureClip b = *ExtractFeatures(fx.motion, fx.roles, running);
+  const FeatureLayout layout(fx.motion.skeleton.num_joints());
+  int differ = 0, late = 0;
+  for (int f = 0; f < a.frames; ++f) {
+    for (int k = 0; k < 4; ++k) {
+      if (a.row(f)[layout.contacts() + k] != b.row(f)[layout.contacts() + k]) {
+        ++differ;
+        late += f >= 45;
+      }
+    }
+  }
+  EXPECT_EQ(late, 0) << "after a full stride both floors agree";
+  SUCCEED() << differ << " contact values differ in the first stride";
+}
+
+TEST(FeatureStreamTest, OneFrameHasStillFeatures) {
+  const Fixture fx = Walk("normal,frames=1");
+  FeatureStream stream(fx.motion.skeleton, fx.roles, fx.motion.frame_time, {});
+  std::vector<float> row(stream.dim(), -1.f);
+  EXPECT_FALSE(stream.Push(fx.motion.frame(0), row.data()));
+  ASSERT_TRUE(stream.Finish(row.data()));
+  const FeatureLayout layout(fx.motion.skeleton.num_joints());
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(row[layout.trajectory() + c], 0.f);
+}
+
 }  // namespace
 }  // namespace stylus::motion

@@ -1,0 +1,187 @@
+#include "model/contrastive/live_streamer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+
+namespace stylus::model {
+namespace {
+
+// Output frames re-cleaned with each new one: enough for a contact span's
+// start (0.1 s) and its lock's blend (0.1 s) at 60 Hz.
+constexpr int kCleanHistory = 12;
+
+}  // namespace
+
+absl::StatusOr<std::unique_ptr<LiveStreamer>> LiveStreamer::Create(
+    std::shared_ptr<const ContrastiveModel> model, const StreamSpec& spec) {
+  if (!model) return absl::InvalidArgumentError("no model");
+  if (!model->config().live) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("model ", model->dir(), " is not a live package"));
+  }
+  absl::StatusOr<std::vector<float>> params = model->LiveStyleParams(spec.style);
+  if (!params.ok()) return params.status();
+  motion::Motion probe = motion::RestMotion(spec.skeleton, 1, spec.frame_time);
+  if (absl::Status s = CheckClipFitsModel(probe, model->data(), "stream"); !s.ok()) return s;
+  probe.num_frames = 0;
+  probe.values.clear();
+  return std::unique_ptr<LiveStreamer>(
+      new LiveStreamer(std::move(model), probe, *std::move(params), spec.post));
+}
+
+LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
+                           const motion::Motion& empty, std::vector<float> params,
+                           motion::PostProcessMode post)
+    : model_(std::move(model)),
+      dim_(model_->config().dim),
+      shift_(model_->config().lookahead - 1),
+      lookahead_(model_->config().lookahead),
+      params_(std::move(params)),
+      features_(empty.skeleton, model_->data().roles, empty.frame_time,
+                model_->config().Contacts()),
+      carry_(model_->NewLiveCarry()),
+      out_(dim_),
+      input_(empty),
+      cleaner_(empty, model_->data().roles, post, kCleanHistory) {
+  generated_.dim = dim_;
+}
+
+absl::Status LiveStreamer::Feed(const motion::Motion& frames, bool end) {
+  const int channels = input_.skeleton.num_channels();
+  for (size_t i = 0; i < frames.values.size(); ++i) {
+    if (!std::isfinite(frames.values[i])) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "frame ", received_ + static_cast<int64_t>(i / channels), " has a non-finite value"));
+    }
+  }
+  if (ended_ && frames.num_frames > 0)
+    return absl::FailedPreconditionError("the stream has ended");
+  std::vector<float> row(dim_);
+  for (int f = 0; f < frames.num_frames; ++f) {
+    const double* frame = frames.values.data() + static_cast<size_t>(f) * channels;
+    if (received_ == 0) {
+      // The output starts where the content does, as in a whole-clip transfer.
+      motion::Motion first = input_;
+      first.num_frames = 1;
+      first.values.assign(frame, frame + channels);
+      decode_.root = motion::RootAt(first, model_->data().roles, 0);
+    }
+    input_.values.insert(input_.values.end(), frame, frame + channels);
+    ++input_.num_frames;
+    ++received_;
+    if (features_.Push(frame, row.data())) {
+      model_->data().norm.Normalize(row.data());
+      queue_.push_back(row);
+    }
+  }
+  if (end && !ended_) {
+    if (received_ == 0) return absl::FailedPreconditionError("the stream has no frames");
+    ended_ = true;
+    if (features_.Finish(row.data())) {
+      model_->data().norm.Normalize(row.data());
+      // The look-ahead past the last frame: the last frame repeated, as in a
+      // whole-clip pass.
+      for (int k = 0; k <= shift_; ++k) queue_.push_back(row);
+    }
+  }
+  return absl::OkStatus();
+}
+
+bool LiveStreamer::NextStep(LiveStep* step) {
+  if (queue_.empty()) return false;
+  *step = {&carry_, queue_.front().data(), params_.data(), out_.data()};
+  return true;
+}
+
+void LiveStreamer::StepDone() {
+  recent_.push_back(std::move(queue_.front()));
+  queue_.pop_front();
+  while (static_cast<int>(recent_.size()) > shift_ + 1) recent_.pop_front();
+  const int64_t frame = stepped_++ - shift_;  // The frame the output is of.
+  if (frame < 0) {  // The content encoder's warm-up: no frame yet.
+    carry_.ResetGenerator();
+    return;
+  }
+  if (frame >= received_) return;
+  const motion::FeatureLayout layout((dim_ - motion::FeatureLayout::kPathChannels) / 7);
+  if (model_->config().keep_path) {
+    const std::vector<float>& own = recent_.front();
+    std::copy(own.begin() + layout.trajectory(), own.end(), out_.begin() + layout.trajectory());
+  }
+  model_->data().norm.Denormalize(out_.data());
+  generated_.values.insert(generated_.values.end(), out_.begin(), out_.end());
+  ++generated_.frames;
+}
+
+absl::StatusOr<motion::Motion> LiveStreamer::Collect() {
+  motion::Motion raw = input_;
+  raw.num_frames = 0;
+  raw.values.clear();
+  if (generated_.frames > 0) {
+    absl::StatusOr<motion::Motion> decoded = motion::MotionFromFeatures(
+        generated_, input_.skeleton, model_->data().roles, input_.frame_time, &decode_);
+    if (!decoded.ok()) return decoded.status();
+    generated_.frames = 0;
+    generated_.values.clear();
+    raw = *std::move(decoded);
+  }
+  // Frame by frame, so that how the input was chunked cannot change the
+  // output.
+  motion::Motion out = raw;
+  out.values.clear();
+  const int channels = input_.skeleton.num_channels();
+  for (int f = 0; f < raw.num_frames; ++f) {
+    motion::Motion one = raw;
+    one.num_frames = 1;
+    one.values.assign(raw.values.begin() + f * channels, raw.values.begin() + (f + 1) * channels);
+    absl::StatusOr<motion::Motion> clean = cleaner_.Clean(one, emitted_, input_, base_, emitted_ + lookahead_ + 1);
+    if (!clean.ok()) return clean.status();
+    out.values.insert(out.values.end(), clean->values.begin(), clean->values.end());
+    ++emitted_;
+  }
+  // Keep what the features, the cleaner and the frames not yet emitted need.
+  const int64_t keep = std::min(cleaner_.FirstInputNeeded(emitted_), emitted_);
+  if (keep > base_) {
+    input_.values.erase(input_.values.begin(), input_.values.begin() + (keep - base_) * channels);
+    input_.num_frames -= static_cast<int>(keep - base_);
+    base_ = keep;
+  }
+  return out;
+}
+
+absl::StatusOr<motion::Motion> LiveStreamer::Push(const motion::Motion& frames) {
+  if (absl::Status s = Feed(frames); !s.ok()) return s;
+  if (absl::Status s = RunSteps(); !s.ok()) return s;
+  return Collect();
+}
+
+absl::StatusOr<motion::Motion> LiveStreamer::Finish() {
+  motion::Motion none = input_;
+  none.num_frames = 0;
+  none.values.clear();
+  if (absl::Status s = Feed(none, /*end=*/true); !s.ok()) return s;
+  if (absl::Status s = RunSteps(); !s.ok()) return s;
+  return Collect();
+}
+
+absl::Status LiveStreamer::RunSteps() {
+  LiveStep step;
+  while (NextStep(&step)) {
+    if (absl::Status s = model_->StepLive({step}); !s.ok()) return s;
+    StepDone();
+  }
+  return absl::OkStatus();
+}
+
+size_t LiveStreamer::state_bytes() const {
+  size_t n = carry_.bytes() + params_.size() * sizeof(float);
+  for (const auto& q : queue_) n += q.size() * sizeof(float);
+  for (const auto& r : recent_) n += r.size() * sizeof(float);
+  n += input_.values.size() * sizeof(double);
+  n += generated_.values.size() * sizeof(float);
+  return n + kCleanHistory * input_.skeleton.num_channels() * sizeof(double);
+}
+
+}  // namespace stylus::model

@@ -1,0 +1,89 @@
+// A stream through a live `contrastive` package (docs/service.md "Live
+// streams"): each input frame costs one step of the causal networks, with
+// their state carried (model/contrastive/live_carry.h), and output frame t
+// is final, post-processed and returned once input frame t + lookahead has
+// arrived. Raw output (before post-processing) equals the package's
+// whole-clip Transfer of the same frames.
+//
+// The steps can run one stream at a time (Push) or gathered from many
+// streams into one batch by a caller (Feed, NextStep, StepDone, Collect:
+// the server's batcher).
+//
+// Thread-safety: one per stream, used by one thread at a time.
+#ifndef STYLUS_MODEL_CONTRASTIVE_LIVE_STREAMER_H_
+#define STYLUS_MODEL_CONTRASTIVE_LIVE_STREAMER_H_
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "model/contrastive/contrastive_model.h"
+#include "model/contrastive/live_carry.h"
+#include "model/frame_streamer.h"
+#include "model/stream_cleaner.h"
+#include "motion/features.h"
+#include "motion/motion.h"
+
+namespace stylus::model {
+
+class LiveStreamer : public FrameStreamer {
+ public:
+  // INVALID_ARGUMENT when frames on `spec.skeleton` at `spec.frame_time`
+  // cannot feed the model or `spec.style` does not fit it;
+  // FAILED_PRECONDITION when the package is not live.
+  static absl::StatusOr<std::unique_ptr<LiveStreamer>> Create(
+      std::shared_ptr<const ContrastiveModel> model, const StreamSpec& spec);
+
+  // FrameStreamer: runs the steps itself, one at a time.
+  absl::StatusOr<motion::Motion> Push(const motion::Motion& frames) override;
+  absl::StatusOr<motion::Motion> Finish() override;
+  int64_t received() const override { return received_; }
+  int64_t emitted() const override { return emitted_; }
+
+  // Batched use. Feed takes frames (INVALID_ARGUMENT for non-finite
+  // values) and queues their steps; with `end`, the stream's end too (the
+  // steps that flush its last frames; FAILED_PRECONDITION when no frame
+  // was ever fed).
+  absl::Status Feed(const motion::Motion& frames, bool end = false);
+  // The next queued step, to run with ContrastiveModel::StepLive; false
+  // when none is queued. Steps of one stream run one at a time, in order:
+  // call StepDone after each before asking for the next.
+  bool NextStep(LiveStep* step);
+  void StepDone();
+  // The output frames that became final since the last call.
+  absl::StatusOr<motion::Motion> Collect();
+  int pending_steps() const { return static_cast<int>(queue_.size()); }
+
+  // Bytes this stream holds, all of it bounded: the networks' carried state
+  // plus the frames held for features, decoding and post-processing.
+  size_t state_bytes() const;
+  // The networks' carried state alone.
+  size_t carry_bytes() const { return carry_.bytes(); }
+
+ private:
+  LiveStreamer(std::shared_ptr<const ContrastiveModel> model, const motion::Motion& empty,
+               std::vector<float> params, motion::PostProcessMode post);
+  absl::Status RunSteps();  // Every queued step, one at a time.
+
+  std::shared_ptr<const ContrastiveModel> model_;
+  const int dim_, shift_, lookahead_;
+  std::vector<float> params_;  // The style's generator parameters.
+  motion::FeatureStream features_;
+  LiveCarry carry_;
+  std::deque<std::vector<float>> queue_;   // Normalized feature frames to step.
+  std::deque<std::vector<float>> recent_;  // The last shift + 1 stepped (keep_path).
+  std::vector<float> out_;                 // The running step's output.
+  int64_t stepped_ = 0;                    // Feature frames stepped.
+  motion::FeatureClip generated_;          // Denormalized, waiting to be decoded.
+  motion::Motion input_;                   // Held input frames from base_ on.
+  int64_t base_ = 0, received_ = 0, emitted_ = 0;
+  bool ended_ = false;
+  motion::DecodeState decode_;
+  StreamCleaner cleaner_;
+};
+
+}  // namespace stylus::model
+
+#endif  // STYLUS_MODEL_CONTRASTIVE_LIVE_STREAMER_H_

@@ -5,7 +5,9 @@
 #include "absl/strings/str_cat.h"
 #include "model/chunked_streamer.h"
 #include "model/content_guard.h"
+#include "model/resampling_streamer.h"
 #include "motion/features.h"
+#include "motion/resample.h"
 
 namespace stylus::model {
 
@@ -63,6 +65,29 @@ absl::StatusOr<TransferResult> StyleModel::Interpolate(const motion::Motion& con
   if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, code_size()); !s.ok()) {
     return s;
   }
+  if (motion::SameRate(content.frame_time, data().frame_time) || content.num_frames == 0) {
+    return InterpolateAtModelRate(content, content, styles, weights, options);
+  }
+  if (absl::Status s = motion::CheckServedRate(content.frame_time, "content clip"); !s.ok()) {
+    return s;
+  }
+  // At the model's rate, each frame's weights those of the content frame
+  // nearest it; the output back at the content's rate before
+  // post-processing, which reads the contacts of the content as it came.
+  const motion::Motion at_model = motion::Resample(content, data().frame_time);
+  StyleWeights model_weights{weights.fixed, {}};
+  for (int k = 0; k < at_model.num_frames && !weights.per_frame.empty(); ++k) {
+    const int f = std::min(content.num_frames - 1,
+                           static_cast<int>(std::lround(k * at_model.frame_time / content.frame_time)));
+    model_weights.per_frame.push_back(weights.per_frame[f]);
+  }
+  return InterpolateAtModelRate(at_model, content, styles, model_weights, options);
+}
+
+absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
+    const motion::Motion& content, const motion::Motion& original,
+    const std::vector<StyleCode>& styles, const StyleWeights& weights,
+    const TransferOptions& options) const {
   absl::StatusOr<std::unique_ptr<Forms>> forms = PrepareTransfer(content, styles, weights);
   if (!forms.ok()) return forms.status();
   TransferResult result;
@@ -97,26 +122,49 @@ absl::StatusOr<TransferResult> StyleModel::Interpolate(const motion::Motion& con
     }
   }
   if (!out.ok()) return out.status();
+  if (&original != &content) {
+    *out = motion::Resample(*out, original.frame_time, original.num_frames);
+  }
   if (options.post == motion::PostProcessMode::kNone) {
     result.motion = *std::move(out);
   } else {
     absl::StatusOr<motion::Motion> clean =
-        motion::PostProcess(*out, content, data().roles, options.post);
+        motion::PostProcess(*out, original, data().roles, options.post);
     if (!clean.ok()) return clean.status();
     result.motion = *std::move(clean);
   }
   return result;
 }
 
+absl::StatusOr<StyleCode> StyleModel::EncodeStyle(const motion::Motion& clip) const {
+  if (motion::SameRate(clip.frame_time, data().frame_time) || clip.num_frames == 0) {
+    return EncodeModelRateStyle(clip);
+  }
+  if (absl::Status s = motion::CheckServedRate(clip.frame_time, "style clip"); !s.ok()) return s;
+  return EncodeModelRateStyle(motion::Resample(clip, data().frame_time));
+}
+
 absl::StatusOr<std::unique_ptr<FrameStreamer>> StyleModel::OpenStream(
     const StreamSpec& spec) const {
-  std::shared_ptr<const StyleModel> self = weak_from_this().lock();
-  if (self == nullptr) {
+  if (weak_from_this().expired()) {
     return absl::FailedPreconditionError(
         absl::StrCat("model ", dir(), ": streams need a model owned by a std::shared_ptr"));
   }
+  if (motion::SameRate(spec.frame_time, data().frame_time)) return OpenModelRateStream(spec);
+  if (absl::Status s = motion::CheckServedRate(spec.frame_time, "stream"); !s.ok()) return s;
+  StreamSpec inner = spec;
+  inner.frame_time = data().frame_time;
+  absl::StatusOr<std::unique_ptr<FrameStreamer>> s = OpenModelRateStream(inner);
+  if (!s.ok()) return s.status();
+  motion::Motion empty = motion::RestMotion(spec.skeleton, 0, spec.frame_time);
+  return std::unique_ptr<FrameStreamer>(
+      new ResamplingStreamer(*std::move(s), empty, data().frame_time));
+}
+
+absl::StatusOr<std::unique_ptr<FrameStreamer>> StyleModel::OpenModelRateStream(
+    const StreamSpec& spec) const {
   absl::StatusOr<std::unique_ptr<ChunkedStreamer>> s =
-      ChunkedStreamer::Create(std::move(self), spec);
+      ChunkedStreamer::Create(weak_from_this().lock(), spec);
   if (!s.ok()) return s.status();
   return std::unique_ptr<FrameStreamer>(*std::move(s));
 }

@@ -101,17 +101,22 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // Values in each of this model's style codes.
   virtual int code_size() const = 0;
 
-  // INVALID_ARGUMENT for a clip the model cannot take (another skeleton or
-  // frame rate, non-finite values, no frames); INTERNAL when LibTorch fails.
-  virtual absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const = 0;
+  // A clip at another frame rate than the model's (24-240 Hz) is resampled
+  // to it first (motion/resample.h). INVALID_ARGUMENT for a clip the model
+  // cannot take (another skeleton, a rate outside 24-240 Hz, non-finite
+  // values, no frames); INTERNAL when LibTorch fails.
+  absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const;
 
   // The content clip re-generated with a blend sum_k w_k s_k of `styles`,
   // fixed or per frame: same skeleton, channel layout, frame count and frame
   // rate, the root starting where the content's does, cleaned by
   // `options.post` (motion/postprocess.h). With a content guard, the first of
   // the package's forms whose action reads as the content's (the note says
-  // which). INVALID_ARGUMENT for a clip, codes or weights the model cannot
-  // take; INTERNAL when LibTorch fails.
+  // which). Content at another frame rate than the model's (24-240 Hz) is
+  // resampled to it on the way in, and the output back to the content's
+  // rate and frame count on the way out (before post-processing).
+  // INVALID_ARGUMENT for a clip, codes or weights the model cannot take;
+  // INTERNAL when LibTorch fails.
   absl::StatusOr<TransferResult> Interpolate(const motion::Motion& content,
                                              const std::vector<StyleCode>& styles,
                                              const StyleWeights& weights,
@@ -121,14 +126,30 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
                                           const TransferOptions& options = {}) const;
 
   // A streamer for frames on `spec.skeleton` at `spec.frame_time`
-  // (model/frame_streamer.h); it shares ownership of the model. The default
-  // streams in chunks through whole-clip transfers (model/chunked_streamer.h);
-  // a family may stream in its own way. Streams are never guarded.
+  // (model/frame_streamer.h); it shares ownership of the model. At another
+  // rate than the model's (24-240 Hz), frames are resampled on the way in
+  // and out (model/resampling_streamer.h). Streams are never guarded.
   // INVALID_ARGUMENT when such frames or the style cannot feed the model;
   // FAILED_PRECONDITION when the model is not owned by a std::shared_ptr.
-  virtual absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenStream(const StreamSpec& spec) const;
+  absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenStream(const StreamSpec& spec) const;
 
  protected:
+  // Interpolate of `content` at the model's rate; `original` is the clip as
+  // it came (the same object when no resampling was needed), whose rate and
+  // frame count the output takes and whose contacts post-processing reads.
+  absl::StatusOr<TransferResult> InterpolateAtModelRate(const motion::Motion& content,
+                                                        const motion::Motion& original,
+                                                        const std::vector<StyleCode>& styles,
+                                                        const StyleWeights& weights,
+                                                        const TransferOptions& options) const;
+  // EncodeStyle of a clip at the model's own rate (the family checks it).
+  virtual absl::StatusOr<StyleCode> EncodeModelRateStyle(const motion::Motion& clip) const = 0;
+  // OpenStream with spec.frame_time the model's. The default streams in
+  // chunks through whole-clip transfers (model/chunked_streamer.h); a
+  // family may stream in its own way. The model is owned by a shared_ptr.
+  virtual absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenModelRateStream(
+      const StreamSpec& spec) const;
+
   // One content clip's transfer, prepared once, rendered in the forms the
   // content guard chooses from: form 0 is the configured transfer, form k
   // the weaker one at guard_strengths[k - 1] (each family says what a

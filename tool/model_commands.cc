@@ -32,7 +32,7 @@ int Train(const Argv& argv) {
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
-      "         [--live [--lookahead 2]] [--window 32] [--hop 24]\n"
+      "         [--live [--lookahead 2] [--frame-residual]] [--window 32] [--hop 24]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
@@ -77,7 +77,8 @@ int Train(const Argv& argv) {
       "averaging; steadier than the last iteration's weights).\n"
       "--live trains a live package (docs/families.md \"Live packages\"): causal\n"
       "networks that stream one frame per step, each output frame final once\n"
-      "--lookahead (1 or 2) more input frames have arrived.\n"
+      "--lookahead (1 or 2) more input frames have arrived. --frame-residual makes\n"
+      "its generator give the change to each content frame.\n"
       "--window / --hop set the training windows (frames); a live package's\n"
       "network sees about 30 frames of history, so it trains on 64-frame windows.\n"
       "--init-from PACKAGE starts the networks from a trained package of the\n"
@@ -113,7 +114,8 @@ int Train(const Argv& argv) {
                             "window",
                             "hop"},
                            {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path",
-                            "pair-gan", "random-starts", "mirror", "residual", "live"}},
+                            "pair-gan", "random-starts", "mirror", "residual", "live",
+                           "frame-residual"}},
                           kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -216,6 +218,10 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--hop must be a number in [1, --window]"));
   }
   c.lookahead = *lookahead, c.window = *window, c.hop = *hop;
+  c.frame_residual = args->switches.count("frame-residual") > 0;
+  if (c.frame_residual && !c.live) {
+    return Fail("train", absl::InvalidArgumentError("--frame-residual needs --live"));
+  }
   if (c.live && c.smooth_sigma > 0) {
     return Fail("train", absl::InvalidArgumentError(
                              "--smooth-sigma needs whole windows; a live package has none"));

@@ -73,7 +73,7 @@ struct Trainer {
   // `own`, if given, is Es(x) already computed. Otherwise G(c, s).
   torch::Tensor Transfer(const torch::Tensor& x, const torch::Tensor& c, const torch::Tensor& s,
                          const torch::Tensor* own = nullptr) {
-    const torch::Tensor g = net->decode(c, s);
+    const torch::Tensor g = net->render(x, c, s);
     if (!config.residual) return g;
     return x + g - net->decode(c, own ? *own : net->style(x));
   }
@@ -112,8 +112,8 @@ struct Trainer {
     const auto [x_s, v_s] = Batch();
     const torch::Tensor c_t = net->content(x_t), s_t = net->style(v_t);
     const torch::Tensor c_s = net->content(x_s), s_s = net->style(v_s);
-    const torch::Tensor rec = (ReconstructionLoss(net->decode(c_t, s_t), x_t) +
-                               ReconstructionLoss(net->decode(c_s, s_s), x_s)) /
+    const torch::Tensor rec = (ReconstructionLoss(net->render(x_t, c_t, s_t), x_t) +
+                               ReconstructionLoss(net->render(x_s, c_s, s_s), x_s)) /
                               2;
     const torch::Tensor x_g = Transfer(x_t, c_t, s_s);
     LossRecord r;
@@ -167,7 +167,7 @@ struct Trainer {
 
     const torch::Tensor c_x = net->content(x);
     const torch::Tensor s_same = net->style(y_same), s_other = net->style(y_other);
-    const torch::Tensor rec = ReconstructionLoss(net->decode(c_x, s_same), x);
+    const torch::Tensor rec = ReconstructionLoss(net->render(x, c_x, s_same), x);
     const torch::Tensor s_x = net->style(x);
     const torch::Tensor x_g = Transfer(x, c_x, s_other, &s_x);
     torch::Tensor total = rec;
@@ -184,7 +184,7 @@ struct Trainer {
     r.cls = cls.item<double>();
     total = total + config.class_weight * cls;
     const torch::Tensor c_g = net->content(x_g);
-    const torch::Tensor cyc = ReconstructionLoss(net->decode(c_g, s_same), x);
+    const torch::Tensor cyc = ReconstructionLoss(net->render(x_g, c_g, s_same), x);
     r.cyc = cyc.item<double>();
     total = total + config.cycle_weight * cyc;
     if (config.use_nce && config.beta > 0) {

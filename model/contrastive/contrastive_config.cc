@@ -23,6 +23,7 @@ std::string ContrastiveConfig::Serialize() const {
   if (live) {
     put("live", "1");
     put("lookahead", absl::StrCat(lookahead));
+    if (frame_residual) put("frame_residual", "1");
   }
   put("alpha", absl::StrCat(alpha));
   put("beta", absl::StrCat(beta));
@@ -89,6 +90,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     }
     if (key == "live") return e.Bool(&c.live);
     if (key == "lookahead") return e.Int(&c.lookahead, 1, 2);
+    if (key == "frame_residual") return e.Bool(&c.frame_residual);
     if (key == "alpha") return e.Double(&c.alpha, 0, 1e6);
     if (key == "beta") return e.Double(&c.beta, 0, 1e6);
     if (key == "gamma") return e.Double(&c.gamma, 0, 1e6);
@@ -133,6 +135,9 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
         source +
         ": 'content_detail' cannot be used with 'residual' (its output already is the "
         "content window plus a change)");
+  }
+  if (c.frame_residual && !c.live) {
+    return absl::InvalidArgumentError(source + ": 'frame_residual' is for live packages (live = 1)");
   }
   if (c.live) {
     const char* whole_window = c.smooth_sigma > 0          ? "smooth_sigma"

@@ -34,6 +34,10 @@ struct ContrastiveConfig : GuardKeys {
   // content_detail, style_strength below 1, the content guard) are refused.
   bool live = false;
   int lookahead = 2;
+  // Live only: the generator gives the change to each content frame (its
+  // output is added to the frame's features), so what it does not change of
+  // the content's motion is kept as it came.
+  bool frame_residual = false;
   // Inference keys (InferenceKeys(), with the guard's of GuardKeys; may be
   // set at load time). With `keep_path`, a transfer's root trajectory and
   // foot contacts are the content clip's (the style restyles the body along

@@ -103,7 +103,7 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(
   return std::unique_ptr<ContrastiveModel>(new ContrastiveModel(std::move(impl)));
 }
 
-absl::StatusOr<StyleCode> ContrastiveModel::EncodeStyle(const motion::Motion& clip) const {
+absl::StatusOr<StyleCode> ContrastiveModel::EncodeModelRateStyle(const motion::Motion& clip) const {
   absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(clip, "style clip");
   if (!f.ok()) return f.status();
   PadToLength(&*f, impl_->config.window);
@@ -247,7 +247,7 @@ class ContrastiveModel::LiveForms : public StyleModel::Forms {
     try {
       c10::InferenceMode guard;
       const torch::Tensor x = WindowTensor(features_, {0}, features_.frames);
-      torch::Tensor y = impl_->net->decode(impl_->net->content(x), codes_);
+      torch::Tensor y = impl_->net->render(x, impl_->net->content(x), codes_);
       const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
       if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
       // (1, dim, T) -> frames x dim.
@@ -403,10 +403,9 @@ absl::StatusOr<std::unique_ptr<StyleModel::Forms>> ContrastiveModel::PrepareTran
                                      std::move(codes));
 }
 
-absl::StatusOr<std::unique_ptr<FrameStreamer>> ContrastiveModel::OpenStream(
+absl::StatusOr<std::unique_ptr<FrameStreamer>> ContrastiveModel::OpenModelRateStream(
     const StreamSpec& spec) const {
   std::shared_ptr<const StyleModel> self = weak_from_this().lock();
-  if (self == nullptr) return StyleModel::OpenStream(spec);  // Its error.
   if (impl_->config.live) {
     absl::StatusOr<std::unique_ptr<LiveStreamer>> s = LiveStreamer::Create(
         std::static_pointer_cast<const ContrastiveModel>(std::move(self)), spec);

@@ -42,12 +42,6 @@ class ContrastiveModel : public StyleModel {
 
   int code_size() const override;
 
-  // The mean style code over the clip's windows (clips shorter than a window
-  // are padded by repeating their last frame).
-  absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const override;
-
-  // Streams window by window (model/contrastive/window_streamer.h).
-  absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenStream(const StreamSpec& spec) const override;
 
   // Live packages (config().live; docs/families.md "Live packages"): a
   // stream runs one frame per step through the causal networks, with the
@@ -82,6 +76,13 @@ class ContrastiveModel : public StyleModel {
                                                      const std::vector<StyleCode>& codes) const;
 
  protected:
+  // The mean style code over the clip's windows (clips shorter than a window
+  // are padded by repeating their last frame).
+  absl::StatusOr<StyleCode> EncodeModelRateStyle(const motion::Motion& clip) const override;
+  // Streams window by window (model/contrastive/window_streamer.h), or, for
+  // a live package, frame by frame (model/contrastive/live_streamer.h).
+  absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenModelRateStream(
+      const StreamSpec& spec) const override;
   // Each window uses sum_k w_k s_k, the weights taken at the window's centre
   // frame. Guard form k is the residual form at strength k: the content
   // plus k times the change the style makes.

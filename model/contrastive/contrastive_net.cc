@@ -102,6 +102,7 @@ torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) {
 }
 
 ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c) {
+  frame_residual = c.frame_residual;
   if (c.live) {
     live_content = register_module("live_content", LiveContentEncoder(c));
     style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));

@@ -77,8 +77,15 @@ struct ContrastiveNetImpl : torch::nn::Module {
   torch::Tensor decode(const torch::Tensor& c, const torch::Tensor& s) {
     return live_generator ? live_generator->forward(c, s) : generator->forward(c, s);
   }
+  // The generator's output for content windows `x` with codes `c` =
+  // content(x): decode, plus x with `frame_residual`.
+  torch::Tensor render(const torch::Tensor& x, const torch::Tensor& c, const torch::Tensor& s) {
+    const torch::Tensor y = decode(c, s);
+    return frame_residual ? y + x : y;
+  }
   Encoder content_encoder{nullptr}, style_encoder{nullptr};
   Generator generator{nullptr};
+  bool frame_residual = false;
   LiveContentEncoder live_content{nullptr};  // Live packages only, with...
   LiveGenerator live_generator{nullptr};     // ...this generator.
   torch::Tensor nce_w;

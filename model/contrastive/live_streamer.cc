@@ -106,8 +106,11 @@ void LiveStreamer::StepDone() {
   }
   if (frame >= received_) return;
   const motion::FeatureLayout layout((dim_ - motion::FeatureLayout::kPathChannels) / 7);
+  const std::vector<float>& own = recent_.front();  // Frame `frame`'s features.
+  if (model_->config().frame_residual) {
+    for (int c = 0; c < dim_; ++c) out_[c] += own[c];
+  }
   if (model_->config().keep_path) {
-    const std::vector<float>& own = recent_.front();
     std::copy(own.begin() + layout.trajectory(), own.end(), out_.begin() + layout.trajectory());
   }
   model_->data().norm.Denormalize(out_.data());

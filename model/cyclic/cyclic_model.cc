@@ -95,7 +95,7 @@ absl::StatusOr<std::unique_ptr<CyclicModel>> CyclicModel::Load(const std::string
   return std::unique_ptr<CyclicModel>(new CyclicModel(std::move(impl)));
 }
 
-absl::StatusOr<StyleCode> CyclicModel::EncodeStyle(const motion::Motion& clip) const {
+absl::StatusOr<StyleCode> CyclicModel::EncodeModelRateStyle(const motion::Motion& clip) const {
   auto input = impl_->Input(clip, "style clip");
   if (!input.ok()) return input.status();
   try {

@@ -37,11 +37,10 @@ class CyclicModel : public StyleModel {
 
   int code_size() const override;
 
+ protected:
   // The style network's code of the clip (with style_dim = 0: the mean and
   // standard deviation over time of its hidden features, 2 x hidden values).
-  absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const override;
-
- protected:
+  absl::StatusOr<StyleCode> EncodeModelRateStyle(const motion::Motion& clip) const override;
   // The whole clip at once; with per-frame weights, each hidden step (two
   // frames) gets the blend of its first frame. Guard form k restyles the
   // hidden features k of the way. The kinematic optimization runs on the

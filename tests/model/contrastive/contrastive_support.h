@@ -5,9 +5,12 @@
 #define STYLUS_TESTS_MODEL_CONTRASTIVE_CONTRASTIVE_SUPPORT_H_
 
 #include <fstream>
+#include <map>
+#include <memory>
 #include <string>
 
 #include "gtest/gtest.h"
+#include "model/contrastive/contrastive_model.h"
 #include "motion/bvh.h"
 #include "tests/model/synth_clips.h"
 #include "train/contrastive_trainer.h"
@@ -39,6 +42,29 @@ inline motion::Motion Clip(int i) { return *motion::ReadBvhFile(testing::FourCli
 // Appends `text` to <dir>/config.txt.
 inline void AppendConfig(const std::string& dir, const std::string& text) {
   std::ofstream(dir + "/config.txt", std::ios::app) << text;
+}
+
+// One tiny live package per lookahead and generator form, trained once per
+// test process.
+inline std::shared_ptr<const ContrastiveModel> LivePackage(int lookahead,
+                                                           bool frame_residual = false) {
+  static std::map<int, std::shared_ptr<const ContrastiveModel>>* packages =
+      new std::map<int, std::shared_ptr<const ContrastiveModel>>();
+  const int key = 2 * lookahead + (frame_residual ? 1 : 0);
+  auto it = packages->find(key);
+  if (it != packages->end()) return it->second;
+  const std::string dir = Dir("live" + std::to_string(key));
+  ContrastiveTrainOptions o = TinyOptions(dir, 20);
+  o.config.live = true;
+  o.config.lookahead = lookahead;
+  o.config.frame_residual = frame_residual;
+  o.config.keep_path = true;
+  EXPECT_TRUE(TrainContrastive(o).ok());
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(dir);
+  EXPECT_TRUE(m.ok()) << m.status();
+  std::shared_ptr<const ContrastiveModel> model = std::move(*m);
+  (*packages)[key] = model;
+  return model;
 }
 
 class TrainedModelTest : public ::testing::Test {

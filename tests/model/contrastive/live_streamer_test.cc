@@ -20,27 +20,9 @@ namespace {
 
 using contrastive_testing::Clip;
 using contrastive_testing::Dir;
+using contrastive_testing::LivePackage;
 using contrastive_testing::TinyOptions;
 using testing::Frames;
-
-// One tiny live package per lookahead, trained once per test process.
-std::shared_ptr<const ContrastiveModel> LivePackage(int lookahead) {
-  static std::map<int, std::shared_ptr<const ContrastiveModel>>* packages =
-      new std::map<int, std::shared_ptr<const ContrastiveModel>>();
-  auto it = packages->find(lookahead);
-  if (it != packages->end()) return it->second;
-  const std::string dir = Dir("live" + std::to_string(lookahead));
-  ContrastiveTrainOptions o = TinyOptions(dir, 20);
-  o.config.live = true;
-  o.config.lookahead = lookahead;
-  o.config.keep_path = true;
-  EXPECT_TRUE(TrainContrastive(o).ok());
-  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(dir);
-  EXPECT_TRUE(m.ok()) << m.status();
-  std::shared_ptr<const ContrastiveModel> model = std::move(*m);
-  (*packages)[lookahead] = model;
-  return model;
-}
 
 void Append(const motion::Motion& chunk, motion::Motion* all) {
   all->values.insert(all->values.end(), chunk.values.begin(), chunk.values.end());
@@ -81,10 +63,16 @@ double MaxDifference(const motion::Motion& a, const motion::Motion& b) {
   return d;
 }
 
-class LiveStreamerTest : public ::testing::TestWithParam<int> {};
+// (lookahead, frame_residual)
+class LiveStreamerTest : public ::testing::TestWithParam<std::pair<int, bool>> {
+ protected:
+  std::shared_ptr<const ContrastiveModel> Model() const {
+    return LivePackage(GetParam().first, GetParam().second);
+  }
+};
 
 TEST_P(LiveStreamerTest, FrameByFrameEqualsTheWholeClipTransfer) {
-  const auto model = LivePackage(GetParam());
+  const auto model = Model();
   const motion::Motion content = Clip(0);
   const StyleCode style = *model->EncodeStyle(Clip(1));
   const motion::Motion streamed = Stream(model, style, content, 1, motion::PostProcessMode::kNone);
@@ -95,7 +83,7 @@ TEST_P(LiveStreamerTest, FrameByFrameEqualsTheWholeClipTransfer) {
 }
 
 TEST_P(LiveStreamerTest, AnyChunkingGivesTheSameFrames) {
-  const auto model = LivePackage(GetParam());
+  const auto model = Model();
   const motion::Motion content = Clip(2);
   const StyleCode style = *model->EncodeStyle(Clip(3));
   for (auto post : {motion::PostProcessMode::kNone, motion::PostProcessMode::kFull}) {
@@ -106,7 +94,7 @@ TEST_P(LiveStreamerTest, AnyChunkingGivesTheSameFrames) {
 }
 
 TEST_P(LiveStreamerTest, FullPostProcessingKeepsBoneLengths) {
-  const auto model = LivePackage(GetParam());
+  const auto model = Model();
   const motion::Motion content = Clip(0);
   const motion::Motion out = Stream(model, *model->EncodeStyle(Clip(2)), content, 1,
                                     motion::PostProcessMode::kFull);
@@ -124,7 +112,9 @@ TEST_P(LiveStreamerTest, FullPostProcessingKeepsBoneLengths) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Lookahead, LiveStreamerTest, ::testing::Values(1, 2));
+INSTANTIATE_TEST_SUITE_P(Lookahead, LiveStreamerTest,
+                         ::testing::Values(std::pair{1, false}, std::pair{2, false},
+                                           std::pair{2, true}));
 
 TEST(LiveStreamerBatchTest, StepsBatchedAcrossStreamsEqualStepsRunAlone) {
   const auto model = LivePackage(2);

@@ -21,6 +21,26 @@ class FrameStreamer {
   virtual absl::StatusOr<motion::Motion> Finish() = 0;
   virtual int64_t received() const = 0;
   virtual int64_t emitted() const = 0;
+
+  // Batched stepping, for streams whose model runs one network step per
+  // frame (live packages): the steps of many streams on one model can run
+  // as one batch (StyleModel::StepStreams), one step of each stream per
+  // batch. Feed queues frames (with `end`: the stream's end) without running
+  // the network; batches then run while has_steps(); Collect returns the
+  // frames that became final. Push and Finish do all of it alone. Streamers
+  // that cannot batch say so with batchable() false (Feed and Collect are
+  // then UNIMPLEMENTED).
+  virtual bool batchable() const { return false; }
+  virtual absl::Status Feed(const motion::Motion& /*frames*/, bool /*end*/ = false) {
+    return absl::UnimplementedError("this stream runs its network in whole windows");
+  }
+  virtual bool has_steps() const { return false; }
+  virtual absl::StatusOr<motion::Motion> Collect() {
+    return absl::UnimplementedError("this stream runs its network in whole windows");
+  }
+  // The streamer whose steps StyleModel::StepStreams runs: this one, or the
+  // one a wrapper (a resampler) feeds.
+  virtual FrameStreamer* step_core() { return this; }
 };
 
 }  // namespace stylus::model

@@ -61,7 +61,28 @@ absl::StatusOr<motion::Motion> ResamplingStreamer::Finish() {
   return EmitReady(true);
 }
 
-absl::Status ResamplingStreamer::FeedModel(bool finished) {
+absl::Status ResamplingStreamer::Feed(const motion::Motion& frames, bool end) {
+  input_.values.insert(input_.values.end(), frames.values.begin(), frames.values.end());
+  input_.num_frames += frames.num_frames;
+  received_ += frames.num_frames;
+  if (end && received_ == 0) return absl::FailedPreconditionError("the stream has no frames");
+  if (absl::Status s = FeedModel(end, /*batched=*/true); !s.ok()) return s;
+  if (end) {
+    motion::Motion none = Empty(input_, model_ft_);
+    if (absl::Status s = inner_->Feed(none, /*end=*/true); !s.ok()) return s;
+    ending_ = true;
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<motion::Motion> ResamplingStreamer::Collect() {
+  absl::StatusOr<motion::Motion> out = inner_->Collect();
+  if (!out.ok()) return out.status();
+  TakeModel(*out);
+  return EmitReady(ending_ && !inner_->has_steps());
+}
+
+absl::Status ResamplingStreamer::FeedModel(bool finished, bool batched) {
   const double ratio = model_ft_ / in_ft_;  // Input frames per model frame.
   motion::Motion chunk = Empty(input_, model_ft_);
   motion::Motion held = input_;
@@ -75,6 +96,7 @@ absl::Status ResamplingStreamer::FeedModel(bool finished) {
   // Keep the input frame before the next model frame's instant.
   DropBefore(static_cast<int64_t>(std::floor(model_fed_ * ratio + 1e-6)) - 1, &input_, &in_base_);
   if (chunk.num_frames == 0) return absl::OkStatus();
+  if (batched) return inner_->Feed(chunk);
   absl::StatusOr<motion::Motion> out = inner_->Push(chunk);
   if (!out.ok()) return out.status();
   TakeModel(*out);

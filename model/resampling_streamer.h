@@ -34,10 +34,17 @@ class ResamplingStreamer : public FrameStreamer {
   absl::StatusOr<motion::Motion> Finish() override;
   int64_t received() const override { return received_; }
   int64_t emitted() const override { return emitted_; }
+  // Batched stepping passes through to the streamer wrapped.
+  bool batchable() const override { return inner_->batchable(); }
+  absl::Status Feed(const motion::Motion& frames, bool end = false) override;
+  bool has_steps() const override { return inner_->has_steps(); }
+  absl::StatusOr<motion::Motion> Collect() override;
+  FrameStreamer* step_core() override { return inner_->step_core(); }
 
  private:
-  // Feeds the inner streamer every model frame the input received covers.
-  absl::Status FeedModel(bool finished);
+  // Feeds the inner streamer every model frame the input received covers
+  // (with `batched`, through its Feed: no network step runs).
+  absl::Status FeedModel(bool finished, bool batched = false);
   // Appends the inner streamer's new output frames to the model output held.
   void TakeModel(const motion::Motion& frames);
   // The output frames ready (all of them once `finished`).
@@ -51,6 +58,7 @@ class ResamplingStreamer : public FrameStreamer {
   motion::Motion model_out_;   // The last model output frames held (from out_base_).
   int64_t out_base_ = 0, model_emitted_ = 0;
   int64_t emitted_ = 0;
+  bool ending_ = false;  // Fed its end (batched use).
   std::vector<motion::Vec3> in_euler_, out_euler_;
 };
 

@@ -79,6 +79,10 @@ struct ModelSummary {
   int window = 0, hop = 0;  // Training windows (frames).
   int dim = 0;              // Feature channels (motion/features.h).
   int trained_iterations = 0;
+  // Live packages stream frame by frame, each output frame final once
+  // `lookahead` more input frames have arrived (0 for offline packages).
+  bool live = false;
+  int lookahead = 0;
 };
 
 // A stream's fixed settings: the style, the skeleton and frame rate of the
@@ -132,6 +136,13 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // INVALID_ARGUMENT when such frames or the style cannot feed the model;
   // FAILED_PRECONDITION when the model is not owned by a std::shared_ptr.
   absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenStream(const StreamSpec& spec) const;
+
+  // Runs the next step of each of `cores` (FrameStreamer::step_core() of
+  // batchable streams opened on this model, each with has_steps()) as one
+  // batch. UNIMPLEMENTED for a model whose streams cannot batch.
+  virtual absl::Status StepStreams(const std::vector<FrameStreamer*>& /*cores*/) const {
+    return absl::UnimplementedError("this model's streams run whole windows");
+  }
 
  protected:
   // Interpolate of `content` at the model's rate; `original` is the clip as

@@ -15,6 +15,7 @@ constexpr char kHelp[] =
     "usage: stylus-server [--models DIR] [--default-model NAME/VERSION]\n"
     "                     [--listen ADDR] [--threads N] [--torch-threads N]\n"
     "                     [--max-streams N] [--max-message-mb N] [--max-stream-frames N]\n"
+    "                     [--max-batch N] [--max-queue-delay-us N]\n"
     "                     [--shutdown-grace-s S] [--port-file FILE]\n\n"
     "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService),\n"
     "grpc.health.v1 and server reflection. Loads every model package under\n"
@@ -22,7 +23,11 @@ constexpr char kHelp[] =
     "  --listen ADDR          default localhost:50051; port 0 picks a free port\n"
     "  --threads N            compute threads (default 2)\n"
     "  --torch-threads N      LibTorch threads per forward pass (default 1)\n"
-    "  --max-streams N        concurrent TransferStream calls (default 16)\n"
+    "  --max-streams N        concurrent TransferStream calls (default 1024)\n"
+    "  --max-batch N          live streams' steps run together, up to N per\n"
+    "                         forward pass (default 256; 0: each stream alone)\n"
+    "  --max-queue-delay-us N how long a step may wait for others to batch with\n"
+    "                         (default 500)\n"
     "  --max-message-mb N     largest request or response (default 64)\n"
     "  --max-stream-frames N  frames per stream (default 108000, 1 h at 30 fps)\n"
     "  --shutdown-grace-s S   on SIGINT/SIGTERM, how long in-flight calls may\n"
@@ -64,6 +69,11 @@ int main(int argc, char** argv) {
       ok = to_int(&options.torch_threads);
     } else if (arg == "--max-streams") {
       ok = to_int(&options.max_streams);
+    } else if (arg == "--max-batch") {
+      ok = absl::SimpleAtoi(value, &options.max_batch) && options.max_batch >= 0;
+    } else if (arg == "--max-queue-delay-us") {
+      ok = absl::SimpleAtoi(value, &options.max_queue_delay_us) &&
+           options.max_queue_delay_us >= 0;
     } else if (arg == "--max-message-mb") {
       ok = to_int(&options.max_message_mb);
     } else if (arg == "--max-stream-frames") {

@@ -16,6 +16,8 @@ void Describe(const HostedModel& m, const std::string& default_id, v1::ModelInfo
   out->set_hop(summary.hop);
   out->set_trained_iterations(summary.trained_iterations);
   out->set_is_default(m.id == default_id);
+  out->set_live(summary.live);
+  out->set_lookahead(summary.lookahead);
 }
 
 }  // namespace

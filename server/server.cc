@@ -17,6 +17,7 @@ struct StylusServer::Impl {
   std::unique_ptr<ModelRegistry> registry;
   StyleBank styles;
   std::unique_ptr<Executor> executor;
+  std::unique_ptr<StepBatcher> batcher;  // With max_batch > 0.
   ServiceContext context;
   std::unique_ptr<ModelServiceImpl> model_service;
   std::unique_ptr<StyleServiceImpl> style_service;
@@ -36,7 +37,8 @@ StylusServer::~StylusServer() {
 
 absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOptions& options) {
   if (options.threads < 1 || options.max_streams < 1 || options.max_message_mb < 1 ||
-      options.max_stream_frames < 1) {
+      options.max_stream_frames < 1 || options.max_batch < 0 ||
+      options.max_queue_delay_us < 0) {
     return absl::InvalidArgumentError("threads, stream and message limits must be positive");
   }
   model::SetComputeThreads(options.torch_threads);
@@ -49,6 +51,12 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   impl->context.registry = impl->registry.get();
   impl->context.styles = &impl->styles;
   impl->context.executor = impl->executor.get();
+  if (options.max_batch > 0) {
+    impl->batcher = std::make_unique<StepBatcher>(
+        impl->executor.get(), options.max_batch,
+        std::chrono::microseconds(options.max_queue_delay_us));
+    impl->context.batcher = impl->batcher.get();
+  }
   impl->context.max_streams = options.max_streams;
   impl->context.max_stream_frames = options.max_stream_frames;
   impl->model_service = std::make_unique<ModelServiceImpl>(&impl->context);
@@ -84,6 +92,10 @@ ServerLoad StylusServer::load() const {
     load.queued_tasks = impl_->executor->queued();
     load.running_tasks = impl_->executor->running();
   }
+  if (impl_->batcher != nullptr) {
+    load.batches = impl_->batcher->batches();
+    load.batched_steps = impl_->batcher->steps();
+  }
   return load;
 }
 
@@ -96,7 +108,9 @@ void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
   spdlog::info("shutting down: no new calls; in-flight calls may finish");
   impl_->server->GetHealthCheckService()->SetServingStatus(false);
   impl_->server->Shutdown(deadline);
-  // Calls are over; the executor runs what it accepted, then stops.
+  // Calls are over; the batcher runs the steps it holds, the executor what
+  // it accepted; then both stop.
+  impl_->batcher.reset();
   impl_->executor->Shutdown();
   impl_->executor.reset();
   spdlog::info("shut down");

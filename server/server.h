@@ -19,7 +19,11 @@ struct ServerOptions {
   std::string listen = "localhost:50051";  // Port 0 picks a free port.
   int threads = 2;                         // Compute executor threads.
   int torch_threads = 1;                   // LibTorch intra-op threads per forward.
-  int max_streams = 16;
+  int max_streams = 1024;
+  // Batching of live streams' steps (server/step_batcher.h); 0: each stream
+  // steps alone on the executor.
+  int max_batch = 256;
+  int max_queue_delay_us = 500;
   int max_message_mb = 64;
   int64_t max_stream_frames = 30 * 60 * 60;
 };
@@ -29,6 +33,8 @@ struct ServerLoad {
   int open_streams = 0;
   int queued_tasks = 0;   // Compute work accepted and waiting for a thread.
   int running_tasks = 0;  // Compute work running now.
+  int64_t batches = 0;    // Live step batches run since the start...
+  int64_t batched_steps = 0;  // ...and the steps they held.
 };
 
 class StylusServer {

@@ -13,6 +13,7 @@
 #include "absl/status/status.h"
 #include "server/executor.h"
 #include "server/registry.h"
+#include "server/step_batcher.h"
 #include "server/style_bank.h"
 
 namespace stylus::server {
@@ -21,6 +22,8 @@ struct ServiceContext {
   ModelRegistry* registry = nullptr;
   StyleBank* styles = nullptr;
   Executor* executor = nullptr;
+  // Batches live streams' steps (null: each stream steps alone).
+  StepBatcher* batcher = nullptr;
   int max_streams = 16;
   int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
   std::atomic<int> open_streams{0};

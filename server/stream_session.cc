@@ -34,15 +34,16 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       if (finished_) return;
       ++busy_;  // From here on nobody else finishes the call.
     }
-    std::function<void()> task;
+    // A task returns true when it handed its steps to the batcher, whose
+    // continuation then ends the task.
+    std::function<bool()> task;
     if (ok) {
-      task = [this, request = std::move(request_)] { Handle(request); };
+      task = [this, request = std::move(request_)] { return Handle(request); };
     } else {
-      task = [this] { HandleEnd(); };
+      task = [this] { return HandleEnd(); };
     }
     if (!service_->executor->Submit([this, task] {
-          task();
-          AfterTask();
+          if (!task()) AfterTask();
         })) {
       absl::MutexLock lock(&mu_);
       Fail(absl::UnavailableError("the server is shutting down"));
@@ -92,14 +93,16 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   }
 
  private:
-  // Runs on the executor; at most one at a time per session.
-  void Handle(const v1::StreamRequest& request) {
+  // Runs on the executor; at most one at a time per session. True when the
+  // task continues in the batcher (AfterSteps ends it).
+  bool Handle(const v1::StreamRequest& request) {
     absl::Status s;
+    bool batched = false;
     if (request.has_config()) {
       s = streamer_ ? absl::InvalidArgumentError("a second config message; send it first, once")
                     : Configure(request.config());
     } else if (request.has_frame()) {
-      s = streamer_ ? AddFrame(request.frame())
+      s = streamer_ ? AddFrame(request.frame(), &batched)
                     : absl::InvalidArgumentError(
                           "the first message must be a config (model, style, skeleton, fps)");
     } else {
@@ -109,21 +112,67 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       absl::MutexLock lock(&mu_);
       Fail(s);
     }
+    return batched;
   }
 
-  void HandleEnd() {
+  bool HandleEnd() {
     absl::Status s;
+    bool batched = false;
     if (streamer_ && streamer_->received() > 0) {
-      absl::StatusOr<motion::Motion> rest = streamer_->Finish();
-      if (rest.ok()) {
-        Enqueue(*rest);
+      if (Batched()) {
+        motion::Motion none = chunk_;
+        none.num_frames = 0;
+        none.values.clear();
+        s = streamer_->Feed(none, /*end=*/true);
+        if (s.ok()) s = SubmitSteps(&batched);
       } else {
-        s = rest.status();
+        absl::StatusOr<motion::Motion> rest = streamer_->Finish();
+        if (rest.ok()) {
+          Enqueue(*rest);
+        } else {
+          s = rest.status();
+        }
       }
     }
     absl::MutexLock lock(&mu_);
     if (!s.ok()) Fail(s);
     ending_ = true;
+    return batched;
+  }
+
+  bool Batched() const { return service_->batcher != nullptr && streamer_->batchable(); }
+
+  // Hands the steps fed to the batcher; AfterSteps continues on the executor.
+  absl::Status SubmitSteps(bool* batched) {
+    if (!streamer_->has_steps()) {
+      absl::StatusOr<motion::Motion> out = streamer_->Collect();
+      if (!out.ok()) return out.status();
+      Enqueue(*out);
+      return absl::OkStatus();
+    }
+    if (!service_->batcher->Submit(model_, streamer_.get(),
+                                   [this](absl::Status s) { AfterSteps(s); })) {
+      return absl::UnavailableError("the server is shutting down");
+    }
+    *batched = true;
+    return absl::OkStatus();
+  }
+
+  void AfterSteps(const absl::Status& stepped) {
+    absl::Status s = stepped;
+    if (s.ok()) {
+      absl::StatusOr<motion::Motion> out = streamer_->Collect();
+      if (out.ok()) {
+        Enqueue(*out);
+      } else {
+        s = out.status();
+      }
+    }
+    if (!s.ok()) {
+      absl::MutexLock lock(&mu_);
+      Fail(s);
+    }
+    AfterTask();
   }
 
   absl::Status Configure(const v1::StreamConfig& config) {
@@ -145,12 +194,13 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
         m->model->OpenStream({*style, *sk, 1.0 / config.fps(), *post});
     if (!streamer.ok()) return streamer.status();
     streamer_ = *std::move(streamer);
+    model_ = m->model;
     chunk_ = motion::RestMotion(*sk, 0, 1.0 / config.fps());
     prev_euler_.assign(sk->num_joints(), motion::Vec3{});
     return absl::OkStatus();
   }
 
-  absl::Status AddFrame(const v1::Frame& frame) {
+  absl::Status AddFrame(const v1::Frame& frame, bool* batched) {
     if (streamer_->received() == 0) {
       first_index_ = frame.index();
     } else if (frame.index() != first_index_ + streamer_->received()) {
@@ -168,6 +218,10 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       return s;
     }
     ++outcome_.frames;
+    if (Batched()) {
+      if (absl::Status s = streamer_->Feed(chunk_); !s.ok()) return s;
+      return SubmitSteps(batched);
+    }
     absl::StatusOr<motion::Motion> out = streamer_->Push(chunk_);
     if (!out.ok()) return out.status();
     Enqueue(*out);
@@ -273,6 +327,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
 
   // Touched by the executor task only (one at a time per session).
   std::unique_ptr<model::FrameStreamer> streamer_;
+  std::shared_ptr<const model::StyleModel> model_;
   motion::Motion chunk_;
   std::vector<motion::Vec3> prev_euler_;
   int64_t first_index_ = 0;

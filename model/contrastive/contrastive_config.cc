@@ -143,7 +143,6 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     const char* whole_window = c.smooth_sigma > 0          ? "smooth_sigma"
                                : c.residual                ? "residual"
                                : c.content_detail > 0      ? "content_detail"
-                               : c.style_strength != 1     ? "style_strength"
                                : c.content_guard           ? "content_guard"
                                                            : nullptr;
     if (whole_window != nullptr) {

@@ -31,7 +31,7 @@ struct ContrastiveConfig : GuardKeys {
   // Its features' foot contacts measure height above the lowest point so
   // far (ContactParams::running_floor), so no feature waits for a clip's end.
   // The inference keys that need a whole window (smooth_sigma, residual,
-  // content_detail, style_strength below 1, the content guard) are refused.
+  // content_detail, the content guard) are refused.
   bool live = false;
   int lookahead = 2;
   // Live only: the generator gives the change to each content frame (its
@@ -53,6 +53,9 @@ struct ContrastiveConfig : GuardKeys {
   // k * requested + (1 - k) * Es(content window). 1 (the default): the
   // requested style alone; 0: the content restyled with itself. Per window,
   // so whole clips and streams stay alike (docs/notes/contrastive.md).
+  // A live package has no content window to encode: there, each generated
+  // frame's pose moves k of the way from the content frame's towards the
+  // generator's.
   double style_strength = 1;
   // Inference: with `residual`, each window is the content window plus
   // G(Ec(x), style) - G(Ec(x), Es(x)), the change the style makes in the

@@ -74,7 +74,8 @@ const DataFiles& ContrastiveModel::data() const { return impl_->data; }
 const std::string& ContrastiveModel::dir() const { return impl_->dir; }
 ModelSummary ContrastiveModel::summary() const {
   const ContrastiveConfig& c = impl_->config;
-  return {c.family, c.window, c.hop, c.dim, c.trained_iterations};
+  return {c.family, c.window, c.hop, c.dim, c.trained_iterations, c.live,
+          c.live ? c.lookahead : 0};
 }
 int ContrastiveModel::code_size() const { return impl_->config.channels; }
 const ContentGuard* ContrastiveModel::content_guard() const { return impl_->guard.get(); }
@@ -249,6 +250,10 @@ class ContrastiveModel::LiveForms : public StyleModel::Forms {
       const torch::Tensor x = WindowTensor(features_, {0}, features_.frames);
       torch::Tensor y = impl_->net->render(x, impl_->net->content(x), codes_);
       const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
+      if (config.style_strength != 1) {
+        const double k = config.style_strength;
+        y.slice(1, 0, path).mul_(k).add_((1 - k) * x.slice(1, 0, path));
+      }
       if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
       // (1, dim, T) -> frames x dim.
       y = y[0].transpose(0, 1).contiguous();
@@ -349,6 +354,20 @@ absl::Status ContrastiveModel::StepLive(const std::vector<LiveStep>& steps) cons
   } catch (const std::exception& e) {
     return impl_->Internal(e);
   }
+  return absl::OkStatus();
+}
+
+absl::Status ContrastiveModel::StepStreams(const std::vector<FrameStreamer*>& cores) const {
+  std::vector<LiveStep> steps(cores.size());
+  std::vector<LiveStreamer*> streams(cores.size());
+  for (size_t i = 0; i < cores.size(); ++i) {
+    streams[i] = dynamic_cast<LiveStreamer*>(cores[i]);
+    if (streams[i] == nullptr || !streams[i]->NextStep(&steps[i])) {
+      return absl::InvalidArgumentError("a stream in the batch has no live step queued");
+    }
+  }
+  if (absl::Status s = StepLive(steps); !s.ok()) return s;
+  for (LiveStreamer* s : streams) s->StepDone();
   return absl::OkStatus();
 }
 

@@ -56,6 +56,8 @@ class ContrastiveModel : public StyleModel {
   // steps before its input (the first lookahead - 1 outputs of a stream
   // stand for no frame). FAILED_PRECONDITION for an offline package.
   absl::Status StepLive(const std::vector<LiveStep>& steps) const;
+  // Live packages: the steps of LiveStreamers opened on this model.
+  absl::Status StepStreams(const std::vector<FrameStreamer*>& cores) const override;
   // Multiply-adds of the content encoder and generator per live step, or,
   // offline, per window.
   int64_t MacsPerStep() const;

@@ -110,6 +110,10 @@ void LiveStreamer::StepDone() {
   if (model_->config().frame_residual) {
     for (int c = 0; c < dim_; ++c) out_[c] += own[c];
   }
+  if (const double k = model_->config().style_strength; k != 1) {
+    for (int c = 0; c < layout.trajectory(); ++c)
+      out_[c] = static_cast<float>(k * out_[c] + (1 - k) * own[c]);
+  }
   if (model_->config().keep_path) {
     std::copy(own.begin() + layout.trajectory(), own.end(), out_.begin() + layout.trajectory());
   }

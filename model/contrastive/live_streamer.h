@@ -46,14 +46,16 @@ class LiveStreamer : public FrameStreamer {
   // values) and queues their steps; with `end`, the stream's end too (the
   // steps that flush its last frames; FAILED_PRECONDITION when no frame
   // was ever fed).
-  absl::Status Feed(const motion::Motion& frames, bool end = false);
+  bool batchable() const override { return true; }
+  absl::Status Feed(const motion::Motion& frames, bool end = false) override;
+  bool has_steps() const override { return !queue_.empty(); }
   // The next queued step, to run with ContrastiveModel::StepLive; false
   // when none is queued. Steps of one stream run one at a time, in order:
   // call StepDone after each before asking for the next.
   bool NextStep(LiveStep* step);
   void StepDone();
   // The output frames that became final since the last call.
-  absl::StatusOr<motion::Motion> Collect();
+  absl::StatusOr<motion::Motion> Collect() override;
   int pending_steps() const { return static_cast<int>(queue_.size()); }
 
   // Bytes this stream holds, all of it bounded: the networks' carried state

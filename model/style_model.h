@@ -83,6 +83,9 @@ struct ModelSummary {
   // `lookahead` more input frames have arrived (0 for offline packages).
   bool live = false;
   int lookahead = 0;
+  // Multiply-adds of the networks per live step (one frame), or per window
+  // for an offline package (0 when a family does not say).
+  int64_t step_macs = 0;
 };
 
 // A stream's fixed settings: the style, the skeleton and frame rate of the

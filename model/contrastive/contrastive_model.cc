@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "model/content_guard.h"
 #include "model/contrastive/contrastive_net.h"
+#include "model/contrastive/live_engine.h"
 #include "model/contrastive/live_streamer.h"
 #include "model/contrastive/window_streamer.h"
 #include "model/weights_io.h"
@@ -24,6 +25,7 @@ struct ContrastiveModel::Impl {
   DataFiles data;
   ContrastiveNet net{nullptr};
   std::unique_ptr<ContentGuard> guard;  // With config.content_guard.
+  std::unique_ptr<LiveEngine> engine;   // With config.live.
 
   // What GenerateWindows takes from the config, so the guard can vary it.
   struct Knobs {
@@ -75,7 +77,7 @@ const std::string& ContrastiveModel::dir() const { return impl_->dir; }
 ModelSummary ContrastiveModel::summary() const {
   const ContrastiveConfig& c = impl_->config;
   return {c.family, c.window, c.hop, c.dim, c.trained_iterations, c.live,
-          c.live ? c.lookahead : 0};
+          c.live ? c.lookahead : 0, MacsPerStep()};
 }
 int ContrastiveModel::code_size() const { return impl_->config.channels; }
 const ContentGuard* ContrastiveModel::content_guard() const { return impl_->guard.get(); }
@@ -94,6 +96,7 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(
   impl->net = ContrastiveNet(impl->config);
   if (absl::Status s = LoadWeights(impl->net, dir + "/weights.pt"); !s.ok()) return s;
   impl->net->eval();
+  if (impl->config.live) impl->engine = std::make_unique<LiveEngine>(*impl->net);
   const ContrastiveConfig& c = impl->config;
   if (c.content_guard) {
     absl::StatusOr<std::unique_ptr<ContentGuard>> guard =
@@ -295,62 +298,22 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::LiveStyleParams(
 }
 
 LiveCarry ContrastiveModel::NewLiveCarry() const {
-  LiveCarry carry;
-  if (!impl_->config.live) return carry;
-  c10::InferenceMode guard;
-  LiveState state;
-  impl_->net->live_content->InitState(1, &state);
-  carry.content = state.buffers.size();
-  impl_->net->live_generator->InitState(1, &state);
-  for (const torch::Tensor& b : state.buffers) carry.buffers.emplace_back(b.numel(), 0.f);
-  return carry;
+  return impl_->engine ? impl_->engine->NewCarry() : LiveCarry{};
 }
 
 absl::Status ContrastiveModel::StepLive(const std::vector<LiveStep>& steps) const {
-  const ContrastiveConfig& config = impl_->config;
-  if (!config.live) return absl::FailedPreconditionError("not a live package");
+  if (!impl_->engine) return absl::FailedPreconditionError("not a live package");
+  const LiveCarry shape = impl_->engine->NewCarry();
+  for (const LiveStep& s : steps) {
+    bool fits = s.carry != nullptr && s.carry->buffers.size() == shape.buffers.size();
+    for (size_t l = 0; fits && l < shape.buffers.size(); ++l)
+      fits = s.carry->buffers[l].size() == shape.buffers[l].size();
+    if (!fits || s.features == nullptr || s.params == nullptr || s.out == nullptr)
+      return absl::InvalidArgumentError("a live step does not fit this model");
+  }
   if (steps.empty()) return absl::OkStatus();
-  const int64_t batch = static_cast<int64_t>(steps.size());
   try {
-    c10::InferenceMode guard;
-    ContrastiveNetImpl& net = *impl_->net;
-    LiveState state;
-    net.live_content->InitState(batch, &state);
-    net.live_generator->InitState(batch, &state);
-    for (size_t l = 0; l < state.buffers.size(); ++l) {
-      float* dst = state.buffers[l].data_ptr<float>();
-      const int64_t per = state.buffers[l].numel() / batch;
-      for (int64_t b = 0; b < batch; ++b) {
-        const std::vector<float>& src = steps[b].carry->buffers[l];
-        if (static_cast<int64_t>(src.size()) != per)
-          return absl::InvalidArgumentError("a live stream's state does not fit this model");
-        std::copy(src.begin(), src.end(), dst + b * per);
-      }
-    }
-    const int64_t params = static_cast<int64_t>(kLiveGeneratorBlocks) * 4 * config.channels;
-    torch::Tensor x = torch::empty({batch, config.dim, 1});
-    torch::Tensor p = torch::empty({batch, params});
-    for (int64_t b = 0; b < batch; ++b) {
-      std::copy(steps[b].features, steps[b].features + config.dim,
-                x.data_ptr<float>() + b * config.dim);
-      std::copy(steps[b].params, steps[b].params + params, p.data_ptr<float>() + b * params);
-    }
-    size_t slot = 0;
-    const torch::Tensor code = net.live_content->step(x, &state, &slot);
-    const torch::Tensor y = net.live_generator->step(code, p, &state, &slot).contiguous();
-    for (int64_t b = 0; b < batch; ++b) {
-      std::copy(y.data_ptr<float>() + b * config.dim, y.data_ptr<float>() + (b + 1) * config.dim,
-                steps[b].out);
-    }
-    for (size_t l = 0; l < state.buffers.size(); ++l) {
-      const torch::Tensor buf = state.buffers[l].contiguous();
-      const int64_t per = buf.numel() / batch;
-      for (int64_t b = 0; b < batch; ++b) {
-        std::copy(buf.data_ptr<float>() + b * per, buf.data_ptr<float>() + (b + 1) * per,
-                  steps[b].carry->buffers[l].data());
-      }
-    }
-    for (const LiveStep& s : steps) ++s.carry->steps;
+    impl_->engine->Step(steps);
   } catch (const std::exception& e) {
     return impl_->Internal(e);
   }
@@ -373,7 +336,7 @@ absl::Status ContrastiveModel::StepStreams(const std::vector<FrameStreamer*>& co
 
 int64_t ContrastiveModel::MacsPerStep() const {
   const ContrastiveConfig& c = impl_->config;
-  if (c.live) return impl_->net->live_content->macs() + impl_->net->live_generator->macs();
+  if (c.live) return impl_->engine->macs();
   // Offline: the encoder's first conv at T frames, the rest at T / 2, and
   // the generator's two output convs at T again (contrastive_net.h).
   const int64_t t = c.window, h = c.window / 2, ch = c.channels, k = c.res_kernel;

@@ -33,15 +33,6 @@ torch::Tensor CausalConvImpl::forward(const torch::Tensor& x) {
   return conv->forward(F::pad(x, F::PadFuncOptions({kernel - 1, 0})));
 }
 
-torch::Tensor CausalConvImpl::step(const torch::Tensor& x, torch::Tensor* state) {
-  if (kernel == 1) return conv->forward(x);
-  const torch::Tensor window = torch::cat({*state, x}, 2);
-  *state = window.narrow(2, 1, kernel - 1);
-  return conv->forward(window);
-}
-
-int64_t CausalConvImpl::macs() const { return static_cast<int64_t>(in) * out * kernel; }
-
 LiveBlockImpl::LiveBlockImpl(int c, int kernel) : channels(c) {
   conv1 = register_module("conv1", CausalConv(c, c, kernel));
   conv2 = register_module("conv2", CausalConv(c, c, kernel));
@@ -55,19 +46,6 @@ torch::Tensor LiveBlockImpl::forward(const torch::Tensor& x, const torch::Tensor
     y = Affine(y, parts[0], parts[1]);
   }
   y = FrameNorm(conv2->forward(Lrelu(y)));
-  if (p.defined()) y = Affine(y, parts[2], parts[3]);
-  return x + y;
-}
-
-torch::Tensor LiveBlockImpl::step(const torch::Tensor& x, const torch::Tensor& p, LiveState* s,
-                                  size_t* slot) {
-  torch::Tensor y = FrameNorm(conv1->step(x, &s->buffers[(*slot)++]));
-  std::vector<torch::Tensor> parts;
-  if (p.defined()) {
-    parts = p.split(channels, 1);
-    y = Affine(y, parts[0], parts[1]);
-  }
-  y = FrameNorm(conv2->step(Lrelu(y), &s->buffers[(*slot)++]));
   if (p.defined()) y = Affine(y, parts[2], parts[3]);
   return x + y;
 }
@@ -93,34 +71,6 @@ torch::Tensor LiveContentEncoderImpl::forward(const torch::Tensor& x) {
   return y.narrow(2, shift_, frames);
 }
 
-torch::Tensor LiveContentEncoderImpl::step(const torch::Tensor& x, LiveState* s, size_t* slot) {
-  torch::Tensor y = Lrelu(conv1->step(x, &s->buffers[(*slot)++]));
-  y = Lrelu(conv2->step(y, &s->buffers[(*slot)++]));
-  for (const auto& b : *blocks) y = b->as<LiveBlock>()->step(y, torch::Tensor(), s, slot);
-  return y;
-}
-
-namespace {
-void AddBuffer(const CausalConv& conv, int64_t batch, LiveState* s) {
-  s->buffers.push_back(torch::zeros({batch, conv->in, std::max(0, conv->kernel - 1)}));
-}
-}  // namespace
-
-void LiveContentEncoderImpl::InitState(int64_t batch, LiveState* s) const {
-  AddBuffer(conv1, batch, s);
-  AddBuffer(conv2, batch, s);
-  for (const auto& b : *blocks) {
-    AddBuffer(b->as<LiveBlock>()->conv1, batch, s);
-    AddBuffer(b->as<LiveBlock>()->conv2, batch, s);
-  }
-}
-
-int64_t LiveContentEncoderImpl::macs() const {
-  int64_t n = conv1->macs() + conv2->macs();
-  for (const auto& b : *blocks)
-    n += b->as<LiveBlock>()->conv1->macs() + b->as<LiveBlock>()->conv2->macs();
-  return n;
-}
 
 LiveGeneratorImpl::LiveGeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) {
   mlp = register_module(
@@ -152,32 +102,6 @@ torch::Tensor LiveGeneratorImpl::forward(const torch::Tensor& content, const tor
     x = blocks[i]->as<LiveBlock>()->forward(x, per_block[i]);
   x = Lrelu(up_conv->forward(x));
   return out_conv->forward(x);
-}
-
-torch::Tensor LiveGeneratorImpl::step(const torch::Tensor& content, const torch::Tensor& params,
-                                      LiveState* s, size_t* slot) {
-  const auto per_block = params.split(4 * channels, 1);
-  torch::Tensor x = content;
-  for (size_t i = 0; i < blocks->size(); ++i)
-    x = blocks[i]->as<LiveBlock>()->step(x, per_block[i], s, slot);
-  x = Lrelu(up_conv->step(x, &s->buffers[(*slot)++]));
-  return out_conv->step(x, &s->buffers[(*slot)++]);
-}
-
-void LiveGeneratorImpl::InitState(int64_t batch, LiveState* s) const {
-  for (const auto& b : *blocks) {
-    AddBuffer(b->as<LiveBlock>()->conv1, batch, s);
-    AddBuffer(b->as<LiveBlock>()->conv2, batch, s);
-  }
-  AddBuffer(up_conv, batch, s);
-  AddBuffer(out_conv, batch, s);
-}
-
-int64_t LiveGeneratorImpl::macs() const {
-  int64_t n = up_conv->macs() + out_conv->macs();
-  for (const auto& b : *blocks)
-    n += b->as<LiveBlock>()->conv1->macs() + b->as<LiveBlock>()->conv2->macs();
-  return n;
 }
 
 }  // namespace stylus::model

@@ -10,8 +10,9 @@
 // frame t depends on input frames up to t + lookahead and nothing later.
 //
 // Whole clips run as one pass (`forward`); a stream runs one frame per step
-// with each convolution's last inputs carried (`LiveState`), and gets the
-// same values as the whole clip up to float rounding.
+// with each convolution's last inputs carried (model/contrastive/
+// live_engine.h), and gets the same values as the whole clip up to float
+// rounding.
 #ifndef STYLUS_MODEL_CONTRASTIVE_LIVE_NET_H_
 #define STYLUS_MODEL_CONTRASTIVE_LIVE_NET_H_
 
@@ -28,21 +29,10 @@ struct CausalConvImpl : torch::nn::Module {
   CausalConvImpl(int in, int out, int kernel);
   // (B, in, T) -> (B, out, T); zeros stand for the inputs before the first.
   torch::Tensor forward(const torch::Tensor& x);
-  // One step: x (B, in, 1) -> (B, out, 1). `state` (B, in, kernel - 1)
-  // holds the previous inputs (zeros at a clip's start) and moves on.
-  torch::Tensor step(const torch::Tensor& x, torch::Tensor* state);
-  // Multiply-adds per output frame.
-  int64_t macs() const;
   torch::nn::Conv1d conv{nullptr};
   int in, out, kernel;
 };
 TORCH_MODULE(CausalConv);
-
-// Carried state of one or more streams (batch dimension B): one tensor per
-// causal convolution, in the order the networks use them.
-struct LiveState {
-  std::vector<torch::Tensor> buffers;
-};
 
 // conv -> per-frame norm -> LeakyReLU -> conv -> per-frame norm, plus the
 // input; with `styled`, each norm is followed by the style's scale and bias
@@ -52,8 +42,6 @@ struct LiveBlockImpl : torch::nn::Module {
   // params: (B, 4C) or (B, 4C, T): scale1, bias1, scale2, bias2; undefined
   // for the content encoder's unstyled blocks.
   torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& params);
-  torch::Tensor step(const torch::Tensor& x, const torch::Tensor& params, LiveState* s,
-                     size_t* slot);
   CausalConv conv1{nullptr}, conv2{nullptr};
   int channels;
 };
@@ -64,13 +52,8 @@ TORCH_MODULE(LiveBlock);
 struct LiveContentEncoderImpl : torch::nn::Module {
   explicit LiveContentEncoderImpl(const ContrastiveConfig& c);
   torch::Tensor forward(const torch::Tensor& x);
-  // One feature frame (B, dim, 1) in, one code (B, C, 1) out: the code of
-  // the frame `shift()` steps before it.
-  torch::Tensor step(const torch::Tensor& x, LiveState* s, size_t* slot);
   // Feature frames the codes trail the input by (lookahead - 1).
   int shift() const { return shift_; }
-  void InitState(int64_t batch, LiveState* s) const;
-  int64_t macs() const;
   CausalConv conv1{nullptr}, conv2{nullptr};
   torch::nn::ModuleList blocks;
   int shift_;
@@ -84,11 +67,6 @@ struct LiveGeneratorImpl : torch::nn::Module {
   torch::Tensor forward(const torch::Tensor& content, const torch::Tensor& style);
   // The AdaIN parameters of style codes (B, C): (B, blocks * 4C).
   torch::Tensor Params(const torch::Tensor& style);
-  // One frame: content (B, C, 1), params from Params (B, blocks * 4C).
-  torch::Tensor step(const torch::Tensor& content, const torch::Tensor& params, LiveState* s,
-                     size_t* slot);
-  void InitState(int64_t batch, LiveState* s) const;
-  int64_t macs() const;
   torch::nn::Sequential mlp{nullptr};
   torch::nn::ModuleList blocks;
   CausalConv up_conv{nullptr}, out_conv{nullptr};

@@ -9,8 +9,9 @@ namespace stylus::model {
 namespace {
 
 // Output frames re-cleaned with each new one: enough for a contact span's
-// start (0.1 s) and its lock's blend (0.1 s) at 60 Hz.
-constexpr int kCleanHistory = 12;
+// start (three frames at the model's 30 Hz) and the smoothing of rotations
+// over +-2 frames.
+constexpr int kCleanHistory = 6;
 
 }  // namespace
 

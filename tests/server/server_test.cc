@@ -48,10 +48,12 @@ class ServerTest : public ::testing::Test {
 TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   auto models = client().ListModels();
   ASSERT_TRUE(models.ok()) << models.status();
-  ASSERT_EQ(models->size(), 3u);  // models/judges is not a servable family.
+  ASSERT_EQ(models->size(), 4u);  // models/judges is not a servable family.
   EXPECT_EQ((*models)[0].id(), "contrastive/v5");
   EXPECT_EQ((*models)[1].id(), "cyclic/v1");
   EXPECT_EQ((*models)[2].id(), "cyclic/v2");
+  EXPECT_EQ((*models)[3].id(), "live/v1");
+  EXPECT_EQ((*models)[3].family(), "contrastive");
   EXPECT_EQ((*models)[1].family(), "cyclic");
   EXPECT_EQ((*models)[2].family(), "cyclic");
   EXPECT_FALSE((*models)[1].is_default());
@@ -70,6 +72,7 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   ASSERT_TRUE(client().UnloadModel("contrastive/v5").ok());
   ASSERT_TRUE(client().UnloadModel("cyclic/v1").ok());
   ASSERT_TRUE(client().UnloadModel("cyclic/v2").ok());
+  ASSERT_TRUE(client().UnloadModel("live/v1").ok());
   EXPECT_EQ(client().UnloadModel("contrastive/v5").code(), absl::StatusCode::kNotFound);
   const motion::Motion clip = Sample("walk_normal.bvh");
   EXPECT_EQ(client().Transfer(clip, {&clip, ""}).status().code(), absl::StatusCode::kNotFound);

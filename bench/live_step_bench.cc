@@ -1,0 +1,98 @@
+// What a live model's carried state saves (docs/service.md "Live streams"):
+// per streamed frame, one step of the causal networks against recomputing
+// them over the last 32 frames (what a stream without carried state would
+// do), in multiply-adds and in time, measured in the same run through the
+// public StyleModel API:
+//   - stream step: Push of one frame to a live stream (features, one network
+//     step, decoding), post-processing none and full;
+//   - window recompute: a whole-clip Transfer of the last 32 frames (the
+//     same features and decoding around a 32-frame pass), post-processing
+//     none.
+// usage: live_step_bench [--model DIR] [--frames 600]
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "bench/bench_support.h"
+#include "model/family_registry.h"
+#include "model/runtime.h"
+#include "motion/bvh.h"
+
+namespace stylus::bench {
+namespace {
+
+motion::Motion Frames(const motion::Motion& m, int begin, int end) {
+  motion::Motion out = m;
+  const int c = m.skeleton.num_channels();
+  out.num_frames = end - begin;
+  out.values.assign(m.values.begin() + static_cast<size_t>(begin) * c,
+                    m.values.begin() + static_cast<size_t>(end) * c);
+  return out;
+}
+
+int Main(int argc, char** argv) {
+  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/live/v1";
+  int frames = 600;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--help")) {
+      std::printf("usage: live_step_bench [--model DIR] [--frames 600]\n");
+      return 0;
+    }
+    if (i + 1 < argc && !std::strcmp(argv[i], "--model")) dir = argv[++i];
+    else if (i + 1 < argc && !std::strcmp(argv[i], "--frames")) frames = std::atoi(argv[++i]);
+  }
+  if (const char* core = std::getenv("OPENBLAS_CORETYPE"))
+    std::printf("OPENBLAS_CORETYPE=%s (set in the environment)\n", core);
+  model::SetComputeThreads(1);
+  absl::StatusOr<std::shared_ptr<const model::StyleModel>> m(model::LoadStyleModel(dir));
+  if (!m.ok()) {
+    std::fprintf(stderr, "live_step_bench: %s\n", m.status().ToString().c_str());
+    return 1;
+  }
+  const model::ModelSummary summary = (*m)->summary();
+  if (!summary.live) {
+    std::fprintf(stderr, "live_step_bench: %s is not a live package\n", dir.c_str());
+    return 1;
+  }
+  motion::Motion clip =
+      *motion::ReadBvhFile(std::string(STYLUS_SOURCE_DIR) + "/samples/walk_normal.bvh");
+  while (clip.num_frames < frames + 32) {
+    clip.values.insert(clip.values.end(), clip.values.begin(), clip.values.end());
+    clip.num_frames *= 2;
+  }
+  const model::StyleCode style = *(*m)->EncodeStyle(
+      *motion::ReadBvhFile(std::string(STYLUS_SOURCE_DIR) + "/samples/walk_old.bvh"));
+  std::printf("model %s: %lld multiply-adds per step; a 32-frame recompute: %lld (x32)\n",
+              dir.c_str(), static_cast<long long>(summary.step_macs),
+              static_cast<long long>(32 * summary.step_macs));
+  double per_frame[2] = {0, 0};
+  for (const auto post : {motion::PostProcessMode::kNone, motion::PostProcessMode::kFull}) {
+    auto s = (*m)->OpenStream({style, clip.skeleton, clip.frame_time, post});
+    if (!s.ok()) {
+      std::fprintf(stderr, "live_step_bench: %s\n", s.status().ToString().c_str());
+      return 1;
+    }
+    for (int f = 0; f < 32; ++f) (void)(*s)->Push(Frames(clip, f, f + 1));  // Warm-up.
+    const Clock::time_point t0 = Clock::now();
+    for (int f = 32; f < 32 + frames; ++f) (void)(*s)->Push(Frames(clip, f, f + 1));
+    per_frame[post == motion::PostProcessMode::kFull] = Since(t0) / frames;
+  }
+  const int reps = std::max(20, frames / 10);
+  const Clock::time_point t1 = Clock::now();
+  for (int r = 0; r < reps; ++r) {
+    (void)(*m)->Transfer(Frames(clip, r, r + 32), style, motion::PostProcessMode::kNone);
+  }
+  const double window = Since(t1) / reps;
+  std::printf("stream step, post none: %.3f ms per frame\n", 1000 * per_frame[0]);
+  std::printf("stream step, post full: %.3f ms per frame\n", 1000 * per_frame[1]);
+  std::printf("32-frame window recompute, post none: %.3f ms per frame; ratio to the step %.1fx\n",
+              1000 * window, window / per_frame[0]);
+  return 0;
+}
+
+}  // namespace
+}  // namespace stylus::bench
+
+int main(int argc, char** argv) { return stylus::bench::Main(argc, argv); }

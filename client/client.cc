@@ -129,7 +129,8 @@ absl::StatusOr<motion::Motion> Client::Interpolate(const motion::Motion& content
 }
 
 absl::StatusOr<StreamResult> Client::Stream(const motion::Motion& content, const Style& style,
-                                            double rate, const CallOptions& options) {
+                                            double rate, const CallOptions& options,
+                                            const std::vector<StreamChange>& changes) {
   using Clock = std::chrono::steady_clock;
   if (absl::Status s = wire::CheckFinite(content, "content clip"); !s.ok()) return s;
   v1::StreamRequest config;
@@ -140,6 +141,27 @@ absl::StatusOr<StreamResult> Client::Stream(const motion::Motion& content, const
   if (absl::Status s = SetStyle(style, config.mutable_config()->mutable_style()); !s.ok()) {
     return s;
   }
+  std::vector<v1::StreamRequest> change_requests;
+  for (size_t i = 0; i < changes.size(); ++i) {
+    const StreamChange& c = changes[i];
+    if (i > 0 && c.frame < changes[i - 1].frame) {
+      return absl::InvalidArgumentError("style changes must be in frame order");
+    }
+    if (c.frame < 0 || c.frame >= content.num_frames) {
+      return absl::InvalidArgumentError(absl::StrCat("style change at frame ", c.frame,
+                                                     ": the clip has frames 0 to ",
+                                                     content.num_frames - 1));
+    }
+    v1::StreamRequest r;
+    v1::StyleChange* change = r.mutable_change();
+    change->set_from_frame(c.frame);
+    change->set_fade_frames(c.fade_frames);
+    if (c.strength) change->set_strength(*c.strength);
+    if (c.style.clip != nullptr || !c.style.name.empty()) {
+      if (absl::Status s = SetStyle(c.style, change->mutable_style()); !s.ok()) return s;
+    }
+    change_requests.push_back(std::move(r));
+  }
   auto ctx = Context(10);
   auto stream = styles_->TransferStream(ctx.get());
   std::vector<Clock::time_point> sent(content.num_frames);
@@ -147,7 +169,11 @@ absl::StatusOr<StreamResult> Client::Stream(const motion::Motion& content, const
   std::thread writer([&] {
     if (!stream->Write(config)) return;
     const Clock::time_point start = Clock::now();
+    size_t next_change = 0;
     for (int f = 0; f < content.num_frames; ++f) {
+      while (next_change < changes.size() && changes[next_change].frame == f) {
+        if (!stream->Write(change_requests[next_change++])) return;
+      }
       if (rate > 0)
         std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
                                                   std::chrono::duration<double>(f / rate)));

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,16 @@ struct CallOptions {
 struct Style {
   const motion::Motion* clip = nullptr;
   std::string name;
+};
+
+// A style change sent in a stream (live models): from input frame `frame`
+// on, the style (a clip, a saved name, or neither) and/or the strength,
+// cross-faded over `fade_frames` frames. Sent just before that frame.
+struct StreamChange {
+  int64_t frame = 0;
+  Style style;
+  std::optional<double> strength;
+  int fade_frames = 0;
 };
 
 struct StreamResult {
@@ -72,9 +83,11 @@ class Client {
                                              const std::vector<std::vector<double>>& schedule = {},
                                              const CallOptions& options = {});
   // Streams `content`'s frames at `rate` frames per second (0: as fast as the
-  // server takes them) and collects the stylized frames as they come.
+  // server takes them) and collects the stylized frames as they come;
+  // `changes` (in frame order) change the style on the way.
   absl::StatusOr<StreamResult> Stream(const motion::Motion& content, const Style& style,
-                                      double rate, const CallOptions& options = {});
+                                      double rate, const CallOptions& options = {},
+                                      const std::vector<StreamChange>& changes = {});
   absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const motion::Motion& output,
                                                                const motion::Motion* content,
                                                                const motion::Motion* style);

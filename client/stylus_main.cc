@@ -3,12 +3,14 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "absl/strings/numbers.h"
 #include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
@@ -76,9 +78,10 @@ int Models(stylus::Client& client) {
   auto models = client.ListModels();
   if (!models.ok()) return Fail("models", models.status());
   for (const auto& m : *models) {
-    absl::PrintF("%s%s  family=%s joints=%d fps=%.1f window=%d hop=%d iterations=%d\n", m.id(),
+    absl::PrintF("%s%s  family=%s joints=%d fps=%.1f window=%d hop=%d iterations=%d%s\n", m.id(),
                  m.is_default() ? " (default)" : "", m.family(), m.skeleton().joints_size(),
-                 m.fps(), m.window(), m.hop(), m.trained_iterations());
+                 m.fps(), m.window(), m.hop(), m.trained_iterations(),
+                 m.live() ? absl::StrCat(" live lookahead=", m.lookahead()) : "");
   }
   return 0;
 }
@@ -88,9 +91,11 @@ int ModelInfo(stylus::Client& client, const Args& a) {
   if (!m.ok()) return Fail("model-info", m.status());
   absl::PrintF(
       "id %s\nfamily %s\nversion %s\ndefault %s\njoints %d\nfps %.3f\nwindow %d\nhop %d\n"
-      "trained_iterations %d\n",
+      "trained_iterations %d\nstreams %s\n",
       m->id(), m->family(), m->version(), m->is_default() ? "yes" : "no",
-      m->skeleton().joints_size(), m->fps(), m->window(), m->hop(), m->trained_iterations());
+      m->skeleton().joints_size(), m->fps(), m->window(), m->hop(), m->trained_iterations(),
+      m->live() ? absl::StrCat("live, lookahead ", m->lookahead(), " frames")
+                : "in windows (offline)");
   return 0;
 }
 
@@ -209,7 +214,40 @@ int Stream(stylus::Client& client, const Args& a) {
   if (!rate.ok() || *rate < 0) {
     return Fail("stream", absl::InvalidArgumentError("--rate must be a number >= 0"));
   }
-  auto result = client.Stream(*content, {&*style, ""}, *rate, *opts);
+  // --change FRAME:WHAT[:FADE]; WHAT is a .bvh clip, strength=K or a saved name.
+  std::vector<stylus::StreamChange> changes;
+  std::vector<std::unique_ptr<stylus::motion::Motion>> change_clips;
+  for (const std::string& spec : a.All("change")) {
+    const std::vector<std::string> parts = absl::StrSplit(spec, ':');
+    stylus::StreamChange c;
+    double k = 0;
+    const auto bad = [&spec](const std::string& why) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("--change ", spec, ": ", why, " (FRAME:STYLE.bvh|NAME|strength=K[:FADE])"));
+    };
+    if (parts.size() < 2 || parts.size() > 3 || !absl::SimpleAtoi(parts[0], &c.frame)) {
+      return Fail("stream", bad("expected FRAME:WHAT[:FADE]"));
+    }
+    if (parts.size() == 3 && (!absl::SimpleAtoi(parts[2], &c.fade_frames) || c.fade_frames < 0)) {
+      return Fail("stream", bad("the fade must be a number of frames >= 0"));
+    }
+    const std::string& what = parts[1];
+    if (absl::StartsWith(what, "strength=")) {
+      if (!absl::SimpleAtod(what.substr(9), &k) || k < 0 || k > 1) {
+        return Fail("stream", bad("strength must be in [0, 1]"));
+      }
+      c.strength = k;
+    } else if (absl::EndsWith(what, ".bvh")) {
+      auto clip = Read(what, "style change");
+      if (!clip.ok()) return Fail("stream", clip.status());
+      change_clips.push_back(std::make_unique<stylus::motion::Motion>(*std::move(clip)));
+      c.style.clip = change_clips.back().get();
+    } else {
+      c.style.name = what;
+    }
+    changes.push_back(std::move(c));
+  }
+  auto result = client.Stream(*content, {&*style, ""}, *rate, *opts, changes);
   if (!result.ok()) return Fail("stream", result.status());
   if (!a.Get("out").empty()) {
     if (absl::Status s = stylus::motion::WriteBvhFile(result->output, a.Get("out")); !s.ok()) {
@@ -305,9 +343,13 @@ const std::vector<Command>& Commands() {
        Interpolate},
       {"stream",
        "stream a clip's frames at a rate; per-frame latency p50/p99",
-       "--content C.bvh --style S.bvh [--rate FPS] [-o OUT.bvh]\n\n"
-       "  --rate FPS               frames sent per second (default: the clip's rate)",
-       {"content", "style", "rate", "out"},
+       "--content C.bvh --style S.bvh [--rate FPS] [--change F:WHAT[:FADE]]... [-o OUT.bvh]\n\n"
+       "  --rate FPS               frames sent per second (default: the clip's rate)\n"
+       "  --change F:WHAT[:FADE]   from frame F on, change the style (live models):\n"
+       "                           WHAT is a style clip (.bvh), a saved style name or\n"
+       "                           strength=K (0..1), cross-faded over FADE frames\n"
+       "                           (default 0); repeat in frame order",
+       {"content", "style", "rate", "out", "change"},
        true,
        Stream},
       {"metrics",

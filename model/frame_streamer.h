@@ -10,6 +10,8 @@
 
 namespace stylus::model {
 
+struct StyleChange;  // model/style_schedule.h
+
 class FrameStreamer {
  public:
   virtual ~FrameStreamer() = default;
@@ -37,6 +39,14 @@ class FrameStreamer {
   virtual bool has_steps() const { return false; }
   virtual absl::StatusOr<motion::Motion> Collect() {
     return absl::UnimplementedError("this stream runs its network in whole windows");
+  }
+  // Changes the style from `change.from_frame` (a stream frame index, from
+  // 0) on, cross-faded (model/style_schedule.h). FAILED_PRECONDITION for a
+  // streamer that keeps one style (offline packages); INVALID_ARGUMENT for a
+  // change that does not fit.
+  virtual absl::Status ChangeStyle(const StyleChange& /*change*/) {
+    return absl::FailedPreconditionError(
+        "this model's streams keep one style; style changes need a live model");
   }
   // The streamer whose steps StyleModel::StepStreams runs: this one, or the
   // one a wrapper (a resampler) feeds.

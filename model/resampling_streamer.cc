@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "model/style_schedule.h"
 #include "motion/resample.h"
 
 namespace stylus::model {
@@ -59,6 +60,14 @@ absl::StatusOr<motion::Motion> ResamplingStreamer::Finish() {
   if (!rest.ok()) return rest.status();
   TakeModel(*rest);
   return EmitReady(true);
+}
+
+absl::Status ResamplingStreamer::ChangeStyle(const StyleChange& change) {
+  StyleChange at_model = change;
+  const double ratio = in_ft_ / model_ft_;  // Model frames per input frame.
+  at_model.from_frame = static_cast<int64_t>(std::ceil(change.from_frame * ratio - 1e-6));
+  at_model.fade_frames = static_cast<int>(std::lround(change.fade_frames * ratio));
+  return inner_->ChangeStyle(at_model);
 }
 
 absl::Status ResamplingStreamer::Feed(const motion::Motion& frames, bool end) {

@@ -40,6 +40,8 @@ class ResamplingStreamer : public FrameStreamer {
   bool has_steps() const override { return inner_->has_steps(); }
   absl::StatusOr<motion::Motion> Collect() override;
   FrameStreamer* step_core() override { return inner_->step_core(); }
+  // The change's frames converted to the model's rate.
+  absl::Status ChangeStyle(const StyleChange& change) override;
 
  private:
   // Feeds the inner streamer every model frame the input received covers

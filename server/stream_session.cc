@@ -3,8 +3,10 @@
 #include <chrono>
 #include <deque>
 #include <memory>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
+#include "model/style_schedule.h"
 #include "server/postprocess_option.h"
 #include "server/services.h"
 #include "server/status.h"
@@ -105,6 +107,10 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       s = streamer_ ? AddFrame(request.frame(), &batched)
                     : absl::InvalidArgumentError(
                           "the first message must be a config (model, style, skeleton, fps)");
+    } else if (request.has_change()) {
+      s = streamer_ ? ChangeStyle(request.change())
+                    : absl::InvalidArgumentError(
+                          "the first message must be a config (model, style, skeleton, fps)");
     } else {
       s = absl::InvalidArgumentError("an empty stream message: send a config or a frame");
     }
@@ -195,9 +201,45 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     if (!streamer.ok()) return streamer.status();
     streamer_ = *std::move(streamer);
     model_ = m->model;
+    hosted_ = *m;
     chunk_ = motion::RestMotion(*sk, 0, 1.0 / config.fps());
     prev_euler_.assign(sk->num_joints(), motion::Vec3{});
     return absl::OkStatus();
+  }
+
+  absl::Status ChangeStyle(const v1::StyleChange& change) {
+    model::StyleChange c;
+    // Stream frames count from the first frame's index (from the next
+    // frame's when none has arrived yet).
+    c.from_frame = streamer_->received() > 0 ? change.from_frame() - first_index_ : 0;
+    c.fade_frames = change.fade_frames();
+    if (change.has_strength()) c.strength = change.strength();
+    if (change.has_style()) {
+      absl::StatusOr<model::StyleCode> code =
+          ResolveStyle(*service_, *hosted_, change.style(), "style change");
+      if (!code.ok()) return code.status();
+      c.code = *std::move(code);
+    } else if (change.has_blend()) {
+      const v1::StyleBlend& blend = change.blend();
+      if (blend.styles_size() == 0 || blend.weights_size() != blend.styles_size()) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "style change: a blend needs one weight per style (got ", blend.styles_size(),
+            " styles and ", blend.weights_size(), " weights)"));
+      }
+      std::vector<model::StyleCode> codes;
+      std::vector<double> weights;
+      for (int i = 0; i < blend.styles_size(); ++i) {
+        absl::StatusOr<model::StyleCode> code = ResolveStyle(
+            *service_, *hosted_, blend.styles(i), absl::StrCat("style change blend style ", i));
+        if (!code.ok()) return code.status();
+        codes.push_back(*std::move(code));
+        if (!std::isfinite(blend.weights(i)))
+          return absl::InvalidArgumentError("style change: blend weights must be finite");
+        weights.push_back(blend.weights(i));
+      }
+      c.code = model::MixStyles(codes, weights);
+    }
+    return streamer_->ChangeStyle(c);
   }
 
   absl::Status AddFrame(const v1::Frame& frame, bool* batched) {
@@ -328,6 +370,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   // Touched by the executor task only (one at a time per session).
   std::unique_ptr<model::FrameStreamer> streamer_;
   std::shared_ptr<const model::StyleModel> model_;
+  std::optional<HostedModel> hosted_;  // The model configured (style names are its).
   motion::Motion chunk_;
   std::vector<motion::Vec3> prev_euler_;
   int64_t first_index_ = 0;

@@ -29,17 +29,19 @@ absl::StatusOr<std::unique_ptr<LiveStreamer>> LiveStreamer::Create(
   probe.num_frames = 0;
   probe.values.clear();
   return std::unique_ptr<LiveStreamer>(
-      new LiveStreamer(std::move(model), probe, *std::move(params), spec.post));
+      new LiveStreamer(std::move(model), probe, spec.style, *std::move(params), spec.post));
 }
 
 LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
-                           const motion::Motion& empty, std::vector<float> params,
-                           motion::PostProcessMode post)
+                           const motion::Motion& empty, StyleCode style,
+                           std::vector<float> params, motion::PostProcessMode post)
     : model_(std::move(model)),
       dim_(model_->config().dim),
       shift_(model_->config().lookahead - 1),
       lookahead_(model_->config().lookahead),
+      schedule_(std::move(style), model_->config().style_strength),
       params_(std::move(params)),
+      strength_(model_->config().style_strength),
       features_(empty.skeleton, model_->data().roles, empty.frame_time,
                 model_->config().Contacts()),
       carry_(model_->NewLiveCarry()),
@@ -92,6 +94,16 @@ absl::Status LiveStreamer::Feed(const motion::Motion& frames, bool end) {
 
 bool LiveStreamer::NextStep(LiveStep* step) {
   if (queue_.empty()) return false;
+  const int64_t frame = stepped_ - shift_;  // The frame this step generates.
+  if (frame >= 0) {
+    const StyleSchedule::At at = schedule_.Advance(frame);
+    if (at.changed) {
+      // Checked when the change was queued: the code fits the model.
+      absl::StatusOr<std::vector<float>> p = model_->LiveStyleParams(at.code);
+      if (p.ok()) params_ = *std::move(p);
+    }
+    strength_ = at.strength;
+  }
   *step = {&carry_, queue_.front().data(), params_.data(), out_.data()};
   return true;
 }
@@ -111,7 +123,7 @@ void LiveStreamer::StepDone() {
   if (model_->config().frame_residual) {
     for (int c = 0; c < dim_; ++c) out_[c] += own[c];
   }
-  if (const double k = model_->config().style_strength; k != 1) {
+  if (const double k = strength_; k != 1) {
     for (int c = 0; c < layout.trajectory(); ++c)
       out_[c] = static_cast<float>(k * out_[c] + (1 - k) * own[c]);
   }
@@ -183,8 +195,12 @@ absl::Status LiveStreamer::RunSteps() {
   return absl::OkStatus();
 }
 
+absl::Status LiveStreamer::ChangeStyle(const StyleChange& change) {
+  return schedule_.Add(change, std::max<int64_t>(0, stepped_ - shift_));
+}
+
 size_t LiveStreamer::state_bytes() const {
-  size_t n = carry_.bytes() + params_.size() * sizeof(float);
+  size_t n = carry_.bytes() + params_.size() * sizeof(float) + schedule_.bytes();
   for (const auto& q : queue_) n += q.size() * sizeof(float);
   for (const auto& r : recent_) n += r.size() * sizeof(float);
   n += input_.values.size() * sizeof(double);

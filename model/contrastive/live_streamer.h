@@ -23,6 +23,7 @@
 #include "model/contrastive/live_carry.h"
 #include "model/frame_streamer.h"
 #include "model/stream_cleaner.h"
+#include "model/style_schedule.h"
 #include "motion/features.h"
 #include "motion/motion.h"
 
@@ -56,6 +57,10 @@ class LiveStreamer : public FrameStreamer {
   void StepDone();
   // The output frames that became final since the last call.
   absl::StatusOr<motion::Motion> Collect() override;
+  // Live control: the style code and strength change from a frame on,
+  // cross-faded; a change naming a frame already generated applies from the
+  // next one.
+  absl::Status ChangeStyle(const StyleChange& change) override;
   int pending_steps() const { return static_cast<int>(queue_.size()); }
 
   // Bytes this stream holds, all of it bounded: the networks' carried state
@@ -66,12 +71,14 @@ class LiveStreamer : public FrameStreamer {
 
  private:
   LiveStreamer(std::shared_ptr<const ContrastiveModel> model, const motion::Motion& empty,
-               std::vector<float> params, motion::PostProcessMode post);
+               StyleCode style, std::vector<float> params, motion::PostProcessMode post);
   absl::Status RunSteps();  // Every queued step, one at a time.
 
   std::shared_ptr<const ContrastiveModel> model_;
   const int dim_, shift_, lookahead_;
-  std::vector<float> params_;  // The style's generator parameters.
+  StyleSchedule schedule_;     // The style over the frames.
+  std::vector<float> params_;  // The generator's parameters for the current code.
+  double strength_;            // The strength of the step running.
   motion::FeatureStream features_;
   LiveCarry carry_;
   std::deque<std::vector<float>> queue_;   // Normalized feature frames to step.

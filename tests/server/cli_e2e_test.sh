@@ -31,6 +31,14 @@ check "transfer --model cyclic" 0 "wrote .*cyc.bvh \(120 frames\)" -- "$cli" "${
   --content "$walk" --style "$old" -o "$work/cyc.bvh"
 check "stream --model cyclic" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${s[@]}" stream --model cyclic \
   --content "$walk" --style "$old" -o "$work/cyc_stream.bvh"
+check "model-info live" 0 "live, lookahead 2" -- "$cli" "${s[@]}" model-info --model live
+check "stream --model live with style changes" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${s[@]}" \
+  stream --model live --content "$walk" --style "$old" --change "30:$run:10" --change 60:strength=0.5:5 \
+  -o "$work/live_stream.bvh"
+check "stream --change on an offline model" 1 "FAILED_PRECONDITION.*live model" -- "$cli" "${s[@]}" \
+  stream --content "$walk" --style "$old" --change 30:strength=0.5
+check "stream --change malformed" 1 "--change 30: expected FRAME:WHAT" -- "$cli" "${s[@]}" \
+  stream --model live --content "$walk" --style "$old" --change 30
 check "model-info unknown" 1 "NOT_FOUND" -- "$cli" "${s[@]}" model-info --model nope/v1
 check "unload" 0 "unloaded contrastive/v5" -- "$cli" "${s[@]}" unload --model contrastive/v5
 check "transfer without models" 1 "NOT_FOUND: no default model" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/x.bvh"

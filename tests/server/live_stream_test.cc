@@ -12,10 +12,12 @@
 #include "motion/kinematics.h"
 #include "motion/resample.h"
 #include "tests/server/server_test_support.h"
+#include "wire/wire.h"
 
 namespace stylus {
 namespace {
 
+using testing::Frames;
 using testing::LiveServer;
 using testing::Sample;
 
@@ -105,6 +107,99 @@ TEST(LiveStreamServerTest, AHundredAndTwentyHertzStreamComesBackOneToOne) {
   const double gap = motion::MaxPositionDifference(back, at30->output);
   std::printf("120 Hz stream vs 30 Hz stream: max joint gap %.2f units\n", gap);
   EXPECT_LT(gap, 10.0);
+}
+
+}  // namespace
+}  // namespace stylus
+
+namespace stylus {
+namespace {
+
+using testing::Frames;
+using testing::LiveServer;
+using testing::Sample;
+
+// A stream of `content` on `model` with `change` sent before frame `at`;
+// returns the call's status and the frames received.
+grpc::Status StreamWithChange(const std::string& address, const std::string& model,
+                              const motion::Motion& content, const motion::Motion& style,
+                              const v1::StyleChange& change, int at, motion::Motion* out) {
+  auto stub = v1::StyleService::NewStub(
+      grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
+  grpc::ClientContext ctx;
+  auto stream = stub->TransferStream(&ctx);
+  v1::StreamRequest config;
+  config.mutable_config()->set_model(model);
+  config.mutable_config()->set_fps(content.fps());
+  wire::SkeletonToProto(content.skeleton, config.mutable_config()->mutable_skeleton());
+  wire::ClipToProto(style, config.mutable_config()->mutable_style()->mutable_clip());
+  std::thread writer([&] {
+    if (!stream->Write(config)) return;
+    for (int f = 0; f < content.num_frames; ++f) {
+      if (f == at) {
+        v1::StreamRequest r;
+        *r.mutable_change() = change;
+        if (!stream->Write(r)) return;
+      }
+      v1::StreamRequest r;
+      wire::FrameToProto(content, f, f, r.mutable_frame());
+      if (!stream->Write(r)) return;
+    }
+    stream->WritesDone();
+  });
+  *out = motion::RestMotion(content.skeleton, 0, content.frame_time);
+  std::vector<motion::Vec3> prev(content.skeleton.num_joints());
+  v1::StreamResponse r;
+  while (stream->Read(&r)) EXPECT_TRUE(wire::AppendFrame(r.frame(), "out", &prev, out).ok());
+  writer.join();
+  return stream->Finish();
+}
+
+TEST(LiveControlServerTest, StyleChangesInAStreamAndTheirErrors) {
+  auto live = LiveServer::Start();
+  ASSERT_NE(live, nullptr);
+  const motion::Motion content = Sample("walk_normal.bvh");
+  const motion::Motion style = Sample("walk_old.bvh");
+  ASSERT_TRUE(live->client->EncodeStyle(Sample("run.bvh"), "run", Live()).ok());
+  v1::StyleChange change;
+  change.set_from_frame(40);
+  change.mutable_style()->set_name("run");
+  change.set_fade_frames(10);
+  motion::Motion changed, plain;
+  grpc::Status s = StreamWithChange(live->address, "live", content, style, change, 40, &changed);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  ASSERT_EQ(changed.num_frames, content.num_frames);
+  v1::StyleChange nothing;
+  nothing.set_from_frame(200);  // Past the clip: never applies.
+  nothing.set_strength(1);
+  ASSERT_TRUE(StreamWithChange(live->address, "live", content, style, nothing, 1, &plain).ok());
+  EXPECT_LT(motion::MaxPositionDifference(Frames(plain, 0, 40), Frames(changed, 0, 40)), 1e-3);
+  EXPECT_GT(motion::MaxPositionDifference(Frames(plain, 60, 110), Frames(changed, 60, 110)), 1.0);
+
+  // A blend over saved styles, and a strength.
+  v1::StyleChange blend;
+  blend.set_from_frame(20);
+  blend.mutable_blend()->add_styles()->set_name("run");
+  blend.mutable_blend()->add_styles()->mutable_clip();
+  wire::ClipToProto(style, blend.mutable_blend()->mutable_styles(1)->mutable_clip());
+  blend.mutable_blend()->add_weights(0.5);
+  blend.mutable_blend()->add_weights(0.5);
+  blend.set_strength(0.5);
+  motion::Motion blended;
+  EXPECT_TRUE(StreamWithChange(live->address, "live", content, style, blend, 20, &blended).ok());
+
+  change.mutable_style()->set_name("nope");
+  s = StreamWithChange(live->address, "live", content, style, change, 40, &changed);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::NOT_FOUND) << s.error_message();
+  blend.mutable_blend()->add_weights(1);  // Three weights, two styles.
+  s = StreamWithChange(live->address, "live", content, style, blend, 20, &changed);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << s.error_message();
+  v1::StyleChange strong;
+  strong.set_strength(2);
+  s = StreamWithChange(live->address, "live", content, style, strong, 5, &changed);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << s.error_message();
+  s = StreamWithChange(live->address, "contrastive", content, style, nothing, 5, &changed);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::FAILED_PRECONDITION) << s.error_message();
 }
 
 }  // namespace

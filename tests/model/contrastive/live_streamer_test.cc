@@ -11,6 +11,9 @@
 
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_model.h"
+#include "model/family_registry.h"
+#include "model/style_schedule.h"
+#include "motion/bvh.h"
 #include "motion/kinematics.h"
 #include "tests/model/contrastive/contrastive_support.h"
 #include "tests/test_support.h"
@@ -192,6 +195,91 @@ TEST(LiveStreamerBatchTest, AnOfflinePackageHasNoLiveSteps) {
             absl::StatusCode::kFailedPrecondition);
   EXPECT_EQ((*model)->StepLive({}).code(), absl::StatusCode::kFailedPrecondition);
   EXPECT_TRUE((*model)->NewLiveCarry().buffers.empty());
+}
+
+}  // namespace
+}  // namespace stylus::model
+
+namespace stylus::model {
+namespace {
+
+// The shipped live package on real sample clips.
+class LiveControlTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    absl::StatusOr<std::unique_ptr<ContrastiveModel>> m =
+        ContrastiveModel::Load(std::string(STYLUS_SOURCE_DIR) + "/models/live/v1");
+    ASSERT_TRUE(m.ok()) << m.status();
+    model_ = std::move(*m);
+    content_ = Sample("walk_normal.bvh");
+    old_ = *model_->EncodeStyle(Sample("walk_old.bvh"));
+    run_ = *model_->EncodeStyle(Sample("run.bvh"));
+  }
+  static motion::Motion Sample(const std::string& name) {
+    return *motion::ReadBvhFile(std::string(STYLUS_SOURCE_DIR) + "/samples/" + name);
+  }
+  // Streams the content frame by frame with `changes` sent before their frames.
+  motion::Motion Run(const StyleCode& style, const std::vector<StyleChange>& changes) {
+    auto s = model_->OpenStream(
+        {style, content_.skeleton, content_.frame_time, motion::PostProcessMode::kFull});
+    EXPECT_TRUE(s.ok()) << s.status();
+    motion::Motion out = Frames(content_, 0, 0);
+    size_t next = 0;
+    for (int f = 0; f < content_.num_frames; ++f) {
+      while (next < changes.size() && changes[next].from_frame == f)
+        EXPECT_TRUE((*s)->ChangeStyle(changes[next++]).ok());
+      Append(*(*s)->Push(Frames(content_, f, f + 1)), &out);
+    }
+    Append(*(*s)->Finish(), &out);
+    return out;
+  }
+  // The largest move of any joint between consecutive frames in [begin, end).
+  static double MaxStep(const motion::Motion& m, int begin, int end) {
+    double worst = 0;
+    for (int f = std::max(1, begin); f < end; ++f)
+      worst = std::max(worst, motion::MaxPositionDifference(Frames(m, f - 1, f), Frames(m, f, f + 1)));
+    return worst;
+  }
+  std::shared_ptr<const ContrastiveModel> model_;
+  motion::Motion content_;
+  StyleCode old_, run_;
+};
+
+TEST_F(LiveControlTest, AStyleChangeCrossFadesWithoutAPop) {
+  const motion::Motion plain = Run(old_, {});
+  const motion::Motion changed = Run(old_, {{40, run_, std::nullopt, 15}});
+  const motion::Motion other = Run(run_, {});
+  ASSERT_EQ(changed.num_frames, content_.num_frames);
+  // Untouched before the change.
+  EXPECT_LT(motion::MaxPositionDifference(Frames(plain, 0, 40), Frames(changed, 0, 40)), 1e-6);
+  // Changed after it.
+  EXPECT_GT(motion::MaxPositionDifference(Frames(plain, 60, 110), Frames(changed, 60, 110)), 1.0);
+  // No frame-to-frame move through the fade beyond what either style makes.
+  const double own = std::max(MaxStep(plain, 30, 70), MaxStep(other, 30, 70));
+  const double through = MaxStep(changed, 38, 60);
+  std::printf("largest joint step: through the fade %.2f, either style alone %.2f\n", through, own);
+  EXPECT_LT(through, 1.25 * own);
+}
+
+TEST_F(LiveControlTest, StrengthZeroGivesTheContentBack) {
+  const motion::Motion out = Run(old_, {{30, std::nullopt, 0.0, 10}});
+  // From the fade's end on, the pose is the content's own (the path always is).
+  const double gap = motion::MaxPositionDifference(Frames(out, 45, 110), Frames(content_, 45, 110));
+  const double styled = motion::MaxPositionDifference(Frames(Run(old_, {}), 45, 110),
+                                                      Frames(content_, 45, 110));
+  std::printf("strength 0 vs the content: %.2f; strength 1: %.2f\n", gap, styled);
+  EXPECT_LT(gap, 0.5 * styled);
+}
+
+TEST_F(LiveControlTest, OfflineStreamsRefuseStyleChanges) {
+  std::shared_ptr<const StyleModel> offline(
+      *LoadStyleModel(std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v5"));
+  auto s = offline->OpenStream({*offline->EncodeStyle(Sample("walk_old.bvh")), content_.skeleton,
+                                content_.frame_time, motion::PostProcessMode::kFull});
+  ASSERT_TRUE(s.ok()) << s.status();
+  const absl::Status refused = (*s)->ChangeStyle({10, std::nullopt, 0.5, 0});
+  EXPECT_EQ(refused.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(refused.message().find("live model"), std::string::npos) << refused;
 }
 
 }  // namespace

@@ -6,7 +6,12 @@ namespace stylus::model {
 
 StreamCleaner::StreamCleaner(const motion::Motion& empty, const motion::HumanoidRoles& roles,
                              motion::PostProcessMode post, int history)
-    : roles_(roles), post_(post), history_(history), done_(empty) {}
+    : roles_(roles),
+      post_(post),
+      history_(history),
+      done_(empty),
+      output_(empty),
+      content_(empty) {}
 
 int64_t StreamCleaner::FirstInputNeeded(int64_t first) const {
   return std::max({int64_t{0}, done_base_, first - history_});
@@ -20,12 +25,12 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(const motion::Motion& raw, i
   // Output: the post-processed history, then the new raw frames; content: the
   // held input over the same frames and every later one received.
   const int64_t from = std::max({input_base, done_base_, first - history_});
-  motion::Motion output = done_;
+  motion::Motion& output = output_;
   output.num_frames = static_cast<int>(first - from);
   output.values.assign(done_.values.begin() + (from - done_base_) * channels, done_.values.end());
   output.values.insert(output.values.end(), raw.values.begin(), raw.values.end());
   output.num_frames += raw.num_frames;
-  motion::Motion content = input;
+  motion::Motion& content = content_;
   const int64_t end = input_end >= 0 ? std::min(input_end, input_base + input.num_frames)
                                      : input_base + input.num_frames;
   content.num_frames = static_cast<int>(end - from);

@@ -46,6 +46,9 @@ class StreamCleaner {
   int history_;
   motion::Motion done_;    // The last output frames sent (history).
   int64_t done_base_ = 0;  // Stream index of done_'s first frame.
+  // What each call hands to PostProcess, kept so that the skeleton is not
+  // copied per call.
+  motion::Motion output_, content_;
 };
 
 }  // namespace stylus::model

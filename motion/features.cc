@@ -63,6 +63,7 @@ void TrajectoryRow(const FeatureLayout& layout, const Vec3& root_a, double yaw_a
 FeatureStream::FeatureStream(const Skeleton& skeleton, const HumanoidRoles& roles,
                              double frame_time, ContactParams contacts)
     : skeleton_(skeleton),
+      one_(RestMotion(skeleton, 1, frame_time)),
       roles_(roles),
       fps_(1.0 / frame_time),
       contacts_(contacts),
@@ -73,11 +74,10 @@ FeatureStream::FeatureStream(const Skeleton& skeleton, const HumanoidRoles& role
 }
 
 bool FeatureStream::Push(const double* frame, float* out) {
-  Motion one = RestMotion(skeleton_, 1, 1 / fps_);
-  std::copy(frame, frame + skeleton_.num_channels(), one.values.begin());
+  std::copy(frame, frame + skeleton_.num_channels(), one_.values.begin());
   Frame next;
   next.row.assign(layout_.dim(), 0.f);
-  next.positions = PoseRow(skeleton_, roles_, above_, PoseAt(one, 0), frames_ == 0, &prev_q_,
+  next.positions = PoseRow(skeleton_, roles_, above_, PoseAt(one_, 0), frames_ == 0, &prev_q_,
                            &next.root, &next.yaw, next.row.data());
   const std::array<int, 4> feet = FootJoints(roles_);
   for (int k = 0; k < 4; ++k) {

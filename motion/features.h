@@ -101,6 +101,7 @@ class FeatureStream {
   };
   void Complete(const Frame* after, float* out);
   Skeleton skeleton_;
+  Motion one_;  // The frame being read (reused: no skeleton copy per frame).
   HumanoidRoles roles_;
   double fps_;
   ContactParams contacts_;

@@ -47,6 +47,7 @@ LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
       carry_(model_->NewLiveCarry()),
       out_(dim_),
       input_(empty),
+      empty_(empty),
       cleaner_(empty, model_->data().roles, post, kCleanHistory) {
   generated_.dim = dim_;
 }
@@ -136,39 +137,51 @@ void LiveStreamer::StepDone() {
 }
 
 absl::StatusOr<motion::Motion> LiveStreamer::Collect() {
-  motion::Motion raw = input_;
-  raw.num_frames = 0;
-  raw.values.clear();
-  if (generated_.frames > 0) {
-    absl::StatusOr<motion::Motion> decoded = motion::MotionFromFeatures(
-        generated_, input_.skeleton, model_->data().roles, input_.frame_time, &decode_);
-    if (!decoded.ok()) return decoded.status();
-    generated_.frames = 0;
-    generated_.values.clear();
-    raw = *std::move(decoded);
+  if (generated_.frames == 0) {
+    Trim();
+    return empty_;
   }
+  absl::StatusOr<motion::Motion> decoded = motion::MotionFromFeatures(
+      generated_, input_.skeleton, model_->data().roles, input_.frame_time, &decode_);
+  if (!decoded.ok()) return decoded.status();
+  generated_.frames = 0;
+  generated_.values.clear();
+  const motion::Motion& raw = *decoded;
   // Frame by frame, so that how the input was chunked cannot change the
   // output.
-  motion::Motion out = raw;
-  out.values.clear();
   const int channels = input_.skeleton.num_channels();
+  if (raw.num_frames == 1) {
+    absl::StatusOr<motion::Motion> clean =
+        cleaner_.Clean(raw, emitted_, input_, base_, emitted_ + lookahead_ + 1);
+    if (clean.ok()) ++emitted_;
+    Trim();
+    return clean;
+  }
+  motion::Motion out = empty_;
   for (int f = 0; f < raw.num_frames; ++f) {
     motion::Motion one = raw;
     one.num_frames = 1;
     one.values.assign(raw.values.begin() + f * channels, raw.values.begin() + (f + 1) * channels);
-    absl::StatusOr<motion::Motion> clean = cleaner_.Clean(one, emitted_, input_, base_, emitted_ + lookahead_ + 1);
+    absl::StatusOr<motion::Motion> clean =
+        cleaner_.Clean(one, emitted_, input_, base_, emitted_ + lookahead_ + 1);
     if (!clean.ok()) return clean.status();
     out.values.insert(out.values.end(), clean->values.begin(), clean->values.end());
+    ++out.num_frames;
     ++emitted_;
   }
+  Trim();
+  return out;
+}
+
+void LiveStreamer::Trim() {
   // Keep what the features, the cleaner and the frames not yet emitted need.
   const int64_t keep = std::min(cleaner_.FirstInputNeeded(emitted_), emitted_);
   if (keep > base_) {
+    const int channels = input_.skeleton.num_channels();
     input_.values.erase(input_.values.begin(), input_.values.begin() + (keep - base_) * channels);
     input_.num_frames -= static_cast<int>(keep - base_);
     base_ = keep;
   }
-  return out;
 }
 
 absl::StatusOr<motion::Motion> LiveStreamer::Push(const motion::Motion& frames) {

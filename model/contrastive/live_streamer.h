@@ -73,6 +73,7 @@ class LiveStreamer : public FrameStreamer {
   LiveStreamer(std::shared_ptr<const ContrastiveModel> model, const motion::Motion& empty,
                StyleCode style, std::vector<float> params, motion::PostProcessMode post);
   absl::Status RunSteps();  // Every queued step, one at a time.
+  void Trim();              // Drops the input frames no longer needed.
 
   std::shared_ptr<const ContrastiveModel> model_;
   const int dim_, shift_, lookahead_;
@@ -87,6 +88,7 @@ class LiveStreamer : public FrameStreamer {
   int64_t stepped_ = 0;                    // Feature frames stepped.
   motion::FeatureClip generated_;          // Denormalized, waiting to be decoded.
   motion::Motion input_;                   // Held input frames from base_ on.
+  const motion::Motion empty_;             // No frames: what an empty result copies.
   int64_t base_ = 0, received_ = 0, emitted_ = 0;
   bool ended_ = false;
   motion::DecodeState decode_;

@@ -184,6 +184,8 @@ TEST(LiveStreamerBatchTest, AStreamsStateDoesNotGrowWithItsLength) {
     EXPECT_EQ((*s)->state_bytes(), after_first_loop) << "after loop " << loop;
   }
   EXPECT_EQ((*s)->emitted(), 20 * clip.num_frames - 2);
+  std::printf("stream state: %zu bytes (networks' carried state %zu)\n", (*s)->state_bytes(),
+              (*s)->carry_bytes());
 }
 
 TEST(LiveStreamerBatchTest, AnOfflinePackageHasNoLiveSteps) {
@@ -269,6 +271,22 @@ TEST_F(LiveControlTest, StrengthZeroGivesTheContentBack) {
                                                       Frames(content_, 45, 110));
   std::printf("strength 0 vs the content: %.2f; strength 1: %.2f\n", gap, styled);
   EXPECT_LT(gap, 0.5 * styled);
+}
+
+TEST_F(LiveControlTest, TheShippedPackagesStreamStateIsFixedOverTenMinutes) {
+  auto s = LiveStreamer::Create(model_, {old_, content_.skeleton, content_.frame_time,
+                                         motion::PostProcessMode::kFull});
+  ASSERT_TRUE(s.ok()) << s.status();
+  size_t first = 0;
+  // 10 minutes at 30 Hz: the clip looped 150 times.
+  for (int loop = 0; loop < 150; ++loop) {
+    ASSERT_TRUE((*s)->Push(content_).ok());
+    if (loop == 0) first = (*s)->state_bytes();
+    ASSERT_EQ((*s)->state_bytes(), first) << "after loop " << loop;
+  }
+  EXPECT_EQ((*s)->received(), 150 * content_.num_frames);
+  std::printf("live/v1 stream state: %zu bytes (networks' carried state %zu) after %lld frames\n",
+              (*s)->state_bytes(), (*s)->carry_bytes(), static_cast<long long>((*s)->received()));
 }
 
 TEST_F(LiveControlTest, OfflineStreamsRefuseStyleChanges) {

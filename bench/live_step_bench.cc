@@ -40,8 +40,10 @@ int Main(int argc, char** argv) {
       std::printf("usage: live_step_bench [--model DIR] [--frames 600]\n");
       return 0;
     }
-    if (i + 1 < argc && !std::strcmp(argv[i], "--model")) dir = argv[++i];
-    else if (i + 1 < argc && !std::strcmp(argv[i], "--frames")) frames = std::atoi(argv[++i]);
+    if (i + 1 < argc && !std::strcmp(argv[i], "--model"))
+      dir = argv[++i];
+    else if (i + 1 < argc && !std::strcmp(argv[i], "--frames"))
+      frames = std::atoi(argv[++i]);
   }
   if (const char* core = std::getenv("OPENBLAS_CORETYPE"))
     std::printf("OPENBLAS_CORETYPE=%s (set in the environment)\n", core);

@@ -137,8 +137,8 @@ Point RunPoint(ServerProcess* server, int n, double rate, double seconds, double
     grpc::ChannelArguments args;
     args.SetInt("stylus.bench.channel", c);  // Distinct args: a connection of its own.
     args.SetMaxReceiveMessageSize(64 << 20);
-    stubs.push_back(v1::StyleService::NewStub(grpc::CreateCustomChannel(
-        server->address(), grpc::InsecureChannelCredentials(), args)));
+    stubs.push_back(v1::StyleService::NewStub(
+        grpc::CreateCustomChannel(server->address(), grpc::InsecureChannelCredentials(), args)));
   }
   const int total = static_cast<int>(std::lround(rate * seconds));
   std::vector<std::unique_ptr<LoadStream>> streams;
@@ -213,15 +213,24 @@ int Main(int argc, char** argv) {
     }
     const char* v = argv[++i];
     bool ok = true;
-    if (a == "--model") model = v;
-    else if (a == "--rate") ok = absl::SimpleAtod(v, &rate) && rate > 0;
-    else if (a == "--seconds") ok = absl::SimpleAtod(v, &seconds) && seconds > 0;
-    else if (a == "--streams") streams_arg = v;
-    else if (a == "--budget-ms") ok = absl::SimpleAtod(v, &budget_ms);
-    else if (a == "--server-bin") server_bin = v;
-    else if (a == "--server-threads") ok = absl::SimpleAtoi(v, &server_threads);
-    else if (a == "--unary-calls") ok = absl::SimpleAtoi(v, &unary_calls);
-    else ok = false;
+    if (a == "--model")
+      model = v;
+    else if (a == "--rate")
+      ok = absl::SimpleAtod(v, &rate) && rate > 0;
+    else if (a == "--seconds")
+      ok = absl::SimpleAtod(v, &seconds) && seconds > 0;
+    else if (a == "--streams")
+      streams_arg = v;
+    else if (a == "--budget-ms")
+      ok = absl::SimpleAtod(v, &budget_ms);
+    else if (a == "--server-bin")
+      server_bin = v;
+    else if (a == "--server-threads")
+      ok = absl::SimpleAtoi(v, &server_threads);
+    else if (a == "--unary-calls")
+      ok = absl::SimpleAtoi(v, &unary_calls);
+    else
+      ok = false;
     if (!ok) {
       std::fprintf(stderr, "stream_load: bad option %s %s (see --help)\n", a.c_str(), v);
       return 2;
@@ -255,8 +264,8 @@ int Main(int argc, char** argv) {
   int lookahead = 0;
   for (const bool batched : {true, false}) {
     ServerProcess server;
-    std::vector<std::string> args = {"--models", models, "--threads",
-                                     std::to_string(server_threads), "--max-streams", "4096"};
+    std::vector<std::string> args = {
+        "--models", models, "--threads", std::to_string(server_threads), "--max-streams", "4096"};
     if (!batched) args.insert(args.end(), {"--max-batch", "0"});
     if (!server.Start(server_bin, args)) {
       std::fprintf(stderr, "stream_load: cannot start %s\n", server_bin.c_str());
@@ -275,10 +284,11 @@ int Main(int argc, char** argv) {
     lookahead = info->lookahead();
     const double budget = budget_ms >= 0 ? budget_ms : 1000.0 * lookahead / info->fps() + 33;
     if (batched) {
-      std::printf("model %s (%s, lookahead %d frames at %.0f Hz); streams at %.0f Hz for %.0f s; "
-                  "budget p99 <= %.1f ms\n",
-                  info->id().c_str(), info->live() ? "live" : "offline", lookahead, info->fps(),
-                  rate, seconds, budget);
+      std::printf(
+          "model %s (%s, lookahead %d frames at %.0f Hz); streams at %.0f Hz for %.0f s; "
+          "budget p99 <= %.1f ms\n",
+          info->id().c_str(), info->live() ? "live" : "offline", lookahead, info->fps(), rate,
+          seconds, budget);
     }
     v1::StreamRequest config;
     config.mutable_config()->set_model(model);
@@ -312,10 +322,11 @@ int Main(int argc, char** argv) {
         }
         for (auto& t : threads) t.join();
         const double secs = Since(t0);
-        std::printf("unary Transfer (%d frames, %s): %d caller(s): %.0f frames/s (%d calls in "
-                    "%.1f s, %d failed)\n",
-                    clip->num_frames, model.c_str(), callers,
-                    unary_calls * clip->num_frames / secs, unary_calls, secs, failures.load());
+        std::printf(
+            "unary Transfer (%d frames, %s): %d caller(s): %.0f frames/s (%d calls in "
+            "%.1f s, %d failed)\n",
+            clip->num_frames, model.c_str(), callers, unary_calls * clip->num_frames / secs,
+            unary_calls, secs, failures.load());
       }
     }
     std::printf("server exit on SIGTERM: %d\n", server.Stop());

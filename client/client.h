@@ -28,7 +28,7 @@ struct ClientOptions {
 };
 
 struct CallOptions {
-  std::string model;                                     // Empty: the server's default.
+  std::string model;  // Empty: the server's default.
   v1::PostProcess postprocess = v1::POSTPROCESS_DEFAULT;
   // Transfer and Interpolate: when set, receives how the model's content
   // guard treated the call (left empty for a model without one).

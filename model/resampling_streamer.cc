@@ -27,7 +27,8 @@ void DropBefore(int64_t keep, motion::Motion* m, int64_t* base) {
   *base += n;
 }
 
-void AppendPose(motion::Motion* m, const motion::LocalPose& pose, std::vector<motion::Vec3>* euler) {
+void AppendPose(motion::Motion* m, const motion::LocalPose& pose,
+                std::vector<motion::Vec3>* euler) {
   m->values.resize(m->values.size() + m->skeleton.num_channels());
   ++m->num_frames;
   motion::SetPose(m, m->num_frames - 1, pose, euler);
@@ -133,9 +134,9 @@ motion::Motion ResamplingStreamer::EmitReady(bool finished) {
       if (u < 1e-6 || m0 == 0) {
         pose = motion::PoseAt(model_out_, static_cast<int>(m0 - out_base_));
       } else {  // Past the newest final model frame: extrapolated from the one before.
-        pose = motion::BlendPoses(motion::PoseAt(model_out_, static_cast<int>(m0 - 1 - out_base_)),
-                                  motion::PoseAt(model_out_, static_cast<int>(m0 - out_base_)),
-                                  1 + u);
+        pose =
+            motion::BlendPoses(motion::PoseAt(model_out_, static_cast<int>(m0 - 1 - out_base_)),
+                               motion::PoseAt(model_out_, static_cast<int>(m0 - out_base_)), 1 + u);
       }
     } else {
       break;
@@ -144,9 +145,9 @@ motion::Motion ResamplingStreamer::EmitReady(bool finished) {
     ++emitted_;
   }
   // Keep the model frame before the next output frame's instant.
-  DropBefore(std::min(static_cast<int64_t>(std::floor(emitted_ * ratio + 1e-6)) - 1,
-                      model_emitted_ - 2),
-             &model_out_, &out_base_);
+  DropBefore(
+      std::min(static_cast<int64_t>(std::floor(emitted_ * ratio + 1e-6)) - 1, model_emitted_ - 2),
+      &model_out_, &out_base_);
   return out;
 }
 

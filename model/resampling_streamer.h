@@ -54,10 +54,10 @@ class ResamplingStreamer : public FrameStreamer {
 
   std::unique_ptr<FrameStreamer> inner_;
   const double in_ft_, model_ft_;
-  motion::Motion input_;       // The last input frames held (from in_base_).
+  motion::Motion input_;  // The last input frames held (from in_base_).
   int64_t in_base_ = 0, received_ = 0;
-  int64_t model_fed_ = 0;      // Model-rate frames given to the inner streamer.
-  motion::Motion model_out_;   // The last model output frames held (from out_base_).
+  int64_t model_fed_ = 0;     // Model-rate frames given to the inner streamer.
+  motion::Motion model_out_;  // The last model output frames held (from out_base_).
   int64_t out_base_ = 0, model_emitted_ = 0;
   int64_t emitted_ = 0;
   bool ending_ = false;  // Fed its end (batched use).

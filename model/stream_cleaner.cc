@@ -18,8 +18,8 @@ int64_t StreamCleaner::FirstInputNeeded(int64_t first) const {
 }
 
 absl::StatusOr<motion::Motion> StreamCleaner::Clean(const motion::Motion& raw, int64_t first,
-                                                    const motion::Motion& input,
-                                                    int64_t input_base, int64_t input_end) {
+                                                    const motion::Motion& input, int64_t input_base,
+                                                    int64_t input_end) {
   if (post_ == motion::PostProcessMode::kNone || raw.num_frames == 0) return raw;
   const int channels = raw.skeleton.num_channels();
   // Output: the post-processed history, then the new raw frames; content: the

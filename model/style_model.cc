@@ -77,8 +77,9 @@ absl::StatusOr<TransferResult> StyleModel::Interpolate(const motion::Motion& con
   const motion::Motion at_model = motion::Resample(content, data().frame_time);
   StyleWeights model_weights{weights.fixed, {}};
   for (int k = 0; k < at_model.num_frames && !weights.per_frame.empty(); ++k) {
-    const int f = std::min(content.num_frames - 1,
-                           static_cast<int>(std::lround(k * at_model.frame_time / content.frame_time)));
+    const int f =
+        std::min(content.num_frames - 1,
+                 static_cast<int>(std::lround(k * at_model.frame_time / content.frame_time)));
     model_weights.per_frame.push_back(weights.per_frame[f]);
   }
   return InterpolateAtModelRate(at_model, content, styles, model_weights, options);

@@ -20,10 +20,9 @@ absl::Status StyleSchedule::Add(StyleChange change, int64_t earliest) {
     return absl::InvalidArgumentError("a style change needs a style or a strength");
   }
   if (change.code && change.code->values.size() != now_code_.values.size()) {
-    return absl::InvalidArgumentError(absl::StrCat("style change: the code has ",
-                                                   change.code->values.size(),
-                                                   " values; this model's have ",
-                                                   now_code_.values.size()));
+    return absl::InvalidArgumentError(
+        absl::StrCat("style change: the code has ", change.code->values.size(),
+                     " values; this model's have ", now_code_.values.size()));
   }
   if (change.strength && !(*change.strength >= 0 && *change.strength <= 1)) {
     return absl::InvalidArgumentError(
@@ -35,10 +34,10 @@ absl::Status StyleSchedule::Add(StyleChange change, int64_t earliest) {
   }
   change.from_frame = std::max(change.from_frame, earliest);
   if (!queued_.empty() && change.from_frame < queued_.back().from_frame) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("style change from frame ", change.from_frame,
-                     " comes before one already queued from frame ", queued_.back().from_frame,
-                     ": send changes in frame order"));
+    return absl::InvalidArgumentError(absl::StrCat("style change from frame ", change.from_frame,
+                                                   " comes before one already queued from frame ",
+                                                   queued_.back().from_frame,
+                                                   ": send changes in frame order"));
   }
   queued_.push_back(std::move(change));
   return absl::OkStatus();
@@ -59,8 +58,7 @@ StyleSchedule::At StyleSchedule::Advance(int64_t t) {
     queued_.pop_front();
   }
   if (fading_) {
-    const double a =
-        std::clamp(static_cast<double>(t - fade_start_ + 1) / fade_len_, 0.0, 1.0);
+    const double a = std::clamp(static_cast<double>(t - fade_start_ + 1) / fade_len_, 0.0, 1.0);
     for (size_t i = 0; i < now_code_.values.size(); ++i) {
       now_code_.values[i] =
           static_cast<float>((1 - a) * from_code_.values[i] + a * to_code_.values[i]);

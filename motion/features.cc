@@ -178,7 +178,8 @@ absl::StatusOr<FeatureClip> ExtractFeatures(const Motion& motion, const Humanoid
   std::vector<Vec3> root(n);
   std::vector<double> yaw(n);
   std::vector<Quat> prev_q(nj);
-  const bool referenced = sign_reference != nullptr && static_cast<int>(sign_reference->size()) == nj;
+  const bool referenced =
+      sign_reference != nullptr && static_cast<int>(sign_reference->size()) == nj;
   if (referenced) prev_q = *sign_reference;
   for (int f = 0; f < n; ++f) {
     positions[f] = PoseRow(sk, roles, above, PoseAt(motion, f), f == 0 && !referenced, &prev_q,

@@ -14,9 +14,9 @@ bool SameRate(double frame_time, double other) {
 absl::Status CheckServedRate(double frame_time, const std::string& what) {
   const double fps = 1.0 / frame_time;
   if (!(fps >= kMinServedFps * 0.999 && fps <= kMaxServedFps * 1.001)) {
-    return absl::InvalidArgumentError(absl::StrCat(what, " is at ", fps,
-                                                   " fps; frame rates from ", kMinServedFps,
-                                                   " to ", kMaxServedFps, " fps are served"));
+    return absl::InvalidArgumentError(absl::StrCat(what, " is at ", fps, " fps; frame rates from ",
+                                                   kMinServedFps, " to ", kMaxServedFps,
+                                                   " fps are served"));
   }
   return absl::OkStatus();
 }

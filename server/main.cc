@@ -72,8 +72,7 @@ int main(int argc, char** argv) {
     } else if (arg == "--max-batch") {
       ok = absl::SimpleAtoi(value, &options.max_batch) && options.max_batch >= 0;
     } else if (arg == "--max-queue-delay-us") {
-      ok = absl::SimpleAtoi(value, &options.max_queue_delay_us) &&
-           options.max_queue_delay_us >= 0;
+      ok = absl::SimpleAtoi(value, &options.max_queue_delay_us) && options.max_queue_delay_us >= 0;
     } else if (arg == "--max-message-mb") {
       ok = to_int(&options.max_message_mb);
     } else if (arg == "--max-stream-frames") {

@@ -37,8 +37,7 @@ StylusServer::~StylusServer() {
 
 absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOptions& options) {
   if (options.threads < 1 || options.max_streams < 1 || options.max_message_mb < 1 ||
-      options.max_stream_frames < 1 || options.max_batch < 0 ||
-      options.max_queue_delay_us < 0) {
+      options.max_stream_frames < 1 || options.max_batch < 0 || options.max_queue_delay_us < 0) {
     return absl::InvalidArgumentError("threads, stream and message limits must be positive");
   }
   model::SetComputeThreads(options.torch_threads);
@@ -52,9 +51,9 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   impl->context.styles = &impl->styles;
   impl->context.executor = impl->executor.get();
   if (options.max_batch > 0) {
-    impl->batcher = std::make_unique<StepBatcher>(
-        impl->executor.get(), options.max_batch,
-        std::chrono::microseconds(options.max_queue_delay_us));
+    impl->batcher =
+        std::make_unique<StepBatcher>(impl->executor.get(), options.max_batch,
+                                      std::chrono::microseconds(options.max_queue_delay_us));
     impl->context.batcher = impl->batcher.get();
   }
   impl->context.max_streams = options.max_streams;

@@ -31,9 +31,9 @@ struct ServerOptions {
 // What the server is doing now.
 struct ServerLoad {
   int open_streams = 0;
-  int queued_tasks = 0;   // Compute work accepted and waiting for a thread.
-  int running_tasks = 0;  // Compute work running now.
-  int64_t batches = 0;    // Live step batches run since the start...
+  int queued_tasks = 0;       // Compute work accepted and waiting for a thread.
+  int running_tasks = 0;      // Compute work running now.
+  int64_t batches = 0;        // Live step batches run since the start...
   int64_t batched_steps = 0;  // ...and the steps they held.
 };
 

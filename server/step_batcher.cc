@@ -43,22 +43,21 @@ void StepBatcher::Loop() {
     {
       absl::MutexLock lock(&mu_);
       mu_.Await(absl::Condition(
-          +[](StepBatcher* b) ABSL_NO_THREAD_SAFETY_ANALYSIS {
-            return b->stopping_ || !b->waiting_.empty();
-          },
+          +[](StepBatcher* b)
+               ABSL_NO_THREAD_SAFETY_ANALYSIS { return b->stopping_ || !b->waiting_.empty(); },
           this));
       if (waiting_.empty()) return;  // Stopping, and nothing left.
       // Wait for a full batch or the oldest entry's deadline.
       const auto deadline = waiting_.front().since + max_delay_;
       const absl::Time until =
           absl::Now() + absl::FromChrono(deadline - std::chrono::steady_clock::now());
-      mu_.AwaitWithDeadline(
-          absl::Condition(
-              +[](StepBatcher* b) ABSL_NO_THREAD_SAFETY_ANALYSIS {
-                return b->stopping_ || static_cast<int>(b->waiting_.size()) >= b->max_batch_;
-              },
-              this),
-          until);
+      mu_.AwaitWithDeadline(absl::Condition(
+                                +[](StepBatcher* b) ABSL_NO_THREAD_SAFETY_ANALYSIS {
+                                  return b->stopping_ ||
+                                         static_cast<int>(b->waiting_.size()) >= b->max_batch_;
+                                },
+                                this),
+                            until);
       // Every waiting stream of the oldest's model, in order, up to max_batch.
       const model::StyleModel* model = waiting_.front().model.get();
       for (auto it = waiting_.begin();

@@ -222,9 +222,9 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     } else if (change.has_blend()) {
       const v1::StyleBlend& blend = change.blend();
       if (blend.styles_size() == 0 || blend.weights_size() != blend.styles_size()) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "style change: a blend needs one weight per style (got ", blend.styles_size(),
-            " styles and ", blend.weights_size(), " weights)"));
+        return absl::InvalidArgumentError(
+            absl::StrCat("style change: a blend needs one weight per style (got ",
+                         blend.styles_size(), " styles and ", blend.weights_size(), " weights)"));
       }
       std::vector<model::StyleCode> codes;
       std::vector<double> weights;

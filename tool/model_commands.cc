@@ -85,38 +85,38 @@ int Train(const Argv& argv) {
       "same shape (fine-tuning; critics and optimizers start afresh).\n"
       "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
   int code = 0;
-  auto args = ParseOrExit("train", argv,
-                          {{"family",
-                            "data",
-                            "out",
-                            "iters",
-                            "batch",
-                            "lr",
-                            "alpha",
-                            "beta",
-                            "gamma",
-                            "seed",
-                            "threads",
-                            "checkpoint-every",
-                            "log-every",
-                            "commit",
-                            "content-weight",
-                            "smooth-sigma",
-                            "class-weight",
-                            "cycle-weight",
-                            "content-class-weight",
-                            "content-balance",
-                            "init-from",
-                            "average-from",
-                            "average-every",
-                            "channels",
-                            "lookahead",
-                            "window",
-                            "hop"},
-                           {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path",
-                            "pair-gan", "random-starts", "mirror", "residual", "live",
-                           "frame-residual"}},
-                          kHelp, &code);
+  auto args =
+      ParseOrExit("train", argv,
+                  {{"family",
+                    "data",
+                    "out",
+                    "iters",
+                    "batch",
+                    "lr",
+                    "alpha",
+                    "beta",
+                    "gamma",
+                    "seed",
+                    "threads",
+                    "checkpoint-every",
+                    "log-every",
+                    "commit",
+                    "content-weight",
+                    "smooth-sigma",
+                    "class-weight",
+                    "cycle-weight",
+                    "content-class-weight",
+                    "content-balance",
+                    "init-from",
+                    "average-from",
+                    "average-every",
+                    "channels",
+                    "lookahead",
+                    "window",
+                    "hop"},
+                   {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
+                    "random-starts", "mirror", "residual", "live", "frame-residual"}},
+                  kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
     return Fail("train",
@@ -212,7 +212,8 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--lookahead must be 1 or 2"));
   }
   if (!window.ok() || *window < 4 || *window > 4096 || *window % 2) {
-    return Fail("train", absl::InvalidArgumentError("--window must be an even number in [4, 4096]"));
+    return Fail("train",
+                absl::InvalidArgumentError("--window must be an even number in [4, 4096]"));
   }
   if (!hop.ok() || *hop < 1 || *hop > *window) {
     return Fail("train", absl::InvalidArgumentError("--hop must be a number in [1, --window]"));

@@ -178,8 +178,8 @@ std::string MirroredPath(const std::string& path) {
 // Appends the mirrors of `motions` (the set's clips as read, one each) to
 // `set` (see LoadTrainingData).
 absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
-                              const motion::WindowSpec& spec,
-                              const motion::ContactParams& contacts, TrainingSet* set) {
+                              const motion::WindowSpec& spec, const motion::ContactParams& contacts,
+                              TrainingSet* set) {
   std::vector<const motion::Motion*> samples;
   for (const motion::Motion& m : motions) samples.push_back(&m);
   absl::StatusOr<motion::MirrorMap> map = motion::PlanMirror(set->skeleton, samples);
@@ -207,13 +207,11 @@ absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
 absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
                                              const motion::WindowSpec& windows,
                                              const std::function<void(const std::string&)>& log,
-                                             bool mirror,
-                                             const motion::ContactParams& contacts) {
+                                             bool mirror, const motion::ContactParams& contacts) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<motion::Motion> motions;
   absl::StatusOr<TrainingSet> loaded =
-      LoadTrainingSet(sources, windows, {}, false, nullptr,
-                                                            mirror ? &motions : nullptr, contacts);
+      LoadTrainingSet(sources, windows, {}, false, nullptr, mirror ? &motions : nullptr, contacts);
   if (!loaded.ok()) return loaded.status();
   if (mirror) {
     if (absl::Status s = AddMirroredClips(motions, windows, contacts, &*loaded); !s.ok()) return s;

@@ -90,9 +90,8 @@ absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sou
 // and the provenance it fills into `config` (dim, data, commit).
 template <typename Options, typename Config>
 absl::StatusOr<TrainingSet> LoadRunData(const Options& options, Config* config) {
-  absl::StatusOr<TrainingSet> data =
-      LoadTrainingData(options.data, {config->window, config->hop}, options.log, config->mirror,
-                       config->Contacts());
+  absl::StatusOr<TrainingSet> data = LoadTrainingData(
+      options.data, {config->window, config->hop}, options.log, config->mirror, config->Contacts());
   if (!data.ok()) return data.status();
   data->random_starts = config->random_starts;
   config->dim = data->dim();

@@ -137,18 +137,19 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
         "content window plus a change)");
   }
   if (c.frame_residual && !c.live) {
-    return absl::InvalidArgumentError(source + ": 'frame_residual' is for live packages (live = 1)");
+    return absl::InvalidArgumentError(source +
+                                      ": 'frame_residual' is for live packages (live = 1)");
   }
   if (c.live) {
-    const char* whole_window = c.smooth_sigma > 0          ? "smooth_sigma"
-                               : c.residual                ? "residual"
-                               : c.content_detail > 0      ? "content_detail"
-                               : c.content_guard           ? "content_guard"
-                                                           : nullptr;
+    const char* whole_window = c.smooth_sigma > 0     ? "smooth_sigma"
+                               : c.residual           ? "residual"
+                               : c.content_detail > 0 ? "content_detail"
+                               : c.content_guard      ? "content_guard"
+                                                      : nullptr;
     if (whole_window != nullptr) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          source, ": '", whole_window,
-          "' needs whole windows of frames; a live package (live = 1) has none"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(source, ": '", whole_window,
+                       "' needs whole windows of frames; a live package (live = 1) has none"));
     }
   }
   if (c.content_detail > 0 && c.DetailSigma() <= 0) {

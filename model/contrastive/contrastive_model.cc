@@ -76,8 +76,9 @@ const DataFiles& ContrastiveModel::data() const { return impl_->data; }
 const std::string& ContrastiveModel::dir() const { return impl_->dir; }
 ModelSummary ContrastiveModel::summary() const {
   const ContrastiveConfig& c = impl_->config;
-  return {c.family, c.window, c.hop, c.dim, c.trained_iterations, c.live,
-          c.live ? c.lookahead : 0, MacsPerStep()};
+  return {
+      c.family,     c.window, c.hop, c.dim, c.trained_iterations, c.live, c.live ? c.lookahead : 0,
+      MacsPerStep()};
 }
 int ContrastiveModel::code_size() const { return impl_->config.channels; }
 const ContentGuard* ContrastiveModel::content_guard() const { return impl_->guard.get(); }
@@ -279,8 +280,7 @@ class ContrastiveModel::LiveForms : public StyleModel::Forms {
   torch::Tensor codes_;  // (1, C) or (1, C, T).
 };
 
-absl::StatusOr<std::vector<float>> ContrastiveModel::LiveStyleParams(
-    const StyleCode& style) const {
+absl::StatusOr<std::vector<float>> ContrastiveModel::LiveStyleParams(const StyleCode& style) const {
   if (!impl_->config.live) return absl::FailedPreconditionError("not a live package");
   if (static_cast<int>(style.values.size()) != code_size()) {
     return absl::InvalidArgumentError(absl::StrCat("style code has ", style.values.size(),
@@ -340,7 +340,8 @@ int64_t ContrastiveModel::MacsPerStep() const {
   // Offline: the encoder's first conv at T frames, the rest at T / 2, and
   // the generator's two output convs at T again (contrastive_net.h).
   const int64_t t = c.window, h = c.window / 2, ch = c.channels, k = c.res_kernel;
-  const int64_t encoder = c.dim * ch * 7 * t + ch * ch * 4 * h + ch * ch * 7 * h + 6 * ch * ch * k * h;
+  const int64_t encoder =
+      c.dim * ch * 7 * t + ch * ch * 4 * h + ch * ch * 7 * h + 6 * ch * ch * k * h;
   const int64_t generator = 8 * ch * ch * k * h + ch * ch * 7 * t + ch * c.dim * 7 * t;
   return encoder + generator;
 }
@@ -360,13 +361,13 @@ absl::StatusOr<std::unique_ptr<StyleModel::Forms>> ContrastiveModel::PrepareTran
         codes = torch::empty({1, config.channels, f->frames});
         for (int t = 0; t < f->frames; ++t) {
           const StyleCode code = MixStyles(styles, weights.per_frame[t]);
-          codes[0].select(1, t).copy_(torch::from_blob(const_cast<float*>(code.values.data()),
-                                                       {config.channels}));
+          codes[0].select(1, t).copy_(
+              torch::from_blob(const_cast<float*>(code.values.data()), {config.channels}));
         }
       } else {
         const StyleCode code = MixStyles(styles, weights.fixed);
-        codes = torch::from_blob(const_cast<float*>(code.values.data()), {1, config.channels})
-                    .clone();
+        codes =
+            torch::from_blob(const_cast<float*>(code.values.data()), {1, config.channels}).clone();
       }
     } catch (const std::exception& e) {
       return impl_->Internal(e);

@@ -42,7 +42,6 @@ class ContrastiveModel : public StyleModel {
 
   int code_size() const override;
 
-
   // Live packages (config().live; docs/families.md "Live packages"): a
   // stream runs one frame per step through the causal networks, with the
   // state each stream carries in a LiveCarry.

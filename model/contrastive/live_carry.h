@@ -6,8 +6,8 @@
 #ifndef STYLUS_MODEL_CONTRASTIVE_LIVE_CARRY_H_
 #define STYLUS_MODEL_CONTRASTIVE_LIVE_CARRY_H_
 
-#include <cstddef>
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -24,7 +24,8 @@ struct LiveCarry {
   // encoder warms up on its look-ahead, the generator's outputs stand for no
   // frame and must not enter its history.
   void ResetGenerator() {
-    for (size_t i = content; i < buffers.size(); ++i) std::fill(buffers[i].begin(), buffers[i].end(), 0.f);
+    for (size_t i = content; i < buffers.size(); ++i)
+      std::fill(buffers[i].begin(), buffers[i].end(), 0.f);
   }
 
   size_t bytes() const {

@@ -114,7 +114,8 @@ void LiveEngine::Step(const std::vector<LiveStep>& steps) const {
   const int rows = static_cast<int>(steps.size()), ch = channels_;
   const size_t n = static_cast<size_t>(rows) * ch;
   std::vector<float> x(static_cast<size_t>(rows) * dim_), h(n), t(n), u(n);
-  for (int r = 0; r < rows; ++r) std::copy(steps[r].features, steps[r].features + dim_, &x[r * dim_]);
+  for (int r = 0; r < rows; ++r)
+    std::copy(steps[r].features, steps[r].features + dim_, &x[r * dim_]);
   size_t slot = 0;
   // A residual block on h: conv, norm, [style], LeakyReLU, conv, norm,
   // [style], plus h. `offset`: the block's parameters, or -1 for none.

@@ -16,7 +16,8 @@ torch::Tensor FrameNorm(const torch::Tensor& x) {
 }
 
 // scale/bias (B, C) or (B, C, T) applied to x (B, C, T).
-torch::Tensor Affine(const torch::Tensor& x, const torch::Tensor& scale, const torch::Tensor& bias) {
+torch::Tensor Affine(const torch::Tensor& x, const torch::Tensor& scale,
+                     const torch::Tensor& bias) {
   if (scale.dim() == 2) return x * (1 + scale.unsqueeze(2)) + bias.unsqueeze(2);
   return x * (1 + scale) + bias;
 }
@@ -70,7 +71,6 @@ torch::Tensor LiveContentEncoderImpl::forward(const torch::Tensor& x) {
   for (const auto& b : *blocks) y = b->as<LiveBlock>()->forward(y, torch::Tensor());
   return y.narrow(2, shift_, frames);
 }
-
 
 LiveGeneratorImpl::LiveGeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) {
   mlp = register_module(

@@ -33,8 +33,8 @@ absl::StatusOr<std::unique_ptr<LiveStreamer>> LiveStreamer::Create(
 }
 
 LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
-                           const motion::Motion& empty, StyleCode style,
-                           std::vector<float> params, motion::PostProcessMode post)
+                           const motion::Motion& empty, StyleCode style, std::vector<float> params,
+                           motion::PostProcessMode post)
     : model_(std::move(model)),
       dim_(model_->config().dim),
       shift_(model_->config().lookahead - 1),
@@ -60,8 +60,7 @@ absl::Status LiveStreamer::Feed(const motion::Motion& frames, bool end) {
           "frame ", received_ + static_cast<int64_t>(i / channels), " has a non-finite value"));
     }
   }
-  if (ended_ && frames.num_frames > 0)
-    return absl::FailedPreconditionError("the stream has ended");
+  if (ended_ && frames.num_frames > 0) return absl::FailedPreconditionError("the stream has ended");
   std::vector<float> row(dim_);
   for (int f = 0; f < frames.num_frames; ++f) {
     const double* frame = frames.values.data() + static_cast<size_t>(f) * channels;
@@ -114,7 +113,7 @@ void LiveStreamer::StepDone() {
   queue_.pop_front();
   while (static_cast<int>(recent_.size()) > shift_ + 1) recent_.pop_front();
   const int64_t frame = stepped_++ - shift_;  // The frame the output is of.
-  if (frame < 0) {  // The content encoder's warm-up: no frame yet.
+  if (frame < 0) {                            // The content encoder's warm-up: no frame yet.
     carry_.ResetGenerator();
     return;
   }

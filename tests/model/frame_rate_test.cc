@@ -24,7 +24,8 @@ double MeanJointDistance(const motion::Motion& a, int fa, const motion::Motion& 
   const motion::GlobalPose ga = motion::ForwardKinematics(a.skeleton, motion::PoseAt(a, fa));
   const motion::GlobalPose gb = motion::ForwardKinematics(b.skeleton, motion::PoseAt(b, fb));
   double d = 0;
-  for (size_t j = 0; j < ga.positions.size(); ++j) d += motion::Norm(ga.positions[j] - gb.positions[j]);
+  for (size_t j = 0; j < ga.positions.size(); ++j)
+    d += motion::Norm(ga.positions[j] - gb.positions[j]);
   return d / ga.positions.size();
 }
 

@@ -65,8 +65,8 @@ TEST(FeaturesTest, AVagueGeneratedRotationKeepsThePreviousFrames) {
   float* q = f->row(10) + layout.rotation(knee);
   const float vague[4] = {0.05f, -0.2f, 0.1f, 0.05f};
   std::copy(vague, vague + 4, q);
-  absl::StatusOr<Motion> m = MotionFromFeatures(*f, fx.motion.skeleton, fx.roles,
-                                                fx.motion.frame_time, RootAt(fx.motion, fx.roles, 0));
+  absl::StatusOr<Motion> m = MotionFromFeatures(
+      *f, fx.motion.skeleton, fx.roles, fx.motion.frame_time, RootAt(fx.motion, fx.roles, 0));
   ASSERT_TRUE(m.ok()) << m.status();
   const Quat at9 = PoseAt(*m, 9).rotations[knee], at10 = PoseAt(*m, 10).rotations[knee];
   EXPECT_LT(AngleBetween(at9, at10), 1e-4);
@@ -146,7 +146,6 @@ TEST(FeaturesTest, HumanoidRolesNeedNamedLegs) {
   EXPECT_NE(s.message().find("not a recognizable humanoid"), std::string::npos);
 }
 
-
 namespace {
 
 // ExtractFeatures with the running floor, frame by frame through a FeatureStream.
@@ -186,7 +185,8 @@ TEST(FeatureStreamTest, FrameByFrameEqualsTheWholeClipWithTheRunningFloor) {
   for (size_t i = 0; i < whole->values.size(); ++i) {
     ASSERT_NEAR(streamed.values[i], whole->values[i], 1e-5)
         << "frame " << i / whole->dim << " channel " << i % whole->dim;
-    if (static_cast<int>(i % whole->dim) >= FeatureLayout(fx.motion.skeleton.num_joints()).contacts())
+    if (static_cast<int>(i % whole->dim) >=
+        FeatureLayout(fx.motion.skeleton.num_joints()).contacts())
       contacts += whole->values[i] > 0.5f;
   }
   EXPECT_GT(contacts, 0);

@@ -56,7 +56,8 @@ std::vector<motion::Motion> StreamAll(LiveServer* server, const std::vector<moti
     absl::StatusOr<StreamResult> r = p.get();
     EXPECT_TRUE(r.ok()) << r.status();
     if (!r.ok()) return {};
-    for (size_t i = 0; i < r->indices.size(); ++i) EXPECT_EQ(r->indices[i], static_cast<int64_t>(i));
+    for (size_t i = 0; i < r->indices.size(); ++i)
+      EXPECT_EQ(r->indices[i], static_cast<int64_t>(i));
     out.push_back(r->output);
   }
   return out;
@@ -124,8 +125,8 @@ using testing::Sample;
 grpc::Status StreamWithChange(const std::string& address, const std::string& model,
                               const motion::Motion& content, const motion::Motion& style,
                               const v1::StyleChange& change, int at, motion::Motion* out) {
-  auto stub = v1::StyleService::NewStub(
-      grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
+  auto stub =
+      v1::StyleService::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
   grpc::ClientContext ctx;
   auto stream = stub->TransferStream(&ctx);
   v1::StreamRequest config;

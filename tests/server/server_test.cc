@@ -468,6 +468,9 @@ TEST(ServerShutdownTest, InFlightCallsFinishBeforeTheServerStops) {
   // take longer than the wait below, and the call would then arrive after the
   // shutdown (refused, as it should be, but not what this test is about).
   ASSERT_TRUE(live->client->ListModels().ok());
+  // ListModels' executor task may still be winding down after its reply:
+  // only the transfer's task may count below.
+  ASSERT_TRUE(testing::WaitFor([&] { return live->server->load().running_tasks == 0; }));
   auto pending = std::async(std::launch::async, [&] {
     return live->client->Transfer(content, {&style, ""});
   });

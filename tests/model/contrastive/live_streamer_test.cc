@@ -99,8 +99,8 @@ TEST_P(LiveStreamerTest, AnyChunkingGivesTheSameFrames) {
 TEST_P(LiveStreamerTest, FullPostProcessingKeepsBoneLengths) {
   const auto model = Model();
   const motion::Motion content = Clip(0);
-  const motion::Motion out = Stream(model, *model->EncodeStyle(Clip(2)), content, 1,
-                                    motion::PostProcessMode::kFull);
+  const motion::Motion out =
+      Stream(model, *model->EncodeStyle(Clip(2)), content, 1, motion::PostProcessMode::kFull);
   ASSERT_EQ(out.num_frames, content.num_frames);
   const motion::Skeleton& sk = out.skeleton;
   for (int f = 0; f < out.num_frames; f += 9) {
@@ -108,8 +108,8 @@ TEST_P(LiveStreamerTest, FullPostProcessingKeepsBoneLengths) {
     for (int j = 0; j < sk.num_joints(); ++j) {
       const int p = sk.joint(j).parent;
       if (p < 0 || j == model->data().roles.pelvis) continue;
-      EXPECT_NEAR(motion::Norm(g.positions[j] - g.positions[p]),
-                  motion::Norm(sk.joint(j).offset), 1e-3)
+      EXPECT_NEAR(motion::Norm(g.positions[j] - g.positions[p]), motion::Norm(sk.joint(j).offset),
+                  1e-3)
           << "frame " << f << " joint " << sk.joint(j).name;
     }
   }
@@ -127,8 +127,8 @@ TEST(LiveStreamerBatchTest, StepsBatchedAcrossStreamsEqualStepsRunAlone) {
   std::vector<std::unique_ptr<LiveStreamer>> streams;
   std::vector<motion::Motion> out;
   for (int i = 0; i < 3; ++i) {
-    auto s = LiveStreamer::Create(model, {styles[i], clips[i].skeleton, clips[i].frame_time,
-                                          motion::PostProcessMode::kFull});
+    auto s = LiveStreamer::Create(
+        model, {styles[i], clips[i].skeleton, clips[i].frame_time, motion::PostProcessMode::kFull});
     ASSERT_TRUE(s.ok()) << s.status();
     streams.push_back(*std::move(s));
     out.push_back(Frames(clips[i], 0, 0));
@@ -164,8 +164,9 @@ TEST(LiveStreamerBatchTest, StepsBatchedAcrossStreamsEqualStepsRunAlone) {
     }
   }
   for (int i = 0; i < 3; ++i) {
-    const motion::Motion alone = Stream(model, styles[i], Frames(clips[i], 0, clips[i].num_frames - i * 5), 1,
-                                        motion::PostProcessMode::kFull);
+    const motion::Motion alone =
+        Stream(model, styles[i], Frames(clips[i], 0, clips[i].num_frames - i * 5), 1,
+               motion::PostProcessMode::kFull);
     EXPECT_LT(MaxDifference(out[i], alone), 1e-3) << "stream " << i;
   }
 }
@@ -239,7 +240,8 @@ class LiveControlTest : public ::testing::Test {
   static double MaxStep(const motion::Motion& m, int begin, int end) {
     double worst = 0;
     for (int f = std::max(1, begin); f < end; ++f)
-      worst = std::max(worst, motion::MaxPositionDifference(Frames(m, f - 1, f), Frames(m, f, f + 1)));
+      worst =
+          std::max(worst, motion::MaxPositionDifference(Frames(m, f - 1, f), Frames(m, f, f + 1)));
     return worst;
   }
   std::shared_ptr<const ContrastiveModel> model_;
@@ -267,15 +269,15 @@ TEST_F(LiveControlTest, StrengthZeroGivesTheContentBack) {
   const motion::Motion out = Run(old_, {{30, std::nullopt, 0.0, 10}});
   // From the fade's end on, the pose is the content's own (the path always is).
   const double gap = motion::MaxPositionDifference(Frames(out, 45, 110), Frames(content_, 45, 110));
-  const double styled = motion::MaxPositionDifference(Frames(Run(old_, {}), 45, 110),
-                                                      Frames(content_, 45, 110));
+  const double styled =
+      motion::MaxPositionDifference(Frames(Run(old_, {}), 45, 110), Frames(content_, 45, 110));
   std::printf("strength 0 vs the content: %.2f; strength 1: %.2f\n", gap, styled);
   EXPECT_LT(gap, 0.5 * styled);
 }
 
 TEST_F(LiveControlTest, TheShippedPackagesStreamStateIsFixedOverTenMinutes) {
-  auto s = LiveStreamer::Create(model_, {old_, content_.skeleton, content_.frame_time,
-                                         motion::PostProcessMode::kFull});
+  auto s = LiveStreamer::Create(
+      model_, {old_, content_.skeleton, content_.frame_time, motion::PostProcessMode::kFull});
   ASSERT_TRUE(s.ok()) << s.status();
   size_t first = 0;
   // 10 minutes at 30 Hz: the clip looped 150 times.

@@ -1,4 +1,4 @@
-// Service figures for the issue report, against a real stylus-server process:
+// Service figures against a real stylus-server process:
 //   - unary Transfer latency of a 300-frame clip (median of N), and as a ratio
 //     to the baseline measured in the same run: the same transfer in-process,
 //     without gRPC (so the ratio is the cost of the service around the model);
@@ -6,52 +6,23 @@
 //     (and the floor the windowing sets: a frame waits for the window after it);
 //   - the server's resident memory idle and after 1000 Transfer calls.
 // Usage: server_bench [--server-bin PATH] [--calls 1000] [--reps 20]
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <algorithm>
 #include <atomic>
-#include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "bench/bench_support.h"
 #include "client/client.h"
 #include "model/family_registry.h"
 #include "model/runtime.h"
 #include "motion/synth.h"
 
-extern char** environ;
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-double Percentile(std::vector<double> v, double p) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
-}
-
-long RssKb(pid_t pid) {
-  std::ifstream f("/proc/" + std::to_string(pid) + "/status");
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
-  }
-  return -1;
-}
-
-}  // namespace
+using stylus::bench::Clock;
+using stylus::bench::Percentile;
+using stylus::bench::RssKb;
+using stylus::bench::Since;
 
 int main(int argc, char** argv) {
   std::string server_bin = std::string(STYLUS_BINARY_DIR) + "/server/stylus-server";
@@ -67,35 +38,14 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[++i]);
   }
   const std::string models = std::string(STYLUS_SOURCE_DIR) + "/models";
-  const std::string port_file = "/tmp/stylus_server_bench." + std::to_string(getpid()) + ".port";
-  std::remove(port_file.c_str());
-  std::vector<std::string> args = {server_bin, "--models",    models,
-                                   "--listen", "localhost:0", "--port-file",
-                                   port_file,  "--threads",   "2"};
-  std::vector<char*> cargs;
-  for (auto& a : args) cargs.push_back(a.data());
-  cargs.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  pid_t pid;
-  if (posix_spawn(&pid, server_bin.c_str(), &actions, nullptr, cargs.data(), environ) != 0) {
+  stylus::bench::ServerProcess server;
+  if (!server.Start(server_bin, {"--models", models, "--threads", "2"})) {
     std::fprintf(stderr, "server_bench: cannot start %s\n", server_bin.c_str());
     return 1;
   }
-  int port = 0;
-  for (int i = 0; i < 300 && port == 0; ++i) {
-    std::ifstream f(port_file);
-    if (!(f >> port)) port = 0;
-    if (port == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  if (port == 0) {
-    std::fprintf(stderr, "server_bench: the server did not start\n");
-    kill(pid, SIGKILL);
-    return 1;
-  }
+  const pid_t pid = server.pid;
   stylus::ClientOptions options;
-  options.address = "localhost:" + std::to_string(port);
+  options.address = server.address();
   stylus::Client client(options);
 
   const auto content =
@@ -120,7 +70,6 @@ int main(int argc, char** argv) {
     unary.push_back(Since(t));
     if (!out.ok()) {
       std::fprintf(stderr, "server_bench: %s\n", out.status().ToString().c_str());
-      kill(pid, SIGKILL);
       return 1;
     }
   }
@@ -133,13 +82,11 @@ int main(int argc, char** argv) {
   auto streamed = client.Stream(content, {&style, ""}, 30);
   if (!streamed.ok()) {
     std::fprintf(stderr, "server_bench: stream: %s\n", streamed.status().ToString().c_str());
-    kill(pid, SIGKILL);
     return 1;
   }
   const absl::StatusOr<stylus::v1::ModelInfo> info = client.GetModel("");
   if (!info.ok()) {
     std::fprintf(stderr, "server_bench: %s\n", info.status().ToString().c_str());
-    kill(pid, SIGKILL);
     return 1;
   }
   // Frame f leaves once input reaches the start of the window after it plus
@@ -170,10 +117,6 @@ int main(int argc, char** argv) {
       "%.1f calls/s, %d failed) %.1f MB; after/before %.2f\n",
       rss_idle / 1024.0, rss_before / 1024.0, calls, secs, calls / secs, failures.load(),
       rss_after / 1024.0, static_cast<double>(rss_after) / rss_before);
-  kill(pid, SIGTERM);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  std::printf("server exit on SIGTERM: %d\n", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-  std::remove(port_file.c_str());
+  std::printf("server exit on SIGTERM: %d\n", server.Stop());
   return 0;
 }

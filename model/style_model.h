@@ -83,8 +83,8 @@ struct ModelSummary {
   // `lookahead` more input frames have arrived (0 for offline packages).
   bool live = false;
   int lookahead = 0;
-  // Multiply-adds of the networks per live step (one frame), or per window
-  // for an offline package (0 when a family does not say).
+  // Multiply-adds of the networks per live step (one frame); 0 for
+  // packages that do not stream frame by frame.
   int64_t step_macs = 0;
 };
 

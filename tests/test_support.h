@@ -33,6 +33,12 @@ inline motion::Motion Frames(const motion::Motion& m, int begin, int end) {
   return out;
 }
 
+// Appends the frames of `chunk` (same skeleton) to `all`.
+inline void Append(const motion::Motion& chunk, motion::Motion* all) {
+  all->values.insert(all->values.end(), chunk.values.begin(), chunk.values.end());
+  all->num_frames += chunk.num_frames;
+}
+
 // Copies the model package `from` (every file: weights, statistics,
 // skeleton, guards) into a fresh directory `name` under the test temp dir,
 // its config.txt without the lines whose key is in `drop` and with `append`.

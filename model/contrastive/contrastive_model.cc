@@ -76,9 +76,14 @@ const DataFiles& ContrastiveModel::data() const { return impl_->data; }
 const std::string& ContrastiveModel::dir() const { return impl_->dir; }
 ModelSummary ContrastiveModel::summary() const {
   const ContrastiveConfig& c = impl_->config;
-  return {
-      c.family,     c.window, c.hop, c.dim, c.trained_iterations, c.live, c.live ? c.lookahead : 0,
-      MacsPerStep()};
+  return {c.family,
+          c.window,
+          c.hop,
+          c.dim,
+          c.trained_iterations,
+          c.live,
+          c.live ? c.lookahead : 0,
+          impl_->engine ? impl_->engine->macs() : 0};
 }
 int ContrastiveModel::code_size() const { return impl_->config.channels; }
 const ContentGuard* ContrastiveModel::content_guard() const { return impl_->guard.get(); }
@@ -303,12 +308,9 @@ LiveCarry ContrastiveModel::NewLiveCarry() const {
 
 absl::Status ContrastiveModel::StepLive(const std::vector<LiveStep>& steps) const {
   if (!impl_->engine) return absl::FailedPreconditionError("not a live package");
-  const LiveCarry shape = impl_->engine->NewCarry();
   for (const LiveStep& s : steps) {
-    bool fits = s.carry != nullptr && s.carry->buffers.size() == shape.buffers.size();
-    for (size_t l = 0; fits && l < shape.buffers.size(); ++l)
-      fits = s.carry->buffers[l].size() == shape.buffers[l].size();
-    if (!fits || s.features == nullptr || s.params == nullptr || s.out == nullptr)
+    if (s.carry == nullptr || !impl_->engine->Fits(*s.carry) || s.features == nullptr ||
+        s.params == nullptr || s.out == nullptr)
       return absl::InvalidArgumentError("a live step does not fit this model");
   }
   if (steps.empty()) return absl::OkStatus();
@@ -332,18 +334,6 @@ absl::Status ContrastiveModel::StepStreams(const std::vector<FrameStreamer*>& co
   if (absl::Status s = StepLive(steps); !s.ok()) return s;
   for (LiveStreamer* s : streams) s->StepDone();
   return absl::OkStatus();
-}
-
-int64_t ContrastiveModel::MacsPerStep() const {
-  const ContrastiveConfig& c = impl_->config;
-  if (c.live) return impl_->engine->macs();
-  // Offline: the encoder's first conv at T frames, the rest at T / 2, and
-  // the generator's two output convs at T again (contrastive_net.h).
-  const int64_t t = c.window, h = c.window / 2, ch = c.channels, k = c.res_kernel;
-  const int64_t encoder =
-      c.dim * ch * 7 * t + ch * ch * 4 * h + ch * ch * 7 * h + 6 * ch * ch * k * h;
-  const int64_t generator = 8 * ch * ch * k * h + ch * ch * 7 * t + ch * c.dim * 7 * t;
-  return encoder + generator;
 }
 
 absl::StatusOr<std::unique_ptr<StyleModel::Forms>> ContrastiveModel::PrepareTransfer(

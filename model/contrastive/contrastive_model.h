@@ -57,9 +57,6 @@ class ContrastiveModel : public StyleModel {
   absl::Status StepLive(const std::vector<LiveStep>& steps) const;
   // Live packages: the steps of LiveStreamers opened on this model.
   absl::Status StepStreams(const std::vector<FrameStreamer*>& cores) const override;
-  // Multiply-adds of the content encoder and generator per live step, or,
-  // offline, per window.
-  int64_t MacsPerStep() const;
 
   // Lower-level steps of Transfer, for streaming (model/contrastive/window_streamer.h).
   // The clip's normalized features, checked as Transfer checks a content clip

@@ -16,7 +16,6 @@ namespace stylus::model {
 struct LiveCarry {
   // One buffer per causal convolution, (channels, kernel - 1) channel major.
   std::vector<std::vector<float>> buffers;
-  int64_t steps = 0;  // Feature frames stepped through.
   // buffers[0, content) are the content encoder's, the rest the generator's.
   size_t content = 0;
 

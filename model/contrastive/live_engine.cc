@@ -77,6 +77,15 @@ LiveCarry LiveEngine::NewCarry() const {
   return carry;
 }
 
+bool LiveEngine::Fits(const LiveCarry& carry) const {
+  if (carry.buffers.size() != convs_.size()) return false;
+  for (size_t i = 0; i < convs_.size(); ++i) {
+    if (carry.buffers[i].size() != static_cast<size_t>(convs_[i].in) * (convs_[i].kernel - 1))
+      return false;
+  }
+  return true;
+}
+
 int64_t LiveEngine::macs() const {
   int64_t n = 0;
   for (const Conv& c : convs_) n += static_cast<int64_t>(c.in) * c.out * c.kernel;
@@ -143,7 +152,6 @@ void LiveEngine::Step(const std::vector<LiveStep>& steps) const {
   RunConv(slot++, steps, t.data(), out.data());
   for (int r = 0; r < rows; ++r) {
     std::copy(&out[r * dim_], &out[r * dim_] + dim_, steps[r].out);
-    ++steps[r].carry->steps;
   }
 }
 

@@ -29,6 +29,8 @@ class LiveEngine {
 
   // A stream's state before its first frame.
   LiveCarry NewCarry() const;
+  // Whether `carry` has this engine's buffers.
+  bool Fits(const LiveCarry& carry) const;
   // Runs one frame of each step's stream (ContrastiveModel::StepLive).
   void Step(const std::vector<LiveStep>& steps) const;
   int64_t macs() const;

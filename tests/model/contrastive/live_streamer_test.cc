@@ -25,12 +25,9 @@ using contrastive_testing::Clip;
 using contrastive_testing::Dir;
 using contrastive_testing::LivePackage;
 using contrastive_testing::TinyOptions;
+using testing::Append;
 using testing::Frames;
 
-void Append(const motion::Motion& chunk, motion::Motion* all) {
-  all->values.insert(all->values.end(), chunk.values.begin(), chunk.values.end());
-  all->num_frames += chunk.num_frames;
-}
 
 // Streams `clip` in chunks of 1..max_chunk frames (1: frame by frame,
 // checking the latency after each).

@@ -15,14 +15,11 @@
 namespace stylus::model {
 namespace {
 
+using testing::Append;
 using testing::Frames;
 
 const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v5";
 
-void Append(const motion::Motion& chunk, motion::Motion* all) {
-  all->values.insert(all->values.end(), chunk.values.begin(), chunk.values.end());
-  all->num_frames += chunk.num_frames;
-}
 
 // Streams `clip` in chunks of random sizes (1..max_chunk) and returns the
 // output, checking that frames come out in order and only after enough input.

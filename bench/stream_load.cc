@@ -125,7 +125,7 @@ struct Point {
   double p50 = 0, p99 = 0, max = 0;
   int64_t sent = 0, received = 0, late = 0;
   int failed = 0;
-  double cpu_cores = 0, rss_mb = 0;
+  double cpu_cores = 0, rss_mb = 0, client_cores = 0;
   bool held = false;
 };
 
@@ -146,7 +146,7 @@ Point RunPoint(ServerProcess* server, int n, double rate, double seconds, double
     streams.push_back(std::make_unique<LoadStream>(stubs[i / 100].get(), config, &clip, total));
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // Configs in.
-  const double cpu0 = CpuSeconds(server->pid);
+  const double cpu0 = CpuSeconds(server->pid), client0 = CpuSeconds(getpid());
   const Clock::time_point start = Clock::now();
   for (int t = 0; t < total; ++t) {
     std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
@@ -156,6 +156,7 @@ Point RunPoint(ServerProcess* server, int n, double rate, double seconds, double
   Point p;
   p.streams = n;
   p.cpu_cores = (CpuSeconds(server->pid) - cpu0) / Since(start);
+  p.client_cores = (CpuSeconds(getpid()) - client0) / Since(start);
   p.rss_mb = RssKb(server->pid) / 1024.0;
   for (auto& s : streams) s->Close();
   std::vector<double> all;
@@ -180,10 +181,11 @@ Point RunPoint(ServerProcess* server, int n, double rate, double seconds, double
 void PrintPoint(const char* mode, const Point& p) {
   std::printf(
       "%-9s %5d streams: latency p50 %6.1f ms  p99 %6.1f ms  max %7.1f ms | late %lld, lost "
-      "%lld of %lld, failed streams %d | server CPU %.2f cores, RSS %.0f MB | %s\n",
+      "%lld of %lld, failed streams %d | server CPU %.2f cores, RSS %.0f MB (client CPU %.2f) | "
+      "%s\n",
       mode, p.streams, p.p50, p.p99, p.max, static_cast<long long>(p.late),
       static_cast<long long>(p.sent - p.received), static_cast<long long>(p.sent), p.failed,
-      p.cpu_cores, p.rss_mb, p.held ? "held" : "NOT held");
+      p.cpu_cores, p.rss_mb, p.client_cores, p.held ? "held" : "NOT held");
   std::fflush(stdout);
 }
 

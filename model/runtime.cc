@@ -14,4 +14,6 @@ void SetComputeThreads(int threads) {
 
 int ComputeThreads() { return at::get_num_threads(); }
 
+void InitComputeThreadsHere() { at::init_num_threads(); }
+
 }  // namespace stylus::model

@@ -9,6 +9,12 @@ namespace stylus::model {
 void SetComputeThreads(int threads);
 int ComputeThreads();
 
+// Applies the SetComputeThreads count to the calling thread: threads started
+// by the program (the server's executor and batcher) call it first. Without
+// it, BLAS products run from such a thread are split over every core
+// (OpenMP's default for a new thread), whatever the count says.
+void InitComputeThreadsHere();
+
 }  // namespace stylus::model
 
 #endif  // STYLUS_MODEL_RUNTIME_H_

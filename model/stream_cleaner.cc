@@ -1,66 +1,89 @@
 #include "model/stream_cleaner.h"
 
 #include <algorithm>
+#include <iterator>
+
+#include "motion/kinematics.h"
 
 namespace stylus::model {
 
-StreamCleaner::StreamCleaner(const motion::Motion& empty, const motion::HumanoidRoles& roles,
-                             motion::PostProcessMode post, int history)
-    : roles_(roles),
-      post_(post),
-      history_(history),
-      done_(empty),
-      output_(empty),
-      content_(empty) {}
+StreamCleaner::StreamCleaner(const motion::HumanoidRoles& roles, motion::PostProcessMode post,
+                             int history)
+    : roles_(roles), post_(post), history_(history) {}
 
 int64_t StreamCleaner::FirstInputNeeded(int64_t first) const {
-  return std::max({int64_t{0}, done_base_, first - history_});
+  return std::max({int64_t{0}, sent_base_, first - history_});
 }
 
 absl::StatusOr<motion::Motion> StreamCleaner::Clean(const motion::Motion& raw, int64_t first,
                                                     const motion::Motion& input, int64_t input_base,
                                                     int64_t input_end) {
   if (post_ == motion::PostProcessMode::kNone || raw.num_frames == 0) return raw;
-  const int channels = raw.skeleton.num_channels();
+  const motion::Skeleton& sk = raw.skeleton;
   // Output: the post-processed history, then the new raw frames; content: the
   // held input over the same frames and every later one received.
-  const int64_t from = std::max({input_base, done_base_, first - history_});
-  motion::Motion& output = output_;
-  output.num_frames = static_cast<int>(first - from);
-  output.values.assign(done_.values.begin() + (from - done_base_) * channels, done_.values.end());
-  output.values.insert(output.values.end(), raw.values.begin(), raw.values.end());
-  output.num_frames += raw.num_frames;
-  motion::Motion& content = content_;
+  const int64_t from = std::max({input_base, sent_base_, first - history_});
   const int64_t end = input_end >= 0 ? std::min(input_end, input_base + input.num_frames)
                                      : input_base + input.num_frames;
-  content.num_frames = static_cast<int>(end - from);
-  content.values.assign(input.values.begin() + (from - input_base) * channels,
-                        input.values.begin() + (end - input_base) * channels);
+  // The input's world positions over [from, end), each frame posed once.
+  if (content_.empty() || content_base_ > from ||
+      content_base_ + static_cast<int64_t>(content_.size()) < from) {
+    content_.clear();
+    content_base_ = from;
+  }
+  content_.erase(content_.begin(), content_.begin() + (from - content_base_));
+  content_base_ = from;
+  for (int64_t i = content_base_ + static_cast<int64_t>(content_.size()); i < end; ++i) {
+    content_.push_back(
+        motion::ForwardKinematics(sk, motion::PoseAt(input, static_cast<int>(i - input_base)))
+            .positions);
+  }
+  std::vector<motion::LocalPose> poses;
+  poses.reserve(first - from + raw.num_frames);
+  poses.insert(poses.end(), sent_.begin() + (from - sent_base_), sent_.end());
+  for (int f = 0; f < raw.num_frames; ++f) poses.push_back(motion::PoseAt(raw, f));
   motion::PostProcessParams params;
   params.pin_at_span_start = true;
-  absl::StatusOr<motion::Motion> cleaned =
-      motion::PostProcess(output, content, roles_, post_, params);
+  // A contact that goes on keeps its pin, though the span began before the
+  // history window.
+  motion::ContactPins pins;
+  for (int k = 0; k < 4; ++k) {
+    if (pins_[k])
+      pins[k] = motion::ContactPin{static_cast<int>(pins_[k]->first - from), pins_[k]->second};
+  }
+  absl::StatusOr<std::vector<motion::LocalPose>> cleaned = motion::PostProcessPoses(
+      sk, roles_, std::move(poses),
+      absl::MakeConstSpan(content_).subspan(0, static_cast<size_t>(end - from)), raw.fps(), post_,
+      params, static_cast<int>(first - from), &pins);
   if (!cleaned.ok()) return cleaned.status();
-  // The new frames' Euler angles continue from the last frame sent (the
-  // history was re-solved above and may sit on another Euler branch).
+  for (int k = 0; k < 4; ++k) {
+    pins_[k].reset();
+    if (pins[k]) pins_[k] = std::make_pair(from + pins[k]->frame, pins[k]->pin);
+  }
+  // The new frames' Euler angles continue from the last frame sent (from the
+  // first raw frame's own at the stream's start).
+  if (sent_.empty() || sent_base_ + static_cast<int64_t>(sent_.size()) != first) {
+    last_euler_.assign(sk.num_joints(), motion::Vec3{});
+    const double* row = raw.frame(0);
+    for (int j = 0; j < sk.num_joints(); ++j) {
+      const motion::Joint& joint = sk.joint(j);
+      int k = 0;
+      for (size_t c = 0; c < joint.channels.size(); ++c) {
+        if (!motion::IsPosition(joint.channels[c])) {
+          last_euler_[j][k++] = row[sk.channel_start(j) + c];
+        }
+      }
+    }
+  }
   motion::Motion fresh = raw;
-  const int64_t lead = first > from ? 1 : 0;
-  fresh.values.assign(done_.values.end() - lead * channels, done_.values.end());
-  fresh.values.insert(fresh.values.end(), cleaned->values.begin() + (first - from) * channels,
-                      cleaned->values.end());
-  fresh.num_frames = raw.num_frames + static_cast<int>(lead);
-  motion::MakeEulerContinuous(&fresh);
-  fresh.values.erase(fresh.values.begin(), fresh.values.begin() + lead * channels);
-  fresh.num_frames = raw.num_frames;
+  for (int f = 0; f < raw.num_frames; ++f) motion::SetPose(&fresh, f, (*cleaned)[f], &last_euler_);
   // Keep `history` of the frames as sent.
-  done_.values.erase(done_.values.begin(), done_.values.begin() + (from - done_base_) * channels);
-  done_.values.insert(done_.values.end(), fresh.values.begin(), fresh.values.end());
-  done_.num_frames = static_cast<int>(done_.values.size() / channels);
-  done_base_ = from;
-  const int64_t keep = std::max(done_base_, first + raw.num_frames - history_);
-  done_.values.erase(done_.values.begin(), done_.values.begin() + (keep - done_base_) * channels);
-  done_.num_frames -= static_cast<int>(keep - done_base_);
-  done_base_ = keep;
+  sent_.erase(sent_.begin(), sent_.begin() + (from - sent_base_));
+  sent_base_ = from;
+  std::move(cleaned->begin(), cleaned->end(), std::back_inserter(sent_));
+  const int64_t keep = std::max(sent_base_, first + raw.num_frames - history_);
+  sent_.erase(sent_.begin(), sent_.begin() + (keep - sent_base_));
+  sent_base_ = keep;
   return fresh;
 }
 

@@ -6,11 +6,19 @@
 // the new frames' Euler angles continue from the last frame sent. Used by
 // the streamers of every family.
 //
+// The history's poses and the input's world positions are kept between
+// calls, so each frame is converted from Euler angles, and each input frame
+// posed, once (a live stream cleans one frame per call).
+//
 // Thread-safety: one per stream, used by one thread at a time.
 #ifndef STYLUS_MODEL_STREAM_CLEANER_H_
 #define STYLUS_MODEL_STREAM_CLEANER_H_
 
+#include <array>
 #include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "motion/humanoid.h"
@@ -21,10 +29,8 @@ namespace stylus::model {
 
 class StreamCleaner {
  public:
-  // `empty`: a motion of no frames on the stream's skeleton and frame time.
   // `history`: output frames kept and re-cleaned with each batch.
-  StreamCleaner(const motion::Motion& empty, const motion::HumanoidRoles& roles,
-                motion::PostProcessMode post, int history);
+  StreamCleaner(const motion::HumanoidRoles& roles, motion::PostProcessMode post, int history);
 
   // Cleans output frames [first, first + raw.num_frames) (stream indices,
   // following the frames cleaned before). `input` holds stream frames
@@ -44,11 +50,14 @@ class StreamCleaner {
   const motion::HumanoidRoles& roles_;
   motion::PostProcessMode post_;
   int history_;
-  motion::Motion done_;    // The last output frames sent (history).
-  int64_t done_base_ = 0;  // Stream index of done_'s first frame.
-  // What each call hands to PostProcess, kept so that the skeleton is not
-  // copied per call.
-  motion::Motion output_, content_;
+  std::vector<motion::LocalPose> sent_;   // The last output frames sent (history).
+  int64_t sent_base_ = 0;                 // Stream index of sent_'s first frame.
+  std::vector<motion::Vec3> last_euler_;  // The last frame sent's Euler angles.
+  // World positions of input frames [content_base_, content_base_ + size).
+  std::vector<std::vector<motion::Vec3>> content_;
+  int64_t content_base_ = 0;
+  // Each foot's last contact: a stream frame of it and its pin.
+  std::array<std::optional<std::pair<int64_t, motion::Vec3>>, 4> pins_;
 };
 
 }  // namespace stylus::model

@@ -82,9 +82,9 @@ const char* PostProcessModeName(PostProcessMode mode) {
   return "?";
 }
 
-std::array<std::vector<ContactSpan>, 4> DetectContactSpans(
-    const std::vector<std::vector<Vec3>>& pos, const HumanoidRoles& roles, double fps,
-    const ContactSpanParams& params) {
+std::array<std::vector<ContactSpan>, 4> DetectContactSpans(absl::Span<const std::vector<Vec3>> pos,
+                                                           const HumanoidRoles& roles, double fps,
+                                                           const ContactSpanParams& params) {
   std::array<std::vector<ContactSpan>, 4> spans;
   const int n = static_cast<int>(pos.size());
   const std::array<int, 4> feet = FootJoints(roles);
@@ -137,12 +137,11 @@ void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles) {
   }
 }
 
-void SmoothRotations(Motion* motion, int radius) {
-  const int n = motion->num_frames;
+void SmoothPoses(const Skeleton& sk, std::vector<LocalPose>* poses_in, int radius) {
+  std::vector<LocalPose>& poses = *poses_in;
+  const int n = static_cast<int>(poses.size());
   if (radius <= 0 || n < 2) return;
-  const Skeleton& sk = motion->skeleton;
-  std::vector<LocalPose> poses(n);
-  for (int f = 0; f < n; ++f) poses[f] = PoseAt(*motion, f);
+  std::vector<Quat> q(n), smoothed_rotations(n);
   for (int j = 1; j < sk.num_joints(); ++j) {
     // The root's rotation is kept as it is (it carries the path's facing).
     // Its children are smoothed in the root's parent frame (the world): a
@@ -152,7 +151,6 @@ void SmoothRotations(Motion* motion, int radius) {
     auto rotation = [&](int f) {
       return under_root ? poses[f].rotations[0] * poses[f].rotations[j] : poses[f].rotations[j];
     };
-    std::vector<Quat> q(n), smoothed_rotations(n);
     for (int f = 0; f < n; ++f) {
       q[f] = f == 0 ? rotation(f) : SameHemisphere(rotation(f), q[f - 1]);
     }
@@ -170,6 +168,14 @@ void SmoothRotations(Motion* motion, int radius) {
     }
     for (int f = 0; f < n; ++f) poses[f].rotations[j] = smoothed_rotations[f];
   }
+}
+
+void SmoothRotations(Motion* motion, int radius) {
+  const int n = motion->num_frames;
+  if (radius <= 0 || n < 2) return;
+  std::vector<LocalPose> poses(n);
+  for (int f = 0; f < n; ++f) poses[f] = PoseAt(*motion, f);
+  SmoothPoses(motion->skeleton, &poses, radius);
   std::vector<Vec3> prev = EulerAt(*motion, 0);
   for (int f = 0; f < n; ++f) SetPose(motion, f, poses[f], &prev);
 }
@@ -181,28 +187,24 @@ void MakeEulerContinuous(Motion* motion) {
   for (int f = 1; f < motion->num_frames; ++f) SetPose(motion, f, PoseAt(*motion, f), &prev);
 }
 
-absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
-                                   const HumanoidRoles& roles, PostProcessMode mode,
-                                   const PostProcessParams& params) {
-  if (mode == PostProcessMode::kNone) return output;
-  const Skeleton& sk = output.skeleton;
-  if (!sk.SameTopology(content.skeleton)) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("post-processing: the content clip is on another skeleton: ",
-                     sk.DescribeMismatch(content.skeleton)));
+absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
+    const Skeleton& sk, const HumanoidRoles& roles, std::vector<LocalPose> source,
+    absl::Span<const std::vector<Vec3>> content_pos, double fps, PostProcessMode mode,
+    const PostProcessParams& params, int first_kept, ContactPins* pins) {
+  const int n = static_cast<int>(source.size());
+  first_kept = std::clamp(first_kept, 0, n);
+  if (mode == PostProcessMode::kNone || n == 0) {
+    if (pins != nullptr) pins->fill(std::nullopt);
+    source.erase(source.begin(), source.begin() + first_kept);
+    return source;
   }
   absl::StatusOr<std::array<Leg, 2>> legs = Legs(sk, roles);
   if (!legs.ok()) return legs.status();
-  const int n = output.num_frames;
-  if (n == 0) return output;
-  const double fps = output.fps();
-  const auto content_pos = GlobalPositions(content);
-  const auto spans = DetectContactSpans(content_pos, roles, content.fps(), params.contacts);
-  Motion source = output;
-  if (mode == PostProcessMode::kFull) SmoothRotations(&source, params.smooth_radius);
+  const auto spans = DetectContactSpans(content_pos, roles, fps, params.contacts);
+  if (mode == PostProcessMode::kFull) SmoothPoses(sk, &source, params.smooth_radius);
   // The output's world pose per frame: the pins and the knees' hinges read it.
   std::vector<GlobalPose> out_pose(n);
-  for (int f = 0; f < n; ++f) out_pose[f] = ForwardKinematics(sk, PoseAt(source, f));
+  for (int f = 0; f < n; ++f) out_pose[f] = ForwardKinematics(sk, source[f]);
   const std::array<int, 4> feet = FootJoints(roles);
   const int blend = std::max(1, static_cast<int>(std::lround(params.blend_s * fps)));
 
@@ -213,11 +215,15 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
     weight[k].assign(n, 0.0);
     target[k].assign(n, Vec3{});
     const int j = feet[k];
+    std::optional<ContactPin> latest;
     for (const ContactSpan& s : spans[k]) {
       if (s.begin >= n) continue;
       const int last = std::min(s.end, n);
       Vec3 pin;
-      if (params.pin_at_span_start) {
+      const std::optional<ContactPin>& known = pins != nullptr ? (*pins)[k] : std::nullopt;
+      if (known && s.begin <= known->frame && known->frame < s.end) {
+        pin = known->pin;  // A contact seen before: its pin stays.
+      } else if (params.pin_at_span_start) {
         pin = out_pose[s.begin].positions[j];
       } else {
         for (int f = s.begin; f < last; ++f) pin = pin + out_pose[f].positions[j];
@@ -237,7 +243,9 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
           target[k][f] = {pin.x, content_pos[f][j].y, pin.z};
         }
       }
+      latest = ContactPin{last - 1, pin};
     }
+    if (pins != nullptr) (*pins)[k] = latest;
   }
 
   // Each knee's hinge in its thigh's frame, the same for the whole clip (a
@@ -262,13 +270,11 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
     if (Norm(bend_sum[side]) > 1e-9) hinge[side] = Normalized(bend_sum[side], {1, 0, 0});
   }
 
-  Motion result = output;
+  std::vector<LocalPose> result;
+  result.reserve(n - first_kept);
   const std::vector<bool> below = BelowPelvis(sk, roles);
-  // Continuity starts from the output's own first frame (in a stream, the
-  // last frame already sent).
-  std::vector<Vec3> prev_euler = EulerAt(output, 0);
-  for (int f = 0; f < n; ++f) {
-    LocalPose local = PoseAt(source, f);
+  for (int f = first_kept; f < n; ++f) {
+    LocalPose local = std::move(source[f]);
     if (mode == PostProcessMode::kFull) {
       for (int j = 0; j < sk.num_joints(); ++j) {
         if (below[j] && HasPositionChannel(sk.joint(j))) local.translations[j] = sk.joint(j).offset;
@@ -317,8 +323,33 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
       local.rotations[leg.ankle] =
           Normalized(Conjugate(g.rotations[leg.knee]) * g.rotations[leg.ankle]);
     }
-    SetPose(&result, f, local, &prev_euler);
+    result.push_back(std::move(local));
   }
+  return result;
+}
+
+absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
+                                   const HumanoidRoles& roles, PostProcessMode mode,
+                                   const PostProcessParams& params) {
+  if (mode == PostProcessMode::kNone) return output;
+  const Skeleton& sk = output.skeleton;
+  if (!sk.SameTopology(content.skeleton)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("post-processing: the content clip is on another skeleton: ",
+                     sk.DescribeMismatch(content.skeleton)));
+  }
+  const int n = output.num_frames;
+  std::vector<LocalPose> poses(n);
+  for (int f = 0; f < n; ++f) poses[f] = PoseAt(output, f);
+  absl::StatusOr<std::vector<LocalPose>> cleaned = PostProcessPoses(
+      sk, roles, std::move(poses), GlobalPositions(content), output.fps(), mode, params);
+  if (!cleaned.ok()) return cleaned.status();
+  if (n == 0) return output;
+  Motion result = output;
+  // Continuity starts from the output's own first frame (in a stream, the
+  // last frame already sent).
+  std::vector<Vec3> prev_euler = EulerAt(output, 0);
+  for (int f = 0; f < n; ++f) SetPose(&result, f, (*cleaned)[f], &prev_euler);
   return result;
 }
 

@@ -6,11 +6,13 @@
 #define STYLUS_MOTION_POSTPROCESS_H_
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
+#include "absl/types/span.h"
 #include "motion/humanoid.h"
 #include "motion/motion.h"
 
@@ -42,7 +44,7 @@ struct ContactSpan {
 // ankle, right toe). `positions`: frames x joints world positions, Y up. A
 // joint's floor is its lowest height in `positions`.
 std::array<std::vector<ContactSpan>, 4> DetectContactSpans(
-    const std::vector<std::vector<Vec3>>& positions, const HumanoidRoles& roles, double fps,
+    absl::Span<const std::vector<Vec3>> positions, const HumanoidRoles& roles, double fps,
     const ContactSpanParams& params = {});
 
 struct PostProcessParams {
@@ -71,6 +73,33 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
                                    const HumanoidRoles& roles, PostProcessMode mode,
                                    const PostProcessParams& params = {});
 
+// A foot's contact as a stream's cleaner carries it from call to call: a
+// frame of the contact (an index into the call's frames, negative before
+// them) and where the foot is pinned.
+struct ContactPin {
+  int frame = 0;
+  Vec3 pin;
+};
+using ContactPins = std::array<std::optional<ContactPin>, 4>;  // FootJoints order.
+
+// PostProcess on poses, for callers that keep poses from call to call (a
+// stream's cleaner converts each frame from and to Euler angles once, not
+// once per call). `output`: the output's local poses; `content_positions`:
+// the content's world positions (frames x joints, at least as many frames);
+// both at `fps`. Returns the cleaned poses of frames [first_kept, n): the
+// frames before it are read (smoothing, pins, the knees' hinges) but not
+// returned. The skeleton checks of PostProcess are the caller's.
+// `pins`, when given: on the way in, contacts seen by the previous call (a
+// contact span holding its frame keeps that pin, however far back the span
+// began); on the way out, each foot's last contact span in these frames
+// (none: nullopt). Without it a span that began before the first frame is
+// pinned where it is at the first frame, which drifts as a stream's history
+// window slides along a long contact.
+absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
+    const Skeleton& skeleton, const HumanoidRoles& roles, std::vector<LocalPose> output,
+    absl::Span<const std::vector<Vec3>> content_positions, double fps, PostProcessMode mode,
+    const PostProcessParams& params = {}, int first_kept = 0, ContactPins* pins = nullptr);
+
 // Position channels of every joint below the pelvis set to its offset (its
 // bone length and direction at rest).
 void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles);
@@ -79,6 +108,8 @@ void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles);
 // of its rotations over [f - radius, f + radius] (quaternions aligned to one
 // hemisphere, renormalized). Translations are kept.
 void SmoothRotations(Motion* motion, int radius);
+// The same on poses.
+void SmoothPoses(const Skeleton& skeleton, std::vector<LocalPose>* poses, int radius);
 
 // Rewrites every rotation as the Euler angles, in the joint's own order,
 // nearest to the previous frame's: the same rotations without 360-degree (or

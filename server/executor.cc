@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "model/runtime.h"
+
 namespace stylus::server {
 
 Executor::Executor(int threads) {
@@ -36,6 +38,7 @@ int Executor::running() const {
 }
 
 void Executor::Loop() {
+  model::InitComputeThreadsHere();  // Its tasks run LibTorch.
   for (;;) {
     std::function<void()> task;
     {

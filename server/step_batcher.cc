@@ -3,6 +3,8 @@
 #include <utility>
 #include <vector>
 
+#include "model/runtime.h"
+
 namespace stylus::server {
 
 StepBatcher::StepBatcher(Executor* executor, int max_batch, std::chrono::microseconds max_delay)
@@ -38,6 +40,9 @@ int64_t StepBatcher::steps() const {
 }
 
 void StepBatcher::Loop() {
+  // One compute thread, as set for the server: a batch's products are small,
+  // and the streams' other work runs on the executor's threads meanwhile.
+  model::InitComputeThreadsHere();
   for (;;) {
     std::vector<Entry> batch;
     {

@@ -48,7 +48,7 @@ LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
       out_(dim_),
       input_(empty),
       empty_(empty),
-      cleaner_(empty, model_->data().roles, post, kCleanHistory) {
+      cleaner_(model_->data().roles, post, kCleanHistory) {
   generated_.dim = dim_;
 }
 

@@ -41,7 +41,7 @@ WindowStreamer::WindowStreamer(std::shared_ptr<const ContrastiveModel> model, St
       hop_(model_->config().hop),
       input_(empty),
       blender_(window_, window_ - hop_, model_->data().norm.dim()),
-      cleaner_(empty, model_->data().roles, post, window_) {}
+      cleaner_(model_->data().roles, post, window_) {}
 
 absl::StatusOr<motion::Motion> WindowStreamer::Push(const motion::Motion& frames) {
   const int channels = input_.skeleton.num_channels();

@@ -15,7 +15,7 @@ int64_t StreamCleaner::FirstInputNeeded(int64_t first) const {
   return std::max({int64_t{0}, sent_base_, first - history_});
 }
 
-absl::StatusOr<motion::Motion> StreamCleaner::Clean(const motion::Motion& raw, int64_t first,
+absl::StatusOr<motion::Motion> StreamCleaner::Clean(motion::Motion raw, int64_t first,
                                                     const motion::Motion& input, int64_t input_base,
                                                     int64_t input_end) {
   if (post_ == motion::PostProcessMode::kNone || raw.num_frames == 0) return raw;
@@ -75,13 +75,14 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(const motion::Motion& raw, i
       }
     }
   }
-  motion::Motion fresh = raw;
-  for (int f = 0; f < raw.num_frames; ++f) motion::SetPose(&fresh, f, (*cleaned)[f], &last_euler_);
+  const int frames = raw.num_frames;
+  motion::Motion fresh = std::move(raw);
+  for (int f = 0; f < frames; ++f) motion::SetPose(&fresh, f, (*cleaned)[f], &last_euler_);
   // Keep `history` of the frames as sent.
   sent_.erase(sent_.begin(), sent_.begin() + (from - sent_base_));
   sent_base_ = from;
   std::move(cleaned->begin(), cleaned->end(), std::back_inserter(sent_));
-  const int64_t keep = std::max(sent_base_, first + raw.num_frames - history_);
+  const int64_t keep = std::max(sent_base_, first + frames - history_);
   sent_.erase(sent_.begin(), sent_.begin() + (keep - sent_base_));
   sent_base_ = keep;
   return fresh;

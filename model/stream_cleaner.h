@@ -37,7 +37,7 @@ class StreamCleaner {
   // [input_base, input_base + input.num_frames), at least from
   // first - history (or the stream's start) on; the frames from `input_end`
   // on (when >= 0) are not read.
-  absl::StatusOr<motion::Motion> Clean(const motion::Motion& raw, int64_t first,
+  absl::StatusOr<motion::Motion> Clean(motion::Motion raw, int64_t first,
                                        const motion::Motion& input, int64_t input_base,
                                        int64_t input_end = -1);
 

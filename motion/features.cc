@@ -229,7 +229,12 @@ absl::StatusOr<Motion> MotionFromFeatures(const FeatureClip& features, const Ske
     }
   }
   const std::vector<bool> above = AbovePelvis(sk, roles);
-  Motion m = RestMotion(sk, features.frames, frame_time);
+  // Every channel is written below (SetPose).
+  Motion m;
+  m.skeleton = sk;
+  m.frame_time = frame_time;
+  m.num_frames = features.frames;
+  m.values.assign(static_cast<size_t>(features.frames) * sk.num_channels(), 0.0);
   std::vector<Vec3>& prev_euler = state->prev_euler;
   prev_euler.resize(nj);
   double x = state->root.x, z = state->root.z, yaw = state->root.yaw;

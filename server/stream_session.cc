@@ -4,6 +4,7 @@
 #include <deque>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "model/style_schedule.h"
@@ -38,9 +39,11 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     }
     // A task returns true when it handed its steps to the batcher, whose
     // continuation then ends the task.
+    // The request is read in place: the next read starts after the task
+    // (AfterTask), and parsing into the same message reuses its storage.
     std::function<bool()> task;
     if (ok) {
-      task = [this, request = std::move(request_)] { return Handle(request); };
+      task = [this] { return Handle(request_); };
     } else {
       task = [this] { return HandleEnd(); };
     }
@@ -57,6 +60,8 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     const v1::StreamResponse* next = nullptr;
     {
       absl::MutexLock lock(&mu_);
+      // Kept for a later frame: a response's storage is reused, not freed.
+      if (spare_.size() < kSpareResponses) spare_.push_back(std::move(writes_.front()));
       writes_.pop_front();
       writing_ = false;
       if (!ok) Fail(absl::CancelledError("the client stopped reading"));
@@ -273,12 +278,18 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   void Enqueue(const motion::Motion& frames) {
     if (frames.num_frames == 0) return;
     const int64_t first = first_index_ + streamer_->emitted() - frames.num_frames;
-    std::deque<v1::StreamResponse> batch;
+    std::vector<v1::StreamResponse> batch(frames.num_frames);
+    {
+      absl::MutexLock lock(&mu_);
+      for (int f = 0; f < frames.num_frames && !spare_.empty(); ++f) {
+        batch[f] = std::move(spare_.back());
+        spare_.pop_back();
+      }
+    }
     for (int f = 0; f < frames.num_frames; ++f) {
-      v1::StreamResponse r;
+      v1::StreamResponse& r = batch[f];
       wire::FrameToProto(frames, f, first + f, r.mutable_frame());
       r.mutable_frame()->set_timestamp((first + f) * frames.frame_time);
-      batch.push_back(std::move(r));
     }
     absl::MutexLock lock(&mu_);
     if (failed_) return;
@@ -365,7 +376,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
 
   ServiceContext* const service_;
   const std::chrono::steady_clock::time_point start_;
-  v1::StreamRequest request_;  // Read buffer; moved out in OnReadDone.
+  v1::StreamRequest request_;  // Read buffer; the task reads it in place.
 
   // Touched by the executor task only (one at a time per session).
   std::unique_ptr<model::FrameStreamer> streamer_;
@@ -377,6 +388,8 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
 
   absl::Mutex mu_;
   std::deque<v1::StreamResponse> writes_ ABSL_GUARDED_BY(mu_);
+  static constexpr size_t kSpareResponses = 4;
+  std::vector<v1::StreamResponse> spare_ ABSL_GUARDED_BY(mu_);  // Written, for reuse.
   bool writing_ ABSL_GUARDED_BY(mu_) = false;
   // Executor tasks of this session queued or running (a reaction that gRPC
   // runs inline, inside StartRead, can queue one while another ends).

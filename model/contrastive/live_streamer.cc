@@ -145,13 +145,13 @@ absl::StatusOr<motion::Motion> LiveStreamer::Collect() {
   if (!decoded.ok()) return decoded.status();
   generated_.frames = 0;
   generated_.values.clear();
-  const motion::Motion& raw = *decoded;
+  motion::Motion& raw = *decoded;
   // Frame by frame, so that how the input was chunked cannot change the
   // output.
   const int channels = input_.skeleton.num_channels();
   if (raw.num_frames == 1) {
     absl::StatusOr<motion::Motion> clean =
-        cleaner_.Clean(raw, emitted_, input_, base_, emitted_ + lookahead_ + 1);
+        cleaner_.Clean(std::move(raw), emitted_, input_, base_, emitted_ + lookahead_ + 1);
     if (clean.ok()) ++emitted_;
     Trim();
     return clean;
@@ -162,7 +162,7 @@ absl::StatusOr<motion::Motion> LiveStreamer::Collect() {
     one.num_frames = 1;
     one.values.assign(raw.values.begin() + f * channels, raw.values.begin() + (f + 1) * channels);
     absl::StatusOr<motion::Motion> clean =
-        cleaner_.Clean(one, emitted_, input_, base_, emitted_ + lookahead_ + 1);
+        cleaner_.Clean(std::move(one), emitted_, input_, base_, emitted_ + lookahead_ + 1);
     if (!clean.ok()) return clean.status();
     out.values.insert(out.values.end(), clean->values.begin(), clean->values.end());
     ++out.num_frames;

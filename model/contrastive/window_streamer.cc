@@ -133,7 +133,7 @@ absl::StatusOr<motion::Motion> WindowStreamer::Emit(int64_t end) {
   absl::StatusOr<motion::Motion> raw = motion::MotionFromFeatures(
       out, input_.skeleton, model_->data().roles, input_.frame_time, &decode_);
   if (!raw.ok()) return raw;
-  return cleaner_.Clean(*raw, first, input_, base_);
+  return cleaner_.Clean(*std::move(raw), first, input_, base_);
 }
 
 void WindowStreamer::Trim() {

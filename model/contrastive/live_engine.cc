@@ -101,12 +101,13 @@ void LiveEngine::RunConv(size_t slot, const std::vector<LiveStep>& steps, const 
     float* w = windows.data() + r * width;
     std::vector<float>& state = steps[r].carry->buffers[slot];
     const float* in = x + r * c.in;
+    // Plain loops: a kernel is a few frames, too short for a copy call.
     for (int i = 0; i < c.in; ++i) {
       float* wi = w + i * k;
       float* si = state.data() + i * (k - 1);
-      std::copy(si, si + k - 1, wi);
+      for (int64_t t = 0; t + 1 < k; ++t) wi[t] = si[t];
       wi[k - 1] = in[i];
-      std::copy(wi + 1, wi + k, si);  // The state moves on one frame.
+      for (int64_t t = 0; t + 1 < k; ++t) si[t] = wi[t + 1];  // The state moves on one frame.
     }
   }
   c10::InferenceMode guard;

@@ -32,7 +32,8 @@ int Train(const Argv& argv) {
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
-      "         [--live [--lookahead 2] [--frame-residual]] [--window 32] [--hop 24]\n"
+      "         [--live [--lookahead 2] [--frame-residual] [--dilation-growth 1]]\n"
+      "         [--window 32] [--hop 24]\n"
       "         [--init-from PACKAGE] [--checkpoint-every 500] [--log-every 50] [--commit SHA]\n\n"
       "Trains a style-transfer model on the training split of each DIR (or on\n"
       ".bvh files given directly), by default without using any label. Prints the losses,\n"
@@ -78,7 +79,9 @@ int Train(const Argv& argv) {
       "--live trains a live package (docs/families.md \"Live packages\"): causal\n"
       "networks that stream one frame per step, each output frame final once\n"
       "--lookahead (1 or 2) more input frames have arrived. --frame-residual makes\n"
-      "its generator give the change to each content frame.\n"
+      "its generator give the change to each content frame. --dilation-growth G\n"
+      "dilates residual block b's convolutions by G^b (networks that see further\n"
+      "back at the same cost per frame; train them on longer windows).\n"
       "--window / --hop set the training windows (frames); a live package's\n"
       "network sees about 30 frames of history, so it trains on 64-frame windows.\n"
       "--init-from PACKAGE starts the networks from a trained package of the\n"
@@ -112,6 +115,7 @@ int Train(const Argv& argv) {
                     "average-every",
                     "channels",
                     "lookahead",
+                    "dilation-growth",
                     "window",
                     "hop"},
                    {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
@@ -220,6 +224,14 @@ int Train(const Argv& argv) {
   }
   c.lookahead = *lookahead, c.window = *window, c.hop = *hop;
   c.frame_residual = args->switches.count("frame-residual") > 0;
+  absl::StatusOr<int> growth = args->GetInt("dilation-growth", 1);
+  if (args->Has("dilation-growth") && !c.live) {
+    return Fail("train", absl::InvalidArgumentError("--dilation-growth needs --live"));
+  }
+  if (!growth.ok() || *growth < 1 || *growth > 4) {
+    return Fail("train", absl::InvalidArgumentError("--dilation-growth must be 1, 2, 3 or 4"));
+  }
+  c.dilation_growth = *growth;
   if (c.frame_residual && !c.live) {
     return Fail("train", absl::InvalidArgumentError("--frame-residual needs --live"));
   }

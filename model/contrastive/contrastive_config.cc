@@ -24,6 +24,7 @@ std::string ContrastiveConfig::Serialize() const {
     put("live", "1");
     put("lookahead", absl::StrCat(lookahead));
     if (frame_residual) put("frame_residual", "1");
+    if (dilation_growth > 1) put("dilation_growth", absl::StrCat(dilation_growth));
   }
   put("alpha", absl::StrCat(alpha));
   put("beta", absl::StrCat(beta));
@@ -91,6 +92,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "live") return e.Bool(&c.live);
     if (key == "lookahead") return e.Int(&c.lookahead, 1, 2);
     if (key == "frame_residual") return e.Bool(&c.frame_residual);
+    if (key == "dilation_growth") return e.Int(&c.dilation_growth, 1, 4);
     if (key == "alpha") return e.Double(&c.alpha, 0, 1e6);
     if (key == "beta") return e.Double(&c.beta, 0, 1e6);
     if (key == "gamma") return e.Double(&c.gamma, 0, 1e6);
@@ -139,6 +141,10 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
   if (c.frame_residual && !c.live) {
     return absl::InvalidArgumentError(source +
                                       ": 'frame_residual' is for live packages (live = 1)");
+  }
+  if (c.dilation_growth > 1 && !c.live) {
+    return absl::InvalidArgumentError(source +
+                                      ": 'dilation_growth' is for live packages (live = 1)");
   }
   if (c.live) {
     const char* whole_window = c.smooth_sigma > 0     ? "smooth_sigma"

@@ -38,6 +38,11 @@ struct ContrastiveConfig : GuardKeys {
   // output is added to the frame's features), so what it does not change of
   // the content's motion is kept as it came.
   bool frame_residual = false;
+  // Live only: residual block b of each network (from 0) has its
+  // convolutions dilated by dilation_growth^b, so the networks see further
+  // back for the same cost per frame (1: no dilation; 2: the generator's
+  // three blocks look 2, 4 and 8 frames apart per tap).
+  int dilation_growth = 1;
   // Inference keys (InferenceKeys(), with the guard's of GuardKeys; may be
   // set at load time). With `keep_path`, a transfer's root trajectory and
   // foot contacts are the content clip's (the style restyles the body along

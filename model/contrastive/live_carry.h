@@ -14,7 +14,8 @@
 namespace stylus::model {
 
 struct LiveCarry {
-  // One buffer per causal convolution, (channels, kernel - 1) channel major.
+  // One buffer per causal convolution, (channels, (kernel - 1) x dilation)
+  // channel major: each channel's last inputs, oldest first.
   std::vector<std::vector<float>> buffers;
   // buffers[0, content) are the content encoder's, the rest the generator's.
   size_t content = 0;

@@ -43,6 +43,7 @@ LiveEngine::LiveEngine(ContrastiveNetImpl& net) {
     conv.in = c->in;
     conv.out = c->out;
     conv.kernel = c->kernel;
+    conv.dilation = c->dilation;
     conv.weight_t = c->conv->weight.detach().reshape({c->out, c->in * c->kernel}).t().contiguous();
     const torch::Tensor b = c->conv->bias.detach().contiguous();
     conv.bias.assign(b.data_ptr<float>(), b.data_ptr<float>() + b.numel());
@@ -72,7 +73,7 @@ LiveEngine::LiveEngine(ContrastiveNetImpl& net) {
 LiveCarry LiveEngine::NewCarry() const {
   LiveCarry carry;
   for (const Conv& c : convs_)
-    carry.buffers.emplace_back(static_cast<size_t>(c.in) * (c.kernel - 1), 0.f);
+    carry.buffers.emplace_back(static_cast<size_t>(c.in) * c.history(), 0.f);
   carry.content = content_convs_;
   return carry;
 }
@@ -80,7 +81,7 @@ LiveCarry LiveEngine::NewCarry() const {
 bool LiveEngine::Fits(const LiveCarry& carry) const {
   if (carry.buffers.size() != convs_.size()) return false;
   for (size_t i = 0; i < convs_.size(); ++i) {
-    if (carry.buffers[i].size() != static_cast<size_t>(convs_[i].in) * (convs_[i].kernel - 1))
+    if (carry.buffers[i].size() != static_cast<size_t>(convs_[i].in) * convs_[i].history())
       return false;
   }
   return true;
@@ -101,13 +102,17 @@ void LiveEngine::RunConv(size_t slot, const std::vector<LiveStep>& steps, const 
     float* w = windows.data() + r * width;
     std::vector<float>& state = steps[r].carry->buffers[slot];
     const float* in = x + r * c.in;
-    // Plain loops: a kernel is a few frames, too short for a copy call.
+    // The state holds each channel's last `history` inputs, oldest first;
+    // tap t reads the one (k - 1 - t) * dilation frames back. Plain loops:
+    // a state is a few frames, too short for a copy call.
+    const int64_t d = c.dilation, hist = c.history();
     for (int i = 0; i < c.in; ++i) {
       float* wi = w + i * k;
-      float* si = state.data() + i * (k - 1);
-      for (int64_t t = 0; t + 1 < k; ++t) wi[t] = si[t];
+      float* si = state.data() + i * hist;
+      for (int64_t t = 0; t + 1 < k; ++t) wi[t] = si[t * d];
       wi[k - 1] = in[i];
-      for (int64_t t = 0; t + 1 < k; ++t) si[t] = wi[t + 1];  // The state moves on one frame.
+      for (int64_t t = 0; t + 1 < hist; ++t) si[t] = si[t + 1];  // The state moves on one frame.
+      if (hist > 0) si[hist - 1] = in[i];
     }
   }
   c10::InferenceMode guard;

@@ -37,7 +37,8 @@ class LiveEngine {
 
  private:
   struct Conv {
-    int in = 0, out = 0, kernel = 1;
+    int in = 0, out = 0, kernel = 1, dilation = 1;
+    int history() const { return (kernel - 1) * dilation; }
     torch::Tensor weight_t;  // (in * kernel, out): column o holds filter o.
     std::vector<float> bias;
   };

@@ -24,19 +24,19 @@ torch::Tensor Affine(const torch::Tensor& x, const torch::Tensor& scale,
 
 }  // namespace
 
-CausalConvImpl::CausalConvImpl(int in_channels, int out_channels, int k)
-    : in(in_channels), out(out_channels), kernel(k) {
-  conv = register_module("conv", nn::Conv1d(nn::Conv1dOptions(in, out, kernel)));
+CausalConvImpl::CausalConvImpl(int in_channels, int out_channels, int k, int d)
+    : in(in_channels), out(out_channels), kernel(k), dilation(d) {
+  conv = register_module("conv", nn::Conv1d(nn::Conv1dOptions(in, out, kernel).dilation(dilation)));
 }
 
 torch::Tensor CausalConvImpl::forward(const torch::Tensor& x) {
-  if (kernel == 1) return conv->forward(x);
-  return conv->forward(F::pad(x, F::PadFuncOptions({kernel - 1, 0})));
+  if (history() == 0) return conv->forward(x);
+  return conv->forward(F::pad(x, F::PadFuncOptions({history(), 0})));
 }
 
-LiveBlockImpl::LiveBlockImpl(int c, int kernel) : channels(c) {
-  conv1 = register_module("conv1", CausalConv(c, c, kernel));
-  conv2 = register_module("conv2", CausalConv(c, c, kernel));
+LiveBlockImpl::LiveBlockImpl(int c, int kernel, int dilation) : channels(c) {
+  conv1 = register_module("conv1", CausalConv(c, c, kernel, dilation));
+  conv2 = register_module("conv2", CausalConv(c, c, kernel, dilation));
 }
 
 torch::Tensor LiveBlockImpl::forward(const torch::Tensor& x, const torch::Tensor& p) {
@@ -56,8 +56,8 @@ LiveContentEncoderImpl::LiveContentEncoderImpl(const ContrastiveConfig& c)
   conv1 = register_module("conv1", CausalConv(c.dim, c.channels, c.res_kernel));
   conv2 = register_module("conv2", CausalConv(c.channels, c.channels, c.res_kernel));
   blocks = register_module("blocks", nn::ModuleList());
-  for (int i = 0; i < kLiveContentBlocks; ++i)
-    blocks->push_back(LiveBlock(c.channels, c.res_kernel));
+  for (int i = 0, d = 1; i < kLiveContentBlocks; ++i, d *= c.dilation_growth)
+    blocks->push_back(LiveBlock(c.channels, c.res_kernel, d));
 }
 
 torch::Tensor LiveContentEncoderImpl::forward(const torch::Tensor& x) {
@@ -78,8 +78,8 @@ LiveGeneratorImpl::LiveGeneratorImpl(const ContrastiveConfig& c) : channels(c.ch
                             nn::LeakyReLU(nn::LeakyReLUOptions().negative_slope(0.2)),
                             nn::Linear(c.channels, kLiveGeneratorBlocks * 4 * c.channels)));
   blocks = register_module("blocks", nn::ModuleList());
-  for (int i = 0; i < kLiveGeneratorBlocks; ++i)
-    blocks->push_back(LiveBlock(c.channels, c.res_kernel));
+  for (int i = 0, d = 1; i < kLiveGeneratorBlocks; ++i, d *= c.dilation_growth)
+    blocks->push_back(LiveBlock(c.channels, c.res_kernel, d));
   up_conv = register_module("up_conv", CausalConv(c.channels, c.channels, c.res_kernel));
   out_conv = register_module("out_conv", CausalConv(c.channels, c.dim, c.res_kernel));
 }

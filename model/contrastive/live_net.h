@@ -24,13 +24,16 @@
 
 namespace stylus::model {
 
-// A 1-D convolution whose output t sees inputs t - kernel + 1 .. t.
+// A 1-D convolution whose output t sees inputs t - (kernel - 1) * dilation,
+// ..., t - dilation, t.
 struct CausalConvImpl : torch::nn::Module {
-  CausalConvImpl(int in, int out, int kernel);
+  CausalConvImpl(int in, int out, int kernel, int dilation = 1);
   // (B, in, T) -> (B, out, T); zeros stand for the inputs before the first.
   torch::Tensor forward(const torch::Tensor& x);
+  // Past frames of input the convolution needs: (kernel - 1) * dilation.
+  int history() const { return (kernel - 1) * dilation; }
   torch::nn::Conv1d conv{nullptr};
-  int in, out, kernel;
+  int in, out, kernel, dilation;
 };
 TORCH_MODULE(CausalConv);
 
@@ -38,7 +41,7 @@ TORCH_MODULE(CausalConv);
 // input; with `styled`, each norm is followed by the style's scale and bias
 // (AdaIN made per frame).
 struct LiveBlockImpl : torch::nn::Module {
-  LiveBlockImpl(int channels, int kernel);
+  LiveBlockImpl(int channels, int kernel, int dilation = 1);
   // params: (B, 4C) or (B, 4C, T): scale1, bias1, scale2, bias2; undefined
   // for the content encoder's unstyled blocks.
   torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& params);

@@ -47,10 +47,11 @@ inline void AppendConfig(const std::string& dir, const std::string& text) {
 // One tiny live package per lookahead and generator form, trained once per
 // test process.
 inline std::shared_ptr<const ContrastiveModel> LivePackage(int lookahead,
-                                                           bool frame_residual = false) {
+                                                           bool frame_residual = false,
+                                                           int dilation_growth = 1) {
   static std::map<int, std::shared_ptr<const ContrastiveModel>>* packages =
       new std::map<int, std::shared_ptr<const ContrastiveModel>>();
-  const int key = 2 * lookahead + (frame_residual ? 1 : 0);
+  const int key = 10 * dilation_growth + 2 * lookahead + (frame_residual ? 1 : 0);
   auto it = packages->find(key);
   if (it != packages->end()) return it->second;
   const std::string dir = Dir("live" + std::to_string(key));
@@ -58,6 +59,7 @@ inline std::shared_ptr<const ContrastiveModel> LivePackage(int lookahead,
   o.config.live = true;
   o.config.lookahead = lookahead;
   o.config.frame_residual = frame_residual;
+  o.config.dilation_growth = dilation_growth;
   o.config.keep_path = true;
   EXPECT_TRUE(TrainContrastive(o).ok());
   absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(dir);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <random>
 #include <string>
+#include <tuple>
 
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_model.h"
@@ -27,7 +28,6 @@ using contrastive_testing::LivePackage;
 using contrastive_testing::TinyOptions;
 using testing::Append;
 using testing::Frames;
-
 
 // Streams `clip` in chunks of 1..max_chunk frames (1: frame by frame,
 // checking the latency after each).
@@ -63,11 +63,11 @@ double MaxDifference(const motion::Motion& a, const motion::Motion& b) {
   return d;
 }
 
-// (lookahead, frame_residual)
-class LiveStreamerTest : public ::testing::TestWithParam<std::pair<int, bool>> {
+// (lookahead, frame_residual, dilation_growth)
+class LiveStreamerTest : public ::testing::TestWithParam<std::tuple<int, bool, int>> {
  protected:
   std::shared_ptr<const ContrastiveModel> Model() const {
-    return LivePackage(GetParam().first, GetParam().second);
+    return LivePackage(std::get<0>(GetParam()), std::get<1>(GetParam()), std::get<2>(GetParam()));
   }
 };
 
@@ -113,8 +113,8 @@ TEST_P(LiveStreamerTest, FullPostProcessingKeepsBoneLengths) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lookahead, LiveStreamerTest,
-                         ::testing::Values(std::pair{1, false}, std::pair{2, false},
-                                           std::pair{2, true}));
+                         ::testing::Values(std::tuple{1, false, 1}, std::tuple{2, false, 1},
+                                           std::tuple{2, true, 1}, std::tuple{2, true, 2}));
 
 TEST(LiveStreamerBatchTest, StepsBatchedAcrossStreamsEqualStepsRunAlone) {
   const auto model = LivePackage(2);

@@ -5,13 +5,16 @@
 // (p50/p99/max), frames late (over the budget) and lost, and the server's
 // CPU and resident memory. It sweeps N upwards until a point misses the
 // budget, for a server that batches live steps and one that does not, in the
-// same run, and reports the most streams each held. Then unary throughput:
-// frames/s of Transfer calls one at a time and from concurrent callers.
+// same run, and reports the most streams each held. Then unary throughput,
+// batched and not: frames/s of Transfer calls one at a time and from
+// concurrent callers, on the streams' model and on --unary-model (an offline
+// model, whose windows batch across calls).
 //
 // usage: stream_load [--model live] [--rate 30] [--seconds 10]
 //                    [--streams 1,16,64,128,256,384,512,768,1000]
 //                    [--budget-ms B (default: lookahead frames + 33 ms)]
 //                    [--server-bin PATH] [--server-threads 2] [--unary-calls 40]
+//                    [--unary-model contrastive]
 // The server runs with its defaults otherwise; OPENBLAS_CORETYPE is passed
 // through from the environment when set (and then printed).
 #include <grpcpp/grpcpp.h>
@@ -27,6 +30,7 @@
 #include <vector>
 
 #include "absl/strings/numbers.h"
+#include "absl/strings/str_replace.h"
 #include "absl/strings/str_split.h"
 #include "absl/synchronization/mutex.h"
 #include "bench/bench_support.h"
@@ -191,7 +195,8 @@ void PrintPoint(const char* mode, const Point& p) {
 
 int Main(int argc, char** argv) {
   std::string server_bin = std::string(STYLUS_BINARY_DIR) + "/server/stylus-server";
-  std::string model = "live", streams_arg = "1,16,64,128,256,384,512,768,1000";
+  std::string model = "live", unary_model = "contrastive",
+              streams_arg = "1,16,64,128,256,384,512,768,1000";
   double rate = 30, seconds = 10, budget_ms = -1;
   int server_threads = 2, unary_calls = 40;
   for (int i = 1; i < argc; ++i) {
@@ -201,12 +206,13 @@ int Main(int argc, char** argv) {
           "usage: stream_load [--model live] [--rate 30] [--seconds 10]\n"
           "                   [--streams 1,16,64,128,256,384,512,768,1000]\n"
           "                   [--budget-ms B] [--server-bin PATH] [--server-threads 2]\n"
-          "                   [--unary-calls 40]\n\n"
+          "                   [--unary-calls 40] [--unary-model contrastive]\n\n"
           "Opens N streams of a real clip at --rate Hz against a stylus-server it\n"
           "starts, for each N of --streams, batched and unbatched (--max-batch 0),\n"
           "and prints per-frame latency, frames late and lost, server CPU and RSS,\n"
           "and the most streams held within the budget (default: the model's\n"
-          "lookahead in frames + 33 ms). Then unary Transfer throughput.\n");
+          "lookahead in frames + 33 ms). Then unary Transfer throughput, one call\n"
+          "at a time and from 8 callers, on --model and on --unary-model.\n");
       return 0;
     }
     if (i + 1 >= argc) {
@@ -229,6 +235,8 @@ int Main(int argc, char** argv) {
       server_bin = v;
     else if (a == "--server-threads")
       ok = absl::SimpleAtoi(v, &server_threads);
+    else if (a == "--unary-model")
+      unary_model = v;
     else if (a == "--unary-calls")
       ok = absl::SimpleAtoi(v, &unary_calls);
     else
@@ -268,7 +276,8 @@ int Main(int argc, char** argv) {
     ServerProcess server;
     std::vector<std::string> args = {
         "--models", models, "--threads", std::to_string(server_threads), "--max-streams", "4096"};
-    if (!batched) args.insert(args.end(), {"--max-batch", "0"});
+    args.push_back(batched ? "--batch-unary" : "--max-batch");
+    if (!batched) args.push_back("0");
     if (!server.Start(server_bin, args)) {
       std::fprintf(stderr, "stream_load: cannot start %s\n", server_bin.c_str());
       return 1;
@@ -308,9 +317,15 @@ int Main(int argc, char** argv) {
     std::printf("%s: most streams held within %.1f ms at p99: %d\n",
                 batched ? "batched" : "unbatched", budget, most);
 
-    if (batched) {
-      // Unary throughput: a 120-frame clip (saved style), one call at a time,
-      // then 8 callers at once.
+    // Unary throughput: a 120-frame clip (saved style), one call at a time,
+    // then 8 callers at once, on the streams' model and on --unary-model.
+    for (const std::string& m : {model, unary_model}) {
+      const std::string style_name = "load-" + absl::StrReplaceAll(m, {{"/", "-"}});
+      if (absl::StatusOr<std::vector<float>> c = client.EncodeStyle(*style, style_name, {m});
+          !c.ok()) {
+        std::fprintf(stderr, "stream_load: %s\n", c.status().ToString().c_str());
+        return 1;
+      }
       for (const int callers : {1, 8}) {
         std::atomic<int> failures{0};
         const Clock::time_point t0 = Clock::now();
@@ -318,17 +333,17 @@ int Main(int argc, char** argv) {
         for (int c = 0; c < callers; ++c) {
           threads.emplace_back([&, c] {
             for (int i = c; i < unary_calls; i += callers) {
-              if (!client.Transfer(*clip, {nullptr, "load"}, {model}).ok()) ++failures;
+              if (!client.Transfer(*clip, {nullptr, style_name}, {m}).ok()) ++failures;
             }
           });
         }
         for (auto& t : threads) t.join();
         const double secs = Since(t0);
         std::printf(
-            "unary Transfer (%d frames, %s): %d caller(s): %.0f frames/s (%d calls in "
+            "%-9s unary Transfer (%d frames, %s): %d caller(s): %.0f frames/s (%d calls in "
             "%.1f s, %d failed)\n",
-            clip->num_frames, model.c_str(), callers, unary_calls * clip->num_frames / secs,
-            unary_calls, secs, failures.load());
+            batched ? "batched" : "unbatched", clip->num_frames, m.c_str(), callers,
+            unary_calls * clip->num_frames / secs, unary_calls, secs, failures.load());
       }
     }
     std::printf("server exit on SIGTERM: %d\n", server.Stop());

@@ -89,7 +89,8 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
     const motion::Motion& content, const motion::Motion& original,
     const std::vector<StyleCode>& styles, const StyleWeights& weights,
     const TransferOptions& options) const {
-  absl::StatusOr<std::unique_ptr<Forms>> forms = PrepareTransfer(content, styles, weights);
+  absl::StatusOr<std::unique_ptr<Forms>> forms =
+      PrepareTransfer(content, styles, weights, options.batcher);
   if (!forms.ok()) return forms.status();
   TransferResult result;
   const ContentGuard* guard = options.content_guard ? content_guard() : nullptr;

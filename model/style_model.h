@@ -63,6 +63,8 @@ struct TransferResult {
   TransferNote note;
 };
 
+class PassBatcher;
+
 struct TransferOptions {
   // Implicit, so that a post-processing mode alone is a set of options.
   TransferOptions(motion::PostProcessMode post = motion::PostProcessMode::kFull)  // NOLINT
@@ -71,6 +73,10 @@ struct TransferOptions {
   // With a guarded package: false returns the configured form without
   // asking the guard (as streams do; docs/service.md).
   bool content_guard = true;
+  // When set, the transfer's network passes may run in one forward with
+  // those of concurrent transfers (model/pass_batcher.h); families whose
+  // passes cannot batch run alone.
+  PassBatcher* batcher = nullptr;
 };
 
 // What every package says of itself, whatever its family (config.txt).
@@ -183,9 +189,10 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   };
   // `styles` and `weights` are already checked against the clip and
   // code_size(); the clip is not.
+  // `batcher`: TransferOptions::batcher (may be null).
   virtual absl::StatusOr<std::unique_ptr<Forms>> PrepareTransfer(
       const motion::Motion& content, const std::vector<StyleCode>& styles,
-      const StyleWeights& weights) const = 0;
+      const StyleWeights& weights, PassBatcher* batcher) const = 0;
   // The package's content guard and its keys (null when it has none).
   virtual const ContentGuard* content_guard() const { return nullptr; }
   virtual const GuardKeys& guard_keys() const = 0;

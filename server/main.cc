@@ -15,7 +15,7 @@ constexpr char kHelp[] =
     "usage: stylus-server [--models DIR] [--default-model NAME/VERSION]\n"
     "                     [--listen ADDR] [--threads N] [--torch-threads N]\n"
     "                     [--max-streams N] [--max-message-mb N] [--max-stream-frames N]\n"
-    "                     [--max-batch N] [--max-queue-delay-us N]\n"
+    "                     [--max-batch N] [--max-queue-delay-us N] [--batch-unary]\n"
     "                     [--shutdown-grace-s S] [--port-file FILE]\n\n"
     "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService),\n"
     "grpc.health.v1 and server reflection. Loads every model package under\n"
@@ -24,10 +24,14 @@ constexpr char kHelp[] =
     "  --threads N            compute threads (default 2)\n"
     "  --torch-threads N      LibTorch threads per forward pass (default 1)\n"
     "  --max-streams N        concurrent TransferStream calls (default 1024)\n"
-    "  --max-batch N          live streams' steps run together, up to N per\n"
-    "                         forward pass (default 256; 0: each stream alone)\n"
-    "  --max-queue-delay-us N how long a step may wait for others to batch with\n"
-    "                         (default 500)\n"
+    "  --max-batch N          live streams' steps (and with --batch-unary,\n"
+    "                         concurrent unary transfers' windows) run\n"
+    "                         together, up to N per forward pass (default 256;\n"
+    "                         0: each call alone)\n"
+    "  --max-queue-delay-us N how long a step or pass may wait for others to\n"
+    "                         batch with (default 500)\n"
+    "  --batch-unary          batch unary Transfer/Interpolate passes too (off:\n"
+    "                         on a CPU, parallel calls are faster; docs/service.md)\n"
     "  --max-message-mb N     largest request or response (default 64)\n"
     "  --max-stream-frames N  frames per stream (default 108000, 1 h at 30 fps)\n"
     "  --shutdown-grace-s S   on SIGINT/SIGTERM, how long in-flight calls may\n"
@@ -52,6 +56,10 @@ int main(int argc, char** argv) {
     if (arg == "--help" || arg == "-h") {
       std::fputs(kHelp, stdout);
       return 0;
+    }
+    if (arg == "--batch-unary") {
+      options.batch_unary = true;
+      continue;
     }
     if (i + 1 >= argc) return Usage(arg + " needs a value");
     const std::string value = argv[++i];

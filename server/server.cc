@@ -16,6 +16,7 @@ namespace stylus::server {
 struct StylusServer::Impl {
   std::unique_ptr<ModelRegistry> registry;
   StyleBank styles;
+  std::unique_ptr<model::PassBatcher> pass_batcher;  // With max_batch > 0; outlives the executor.
   std::unique_ptr<Executor> executor;
   std::unique_ptr<StepBatcher> batcher;  // With max_batch > 0.
   ServiceContext context;
@@ -56,6 +57,11 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
                                       std::chrono::microseconds(options.max_queue_delay_us));
     impl->context.batcher = impl->batcher.get();
   }
+  if (options.max_batch > 0 && options.batch_unary) {
+    impl->pass_batcher = std::make_unique<model::PassBatcher>(
+        options.max_batch, std::chrono::microseconds(options.max_queue_delay_us));
+    impl->context.pass_batcher = impl->pass_batcher.get();
+  }
   impl->context.max_streams = options.max_streams;
   impl->context.max_stream_frames = options.max_stream_frames;
   impl->model_service = std::make_unique<ModelServiceImpl>(&impl->context);
@@ -94,6 +100,10 @@ ServerLoad StylusServer::load() const {
   if (impl_->batcher != nullptr) {
     load.batches = impl_->batcher->batches();
     load.batched_steps = impl_->batcher->steps();
+  }
+  if (impl_->pass_batcher != nullptr) {
+    load.unary_batches = impl_->pass_batcher->batches();
+    load.batched_calls = impl_->pass_batcher->calls();
   }
   return load;
 }

@@ -20,10 +20,15 @@ struct ServerOptions {
   int threads = 2;                         // Compute executor threads.
   int torch_threads = 1;                   // LibTorch intra-op threads per forward.
   int max_streams = 1024;
-  // Batching of live streams' steps (server/step_batcher.h); 0: each stream
-  // steps alone on the executor.
+  // Batching (docs/service.md "Batching"): the most live streams' steps
+  // (server/step_batcher.h), or unary transfers' windows
+  // (model/pass_batcher.h), in one forward; 0: none, each call runs alone.
   int max_batch = 256;
   int max_queue_delay_us = 500;
+  // Unary transfers batch too (off by default: on a CPU the calls already
+  // run in parallel on the executor's threads, and waiting for others costs
+  // more than a bigger forward saves; docs/service.md "Batching").
+  bool batch_unary = false;
   int max_message_mb = 64;
   int64_t max_stream_frames = 30 * 60 * 60;
 };
@@ -35,6 +40,8 @@ struct ServerLoad {
   int running_tasks = 0;      // Compute work running now.
   int64_t batches = 0;        // Live step batches run since the start...
   int64_t batched_steps = 0;  // ...and the steps they held.
+  int64_t unary_batches = 0;  // Unary network passes run for several calls...
+  int64_t batched_calls = 0;  // ...and the calls they held.
 };
 
 class StylusServer {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "model/pass_batcher.h"
 #include "server/executor.h"
 #include "server/registry.h"
 #include "server/step_batcher.h"
@@ -24,6 +25,8 @@ struct ServiceContext {
   Executor* executor = nullptr;
   // Batches live streams' steps (null: each stream steps alone).
   StepBatcher* batcher = nullptr;
+  // Batches unary transfers' network passes (null: each call runs alone).
+  model::PassBatcher* pass_batcher = nullptr;
   int max_streams = 16;
   int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
   std::atomic<int> open_streams{0};

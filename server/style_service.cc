@@ -80,8 +80,10 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, call->model, request->style(), "style clip");
     if (!style.ok()) return out.status = style.status(), out;
+    model::TransferOptions options(call->post);
+    options.batcher = service_->pass_batcher;
     absl::StatusOr<model::TransferResult> result =
-        call->model.model->Transfer(call->content, *style, call->post);
+        call->model.model->Transfer(call->content, *style, options);
     if (!result.ok()) return out.status = result.status(), out;
     NoteGuard(result->note, response, &out);
     wire::ClipToProto(result->motion, response->mutable_output());
@@ -142,8 +144,10 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
     } else {
       weights.fixed.assign(request->weights().values().begin(), request->weights().values().end());
     }
+    model::TransferOptions options(call->post);
+    options.batcher = service_->pass_batcher;
     absl::StatusOr<model::TransferResult> result =
-        call->model.model->Interpolate(call->content, styles, weights, call->post);
+        call->model.model->Interpolate(call->content, styles, weights, options);
     if (!result.ok()) return out.status = result.status(), out;
     NoteGuard(result->note, response, &out);
     wire::ClipToProto(result->motion, response->mutable_output());

@@ -11,6 +11,7 @@
 #include "model/contrastive/live_engine.h"
 #include "model/contrastive/live_streamer.h"
 #include "model/contrastive/window_streamer.h"
+#include "model/pass_batching.h"
 #include "model/weights_io.h"
 #include "model/window_blend.h"
 #include "model/window_tensor.h"
@@ -41,7 +42,14 @@ struct ContrastiveModel::Impl {
   // output for those (the residual form's subtrahend). Filled on first use.
   struct SharedPasses {
     torch::Tensor x, content, own_style, own_decode;
+    PassBatcher* batcher = nullptr;  // Passes may batch with other calls'.
   };
+  // The networks' passes, through `batcher` when there is one.
+  enum PassId { kContentPass, kStylePass, kDecodePass };
+  torch::Tensor ContentPass(const torch::Tensor& x, PassBatcher* batcher);
+  torch::Tensor StylePass(const torch::Tensor& x, PassBatcher* batcher);
+  torch::Tensor DecodePass(const torch::Tensor& content, const torch::Tensor& codes,
+                           PassBatcher* batcher);
   // `shared` (may be null) carries passes from one form to the next.
   absl::StatusOr<std::vector<float>> Generate(const motion::FeatureClip& features,
                                               const std::vector<int>& starts,
@@ -173,22 +181,22 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::Impl::Generate(
     SharedPasses& passes = shared != nullptr ? *shared : local;
     if (!passes.x.defined()) {
       passes.x = Windows(features, starts);
-      passes.content = net->content(passes.x);
+      passes.content = ContentPass(passes.x, passes.batcher);
     }
     const torch::Tensor& x = passes.x;
     if ((knobs.strength < 1 || knobs.residual) && !passes.own_style.defined()) {
-      passes.own_style = net->style(x);
+      passes.own_style = StylePass(x, passes.batcher);
     }
     if (knobs.strength < 1) {
       const double k = knobs.strength;
       code_tensor = k * code_tensor + (1 - k) * passes.own_style;
     }
-    torch::Tensor y = net->decode(passes.content, code_tensor);
+    torch::Tensor y = DecodePass(passes.content, code_tensor, passes.batcher);
     // residual: the content window plus what the style changes in the
     // generator's output; what the generator loses of any window cancels.
     if (knobs.residual) {
       if (!passes.own_decode.defined()) {
-        passes.own_decode = net->decode(passes.content, passes.own_style);
+        passes.own_decode = DecodePass(passes.content, passes.own_style, passes.batcher);
       }
       y = y - passes.own_decode;
     }
@@ -213,17 +221,36 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::Impl::Generate(
   }
 }
 
+torch::Tensor ContrastiveModel::Impl::ContentPass(const torch::Tensor& x, PassBatcher* batcher) {
+  return RunPass(batcher, this, kContentPass, {x},
+                 [this](const std::vector<torch::Tensor>& in) { return net->content(in[0]); });
+}
+
+torch::Tensor ContrastiveModel::Impl::StylePass(const torch::Tensor& x, PassBatcher* batcher) {
+  return RunPass(batcher, this, kStylePass, {x},
+                 [this](const std::vector<torch::Tensor>& in) { return net->style(in[0]); });
+}
+
+torch::Tensor ContrastiveModel::Impl::DecodePass(const torch::Tensor& content,
+                                                 const torch::Tensor& codes, PassBatcher* batcher) {
+  return RunPass(
+      batcher, this, kDecodePass, {content, codes},
+      [this](const std::vector<torch::Tensor>& in) { return net->decode(in[0], in[1]); });
+}
+
 // One clip's windows and their style codes; the forms share their network
 // passes.
 class ContrastiveModel::ClipForms : public StyleModel::Forms {
  public:
   ClipForms(Impl* impl, const motion::Motion& content, motion::FeatureClip features,
-            std::vector<int> starts, std::vector<StyleCode> codes)
+            std::vector<int> starts, std::vector<StyleCode> codes, PassBatcher* batcher)
       : impl_(impl),
         content_(content),
         features_(std::move(features)),
         starts_(std::move(starts)),
-        codes_(std::move(codes)) {}
+        codes_(std::move(codes)) {
+    shared_.batcher = batcher;
+  }
 
   absl::StatusOr<motion::Motion> Draft(size_t step) override {
     const Impl::Knobs knobs =
@@ -338,7 +365,7 @@ absl::Status ContrastiveModel::StepStreams(const std::vector<FrameStreamer*>& co
 
 absl::StatusOr<std::unique_ptr<StyleModel::Forms>> ContrastiveModel::PrepareTransfer(
     const motion::Motion& content, const std::vector<StyleCode>& styles,
-    const StyleWeights& weights) const {
+    const StyleWeights& weights, PassBatcher* batcher) const {
   const ContrastiveConfig& config = impl_->config;
   const bool per_frame = !weights.per_frame.empty();
   absl::StatusOr<motion::FeatureClip> f = NormalizedFeatures(content, "content clip");
@@ -373,7 +400,7 @@ absl::StatusOr<std::unique_ptr<StyleModel::Forms>> ContrastiveModel::PrepareTran
     codes[w] = MixStyles(styles, mix);
   }
   return std::make_unique<ClipForms>(impl_.get(), content, *std::move(f), std::move(starts),
-                                     std::move(codes));
+                                     std::move(codes), batcher);
 }
 
 absl::StatusOr<std::unique_ptr<FrameStreamer>> ContrastiveModel::OpenModelRateStream(

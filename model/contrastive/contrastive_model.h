@@ -86,7 +86,7 @@ class ContrastiveModel : public StyleModel {
   // plus k times the change the style makes.
   absl::StatusOr<std::unique_ptr<Forms>> PrepareTransfer(
       const motion::Motion& content, const std::vector<StyleCode>& styles,
-      const StyleWeights& weights) const override;
+      const StyleWeights& weights, PassBatcher* batcher) const override;
   const ContentGuard* content_guard() const override;
   const GuardKeys& guard_keys() const override;
 

@@ -204,7 +204,7 @@ class CyclicModel::ClipForms : public StyleModel::Forms {
 
 absl::StatusOr<std::unique_ptr<StyleModel::Forms>> CyclicModel::PrepareTransfer(
     const motion::Motion& content, const std::vector<StyleCode>& styles,
-    const StyleWeights& weights) const {
+    const StyleWeights& weights, PassBatcher* /*batcher: whole clips of any length*/) const {
   auto input = impl_->Input(content, "content clip");
   if (!input.ok()) return input.status();
   torch::Tensor hx, restyled;

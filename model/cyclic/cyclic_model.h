@@ -45,9 +45,10 @@ class CyclicModel : public StyleModel {
   // frames) gets the blend of its first frame. Guard form k restyles the
   // hidden features k of the way. The kinematic optimization runs on the
   // chosen form only.
-  absl::StatusOr<std::unique_ptr<Forms>> PrepareTransfer(
-      const motion::Motion& content, const std::vector<StyleCode>& styles,
-      const StyleWeights& weights) const override;
+  absl::StatusOr<std::unique_ptr<Forms>> PrepareTransfer(const motion::Motion& content,
+                                                         const std::vector<StyleCode>& styles,
+                                                         const StyleWeights& weights,
+                                                         PassBatcher* batcher) const override;
   const ContentGuard* content_guard() const override;
   const GuardKeys& guard_keys() const override;
 

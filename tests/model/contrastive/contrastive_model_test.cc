@@ -4,9 +4,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "gtest/gtest.h"
 #include "model/content_guard.h"
+#include "model/pass_batcher.h"
 #include "model/window_tensor.h"
 #include "motion/bvh.h"
 #include "motion/features.h"
@@ -92,6 +94,33 @@ TEST_F(TrainedModelTest, SaveLoadGivesIdenticalOutputs) {
   const motion::Motion out_a = a->Transfer(Clip(0), *a->EncodeStyle(Clip(2)))->motion;
   const motion::Motion out_b = b->Transfer(Clip(0), *b->EncodeStyle(Clip(2)))->motion;
   EXPECT_EQ(out_a.values, out_b.values);
+}
+
+TEST_F(TrainedModelTest, ConcurrentTransfersBatchedEqualTransfersRunAlone) {
+  auto m = *ContrastiveModel::Load(*dir_);
+  const StyleCode style = *m->EncodeStyle(Clip(1));
+  const std::vector<motion::Motion> contents = {Clip(0), Clip(2), Clip(3)};
+  std::vector<motion::Motion> alone;
+  for (const motion::Motion& c : contents) alone.push_back(m->Transfer(c, style)->motion);
+  // A long delay: each pass waits for the other calls' (the limit is far).
+  PassBatcher batcher(/*max_rows=*/1000, std::chrono::milliseconds(500));
+  std::vector<motion::Motion> batched(contents.size());
+  std::vector<std::thread> threads;
+  for (size_t i = 0; i < contents.size(); ++i) {
+    threads.emplace_back([&, i] {
+      TransferOptions options;
+      options.batcher = &batcher;
+      absl::StatusOr<TransferResult> r = m->Transfer(contents[i], style, options);
+      ASSERT_TRUE(r.ok()) << r.status();
+      batched[i] = r->motion;
+    });
+  }
+  for (auto& t : threads) t.join();
+  EXPECT_GT(batcher.calls(), batcher.batches()) << "passes held several calls";
+  for (size_t i = 0; i < contents.size(); ++i) {
+    ASSERT_EQ(batched[i].num_frames, alone[i].num_frames);
+    EXPECT_LT(motion::MaxPositionDifference(batched[i], alone[i]), 1e-3) << "clip " << i;
+  }
 }
 
 TEST_F(TrainedModelTest, InterpolationEndpointsEqualTransfer) {

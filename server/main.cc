@@ -16,6 +16,7 @@ constexpr char kHelp[] =
     "                     [--listen ADDR] [--threads N] [--torch-threads N]\n"
     "                     [--max-streams N] [--max-message-mb N] [--max-stream-frames N]\n"
     "                     [--max-batch N] [--max-queue-delay-us N] [--batch-unary]\n"
+    "                     [--metrics-listen ADDR]\n"
     "                     [--shutdown-grace-s S] [--port-file FILE]\n\n"
     "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService),\n"
     "grpc.health.v1 and server reflection. Loads every model package under\n"
@@ -32,6 +33,8 @@ constexpr char kHelp[] =
     "                         batch with (default 500)\n"
     "  --batch-unary          batch unary Transfer/Interpolate passes too (off:\n"
     "                         on a CPU, parallel calls are faster; docs/service.md)\n"
+    "  --metrics-listen ADDR  serve Prometheus metrics at http://ADDR/metrics\n"
+    "                         (e.g. 0.0.0.0:9464; off by default)\n"
     "  --max-message-mb N     largest request or response (default 64)\n"
     "  --max-stream-frames N  frames per stream (default 108000, 1 h at 30 fps)\n"
     "  --shutdown-grace-s S   on SIGINT/SIGTERM, how long in-flight calls may\n"
@@ -81,6 +84,8 @@ int main(int argc, char** argv) {
       ok = absl::SimpleAtoi(value, &options.max_batch) && options.max_batch >= 0;
     } else if (arg == "--max-queue-delay-us") {
       ok = absl::SimpleAtoi(value, &options.max_queue_delay_us) && options.max_queue_delay_us >= 0;
+    } else if (arg == "--metrics-listen") {
+      options.metrics_listen = value;
     } else if (arg == "--max-message-mb") {
       ok = to_int(&options.max_message_mb);
     } else if (arg == "--max-stream-frames") {

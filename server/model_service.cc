@@ -25,7 +25,7 @@ void Describe(const HostedModel& m, const std::string& default_id, v1::ModelInfo
 grpc::ServerUnaryReactor* ModelServiceImpl::ListModels(grpc::CallbackServerContext* ctx,
                                                        const v1::ListModelsRequest*,
                                                        v1::ListModelsResponse* response) {
-  return RunUnary(service_, ctx, "ListModels", [this, response] {
+  return RunUnary(service_, ctx, kModelService, "ListModels", [this, response] {
     const std::string def = service_->registry->default_id();
     for (const HostedModel& m : service_->registry->List())
       Describe(m, def, response->add_models());
@@ -36,7 +36,7 @@ grpc::ServerUnaryReactor* ModelServiceImpl::ListModels(grpc::CallbackServerConte
 grpc::ServerUnaryReactor* ModelServiceImpl::GetModel(grpc::CallbackServerContext* ctx,
                                                      const v1::GetModelRequest* request,
                                                      v1::ModelInfo* response) {
-  return RunUnary(service_, ctx, "GetModel", [this, request, response] {
+  return RunUnary(service_, ctx, kModelService, "GetModel", [this, request, response] {
     absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
     if (!m.ok()) return CallOutcome{m.status(), request->model(), 0};
     Describe(*m, service_->registry->default_id(), response);
@@ -47,7 +47,7 @@ grpc::ServerUnaryReactor* ModelServiceImpl::GetModel(grpc::CallbackServerContext
 grpc::ServerUnaryReactor* ModelServiceImpl::LoadModel(grpc::CallbackServerContext* ctx,
                                                       const v1::LoadModelRequest* request,
                                                       v1::ModelInfo* response) {
-  return RunUnary(service_, ctx, "LoadModel", [this, request, response] {
+  return RunUnary(service_, ctx, kModelService, "LoadModel", [this, request, response] {
     absl::StatusOr<HostedModel> m = service_->registry->Load(request->model());
     if (!m.ok()) return CallOutcome{m.status(), request->model(), 0};
     Describe(*m, service_->registry->default_id(), response);
@@ -58,7 +58,7 @@ grpc::ServerUnaryReactor* ModelServiceImpl::LoadModel(grpc::CallbackServerContex
 grpc::ServerUnaryReactor* ModelServiceImpl::UnloadModel(grpc::CallbackServerContext* ctx,
                                                         const v1::UnloadModelRequest* request,
                                                         v1::UnloadModelResponse*) {
-  return RunUnary(service_, ctx, "UnloadModel", [this, request] {
+  return RunUnary(service_, ctx, kModelService, "UnloadModel", [this, request] {
     return CallOutcome{service_->registry->Unload(request->model()), request->model(), 0};
   });
 }

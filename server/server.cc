@@ -16,6 +16,8 @@ namespace stylus::server {
 struct StylusServer::Impl {
   std::unique_ptr<ModelRegistry> registry;
   StyleBank styles;
+  // With --metrics-listen; outlives what it reads and what counts into it.
+  std::unique_ptr<Metrics> metrics;
   std::unique_ptr<model::PassBatcher> pass_batcher;  // With max_batch > 0; outlives the executor.
   std::unique_ptr<Executor> executor;
   std::unique_ptr<StepBatcher> batcher;  // With max_batch > 0.
@@ -26,6 +28,23 @@ struct StylusServer::Impl {
   int port = 0;
   absl::Mutex mu;
   bool shut_down ABSL_GUARDED_BY(mu) = false;
+  // Set before the executor and batchers go: a scrape reads them no more.
+  bool workers_gone ABSL_GUARDED_BY(mu) = false;
+
+  MetricsState State() {
+    MetricsState s;
+    s.open_streams = context.open_streams.load();
+    s.loaded_models = static_cast<int>(registry->List().size());
+    absl::MutexLock lock(&mu);
+    if (workers_gone) return s;
+    s.queued_tasks = executor->queued();
+    s.running_tasks = executor->running();
+    if (pass_batcher != nullptr) {
+      s.unary_batches = pass_batcher->batches();
+      s.batched_calls = pass_batcher->calls();
+    }
+    return s;
+  }
   absl::Notification done;
 };
 
@@ -41,8 +60,8 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
       options.max_stream_frames < 1 || options.max_batch < 0 || options.max_queue_delay_us < 0) {
     return absl::InvalidArgumentError("threads, stream and message limits must be positive");
   }
-  model::SetComputeThreads(options.torch_threads);
   auto impl = std::make_unique<Impl>();
+  model::SetComputeThreads(options.torch_threads);
   absl::StatusOr<std::unique_ptr<ModelRegistry>> registry =
       ModelRegistry::Create(options.models_dir, options.default_model);
   if (!registry.ok()) return registry.status();
@@ -51,16 +70,24 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   impl->context.registry = impl->registry.get();
   impl->context.styles = &impl->styles;
   impl->context.executor = impl->executor.get();
-  if (options.max_batch > 0) {
-    impl->batcher =
-        std::make_unique<StepBatcher>(impl->executor.get(), options.max_batch,
-                                      std::chrono::microseconds(options.max_queue_delay_us));
-    impl->context.batcher = impl->batcher.get();
-  }
   if (options.max_batch > 0 && options.batch_unary) {
     impl->pass_batcher = std::make_unique<model::PassBatcher>(
         options.max_batch, std::chrono::microseconds(options.max_queue_delay_us));
     impl->context.pass_batcher = impl->pass_batcher.get();
+  }
+  if (!options.metrics_listen.empty()) {
+    Impl* raw = impl.get();
+    absl::StatusOr<std::unique_ptr<Metrics>> metrics =
+        Metrics::Start(options.metrics_listen, [raw] { return raw->State(); });
+    if (!metrics.ok()) return metrics.status();
+    impl->metrics = *std::move(metrics);
+    impl->context.metrics = impl->metrics.get();
+  }
+  if (options.max_batch > 0) {
+    impl->batcher = std::make_unique<StepBatcher>(
+        impl->executor.get(), options.max_batch,
+        std::chrono::microseconds(options.max_queue_delay_us), impl->metrics.get());
+    impl->context.batcher = impl->batcher.get();
   }
   impl->context.max_streams = options.max_streams;
   impl->context.max_stream_frames = options.max_stream_frames;
@@ -85,10 +112,18 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   spdlog::info("listening on port {} with {} model(s) [{}], default {}; {} compute thread(s)",
                impl->port, ids.size(), absl::StrJoin(ids, ", "), impl->registry->default_id(),
                options.threads);
+  if (impl->metrics != nullptr) {
+    spdlog::info("metrics at http://{}/metrics (port {})", options.metrics_listen,
+                 impl->metrics->port());
+  }
   return std::unique_ptr<StylusServer>(new StylusServer(std::move(impl)));
 }
 
 int StylusServer::port() const { return impl_->port; }
+
+int StylusServer::metrics_port() const {
+  return impl_->metrics != nullptr ? impl_->metrics->port() : 0;
+}
 
 ServerLoad StylusServer::load() const {
   ServerLoad load;
@@ -119,6 +154,10 @@ void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
   impl_->server->Shutdown(deadline);
   // Calls are over; the batcher runs the steps it holds, the executor what
   // it accepted; then both stop.
+  {
+    absl::MutexLock lock(&impl_->mu);
+    impl_->workers_gone = true;
+  }
   impl_->batcher.reset();
   impl_->executor->Shutdown();
   impl_->executor.reset();

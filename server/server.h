@@ -29,6 +29,9 @@ struct ServerOptions {
   // run in parallel on the executor's threads, and waiting for others costs
   // more than a bigger forward saves; docs/service.md "Batching").
   bool batch_unary = false;
+  // Serves Prometheus metrics at http://ADDR/metrics when not empty
+  // (server/metrics.h); port 0 picks a free one (metrics_port()).
+  std::string metrics_listen;
   int max_message_mb = 64;
   int64_t max_stream_frames = 30 * 60 * 60;
 };
@@ -53,6 +56,8 @@ class StylusServer {
 
   // The port actually bound (useful with port 0).
   int port() const;
+  // The metrics port bound, 0 without metrics.
+  int metrics_port() const;
   // What is running now; not to be called while Shutdown runs.
   ServerLoad load() const;
   // Stops accepting calls, lets in-flight calls finish until `deadline`

@@ -21,11 +21,35 @@ void LogCall(const std::string& rpc, const CallOutcome& outcome, double ms) {
   }
 }
 
+namespace {
+
+// The metrics of a finished unary call.
+void CountUnary(Metrics* metrics, const char* grpc_service, const std::string& rpc,
+                const CallOutcome& outcome, double seconds) {
+  if (metrics == nullptr) return;
+  metrics->CallHandled(grpc_service, rpc, "unary", outcome.status.code(), seconds);
+  if (!outcome.status.ok()) return;
+  metrics->MessageSent(grpc_service, rpc, "unary");
+  if (outcome.model_seconds > 0) metrics->ModelSeconds(outcome.model, outcome.model_seconds);
+  if (outcome.frames > 0 && outcome.model_seconds > 0) {
+    metrics->Frames(outcome.model, "unary", outcome.frames);
+  }
+  if (outcome.guard_backoff) metrics->GuardBackoff(outcome.model);
+}
+
+}  // namespace
+
 grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServerContext* ctx,
-                                   const std::string& rpc, std::function<CallOutcome()> work) {
+                                   const char* grpc_service, const std::string& rpc,
+                                   std::function<CallOutcome()> work) {
   grpc::ServerUnaryReactor* reactor = ctx->DefaultReactor();
   const auto start = std::chrono::steady_clock::now();
-  auto run = [ctx, reactor, rpc, start, work = std::move(work)] {
+  Metrics* metrics = service->metrics;
+  if (metrics != nullptr) {
+    metrics->CallStarted(grpc_service, rpc, "unary");
+    metrics->MessageReceived(grpc_service, rpc, "unary");
+  }
+  auto run = [ctx, reactor, rpc, start, metrics, grpc_service, work = std::move(work)] {
     CallOutcome outcome;
     if (ctx->IsCancelled()) {
       outcome.status = absl::CancelledError("cancelled or past its deadline before it ran");
@@ -33,14 +57,15 @@ grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServer
       outcome = work();
     }
     const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count();
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     LogCall(rpc, outcome, ms);
+    CountUnary(metrics, grpc_service, rpc, outcome, ms / 1000);
     reactor->Finish(ToGrpcStatus(outcome.status));
   };
   if (!service->executor->Submit(run)) {
     CallOutcome outcome{absl::UnavailableError("the server is shutting down"), "", 0};
     LogCall(rpc, outcome, 0);
+    CountUnary(metrics, grpc_service, rpc, outcome, 0);
     reactor->Finish(ToGrpcStatus(outcome.status));
   }
   return reactor;

@@ -13,6 +13,7 @@
 #include "absl/status/status.h"
 #include "model/pass_batcher.h"
 #include "server/executor.h"
+#include "server/metrics.h"
 #include "server/registry.h"
 #include "server/step_batcher.h"
 #include "server/style_bank.h"
@@ -27,6 +28,7 @@ struct ServiceContext {
   StepBatcher* batcher = nullptr;
   // Batches unary transfers' network passes (null: each call runs alone).
   model::PassBatcher* pass_batcher = nullptr;
+  Metrics* metrics = nullptr;  // With --metrics-listen.
   int max_streams = 16;
   int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
   std::atomic<int> open_streams{0};
@@ -37,8 +39,13 @@ struct CallOutcome {
   absl::Status status;
   std::string model;
   int64_t frames = 0;
-  std::string note = {};  // Appended to the log line when not empty (e.g. "guard=configured").
+  std::string note = {};       // Appended to the log line when not empty (e.g. "guard=configured").
+  double model_seconds = 0;    // The model's compute time, when it ran.
+  bool guard_backoff = false;  // The content guard chose a weaker form.
 };
+
+inline constexpr char kStyleService[] = "stylus.v1.StyleService";
+inline constexpr char kModelService[] = "stylus.v1.ModelService";
 
 // One spdlog line per call: rpc, model, frames, milliseconds, status.
 void LogCall(const std::string& rpc, const CallOutcome& outcome, double ms);
@@ -47,8 +54,10 @@ void LogCall(const std::string& rpc, const CallOutcome& outcome, double ms);
 // unary pattern of every StyleService/ModelService method. A call whose
 // client has gone or whose deadline has passed before the work starts is not
 // computed. UNAVAILABLE when the executor no longer accepts work (shutdown).
+// Counted in the metrics (when on) under `grpc_service` and `rpc`.
 grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServerContext* ctx,
-                                   const std::string& rpc, std::function<CallOutcome()> work);
+                                   const char* grpc_service, const std::string& rpc,
+                                   std::function<CallOutcome()> work);
 
 }  // namespace stylus::server
 

@@ -7,8 +7,9 @@
 
 namespace stylus::server {
 
-StepBatcher::StepBatcher(Executor* executor, int max_batch, std::chrono::microseconds max_delay)
-    : executor_(executor), max_batch_(max_batch), max_delay_(max_delay) {
+StepBatcher::StepBatcher(Executor* executor, int max_batch, std::chrono::microseconds max_delay,
+                         Metrics* metrics)
+    : executor_(executor), max_batch_(max_batch), max_delay_(max_delay), metrics_(metrics) {
   thread_ = std::thread([this] { Loop(); });
 }
 
@@ -77,6 +78,7 @@ void StepBatcher::Loop() {
       ++batches_;
       steps_ += static_cast<int64_t>(batch.size());
     }
+    if (metrics_ != nullptr) metrics_->StepBatch(static_cast<int64_t>(batch.size()));
     std::vector<model::FrameStreamer*> cores;
     for (const Entry& e : batch) cores.push_back(e.core);
     const absl::Status s = batch.front().model->StepStreams(cores);

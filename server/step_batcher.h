@@ -25,12 +25,15 @@
 #include "model/frame_streamer.h"
 #include "model/style_model.h"
 #include "server/executor.h"
+#include "server/metrics.h"
 
 namespace stylus::server {
 
 class StepBatcher {
  public:
-  StepBatcher(Executor* executor, int max_batch, std::chrono::microseconds max_delay);
+  // `metrics` (may be null) counts each batch's size.
+  StepBatcher(Executor* executor, int max_batch, std::chrono::microseconds max_delay,
+              Metrics* metrics = nullptr);
   // Stops after the steps already submitted have run.
   ~StepBatcher();
 
@@ -56,6 +59,7 @@ class StepBatcher {
   Executor* const executor_;
   const int max_batch_;
   const std::chrono::microseconds max_delay_;
+  Metrics* const metrics_;
   mutable absl::Mutex mu_;
   std::deque<Entry> waiting_ ABSL_GUARDED_BY(mu_);
   bool stopping_ ABSL_GUARDED_BY(mu_) = false;

@@ -20,6 +20,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
  public:
   explicit StreamSession(ServiceContext* service)
       : service_(service), start_(std::chrono::steady_clock::now()) {
+    if (Metrics* m = service_->metrics) m->CallStarted(kStyleService, kMethod, kType);
     if (service_->open_streams.fetch_add(1) >= service_->max_streams) {
       outcome_.status = absl::ResourceExhaustedError(absl::StrCat(
           "the server already runs its maximum of ", service_->max_streams, " streams"));
@@ -30,6 +31,10 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   }
 
   void OnReadDone(bool ok) override {
+    if (ok) {
+      read_at_ = std::chrono::steady_clock::now();
+      if (Metrics* m = service_->metrics) m->MessageReceived(kStyleService, kMethod, kType);
+    }
     {
       absl::MutexLock lock(&mu_);
       // A read that fails after the call was finished (cancellation) needs
@@ -65,6 +70,9 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       writes_.pop_front();
       writing_ = false;
       if (!ok) Fail(absl::CancelledError("the client stopped reading"));
+      if (ok && service_->metrics != nullptr) {
+        service_->metrics->MessageSent(kStyleService, kMethod, kType);
+      }
       if (failed_) {
         writes_.clear();
       } else if (!writes_.empty()) {
@@ -291,6 +299,11 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       wire::FrameToProto(frames, f, first + f, r.mutable_frame());
       r.mutable_frame()->set_timestamp((first + f) * frames.frame_time);
     }
+    if (Metrics* m = service_->metrics) {
+      const double s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - read_at_).count();
+      for (int f = 0; f < frames.num_frames; ++f) m->StreamFrameSeconds(s);
+    }
     absl::MutexLock lock(&mu_);
     if (failed_) return;
     for (auto& r : batch) writes_.push_back(std::move(r));
@@ -348,9 +361,14 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   // nothing else reads or writes the session.
   void Destroy() {
     service_->open_streams.fetch_sub(1);
-    LogCall("TransferStream", outcome_,
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
-                .count());
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
+            .count();
+    LogCall(kMethod, outcome_, ms);
+    if (Metrics* m = service_->metrics) {
+      m->CallHandled(kStyleService, kMethod, kType, outcome_.status.code(), ms / 1000);
+      if (outcome_.frames > 0) m->Frames(outcome_.model, "stream", outcome_.frames);
+    }
     delete this;
   }
 
@@ -374,8 +392,14 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     Finish(ToGrpcStatus(status));
   }
 
+  static constexpr char kMethod[] = "TransferStream";
+  static constexpr char kType[] = "bidi_stream";
+
   ServiceContext* const service_;
   const std::chrono::steady_clock::time_point start_;
+  // When the request being handled was read (written by OnReadDone before
+  // its task runs; read by that task).
+  std::chrono::steady_clock::time_point read_at_;
   v1::StreamRequest request_;  // Read buffer; the task reads it in place.
 
   // Touched by the executor task only (one at a time per session).

@@ -48,6 +48,7 @@ void NoteGuard(const model::TransferNote& note, v1::TransferResponse* response, 
   g->set_residual_strength(note.residual_strength);
   out->note = note.backed_off ? absl::StrCat("guard=residual:", note.residual_strength)
                               : "guard=configured";
+  out->guard_backoff = note.backed_off;
 }
 
 }  // namespace
@@ -71,7 +72,7 @@ absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
 grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext* ctx,
                                                      const v1::TransferRequest* request,
                                                      v1::TransferResponse* response) {
-  return RunUnary(service_, ctx, "Transfer", [this, request, response] {
+  return RunUnary(service_, ctx, kStyleService, "Transfer", [this, request, response] {
     const auto t0 = std::chrono::steady_clock::now();
     CallOutcome out{absl::OkStatus(), request->model(), request->content().frames_size()};
     absl::StatusOr<ContentCall> call = StartContentCall(
@@ -89,6 +90,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
     wire::ClipToProto(result->motion, response->mutable_output());
     response->set_model(call->model.id);
     response->set_compute_ms(MsSince(t0));
+    out.model_seconds = response->compute_ms() / 1000;
     return out;
   });
 }
@@ -96,7 +98,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
 grpc::ServerUnaryReactor* StyleServiceImpl::EncodeStyle(grpc::CallbackServerContext* ctx,
                                                         const v1::EncodeStyleRequest* request,
                                                         v1::EncodeStyleResponse* response) {
-  return RunUnary(service_, ctx, "EncodeStyle", [this, request, response] {
+  return RunUnary(service_, ctx, kStyleService, "EncodeStyle", [this, request, response] {
     CallOutcome out{absl::OkStatus(), request->model(), request->clip().frames_size()};
     absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
     if (!m.ok()) return out.status = m.status(), out;
@@ -119,7 +121,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::EncodeStyle(grpc::CallbackServerCont
 grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerContext* ctx,
                                                         const v1::InterpolateRequest* request,
                                                         v1::TransferResponse* response) {
-  return RunUnary(service_, ctx, "Interpolate", [this, request, response] {
+  return RunUnary(service_, ctx, kStyleService, "Interpolate", [this, request, response] {
     const auto t0 = std::chrono::steady_clock::now();
     CallOutcome out{absl::OkStatus(), request->model(), request->content().frames_size()};
     absl::StatusOr<ContentCall> call = StartContentCall(
@@ -153,6 +155,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
     wire::ClipToProto(result->motion, response->mutable_output());
     response->set_model(call->model.id);
     response->set_compute_ms(MsSince(t0));
+    out.model_seconds = response->compute_ms() / 1000;
     return out;
   });
 }
@@ -160,7 +163,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
 grpc::ServerUnaryReactor* StyleServiceImpl::ComputeMetrics(grpc::CallbackServerContext* ctx,
                                                            const v1::MetricsRequest* request,
                                                            v1::MetricsResponse* response) {
-  return RunUnary(service_, ctx, "ComputeMetrics", [request, response] {
+  return RunUnary(service_, ctx, kStyleService, "ComputeMetrics", [request, response] {
     CallOutcome out{absl::OkStatus(), "", request->output().frames_size()};
     absl::StatusOr<motion::Motion> output = wire::ClipFromProto(request->output(), "output clip");
     if (!output.ok()) return out.status = output.status(), out;

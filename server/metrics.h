@@ -48,8 +48,8 @@ class Metrics {
   void MessageReceived(const std::string& service, const std::string& method, const char* type);
   void MessageSent(const std::string& service, const std::string& method, const char* type);
 
-  // Stylus's: the model's compute time of a unary call or a batch of live
-  // steps, by model; frames transferred, by model and "unary"/"stream";
+  // Stylus's: the model's compute time of a unary call or of a batch of
+  // live steps, by model; frames transferred, by model and "unary"/"stream";
   // seconds from reading the request that made a stream frame final to
   // queueing it for the client; a content guard's back-off, by model; the
   // streams in one batch of live steps.

@@ -22,11 +22,12 @@ StepBatcher::~StepBatcher() {
 }
 
 bool StepBatcher::Submit(std::shared_ptr<const model::StyleModel> model,
-                         model::FrameStreamer* stream, std::function<void(absl::Status)> done) {
+                         const std::string& model_id, model::FrameStreamer* stream,
+                         std::function<void(absl::Status)> done) {
   absl::MutexLock lock(&mu_);
   if (stopping_) return false;
-  waiting_.push_back(
-      {std::move(model), stream->step_core(), std::move(done), std::chrono::steady_clock::now()});
+  waiting_.push_back({std::move(model), model_id, stream->step_core(), std::move(done),
+                      std::chrono::steady_clock::now()});
   return true;
 }
 
@@ -81,7 +82,13 @@ void StepBatcher::Loop() {
     if (metrics_ != nullptr) metrics_->StepBatch(static_cast<int64_t>(batch.size()));
     std::vector<model::FrameStreamer*> cores;
     for (const Entry& e : batch) cores.push_back(e.core);
+    const auto t0 = std::chrono::steady_clock::now();
     const absl::Status s = batch.front().model->StepStreams(cores);
+    if (metrics_ != nullptr) {
+      metrics_->ModelSeconds(
+          batch.front().model_id,
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
     std::vector<Entry> again;
     for (Entry& e : batch) {
       if (s.ok() && e.core->has_steps()) {

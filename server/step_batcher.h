@@ -17,6 +17,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <string>
 #include <thread>
 
 #include "absl/base/thread_annotations.h"
@@ -39,9 +40,10 @@ class StepBatcher {
 
   // Runs every step `stream` has queued (a batchable stream, fed), in
   // batches with other streams' steps, then `done` with the status on the
-  // executor. False (and nothing runs) once shutting down.
-  bool Submit(std::shared_ptr<const model::StyleModel> model, model::FrameStreamer* stream,
-              std::function<void(absl::Status)> done);
+  // executor. False (and nothing runs) once shutting down. `model_id`
+  // labels the batch's compute time in the metrics.
+  bool Submit(std::shared_ptr<const model::StyleModel> model, const std::string& model_id,
+              model::FrameStreamer* stream, std::function<void(absl::Status)> done);
 
   // Batches run and steps they held, since the start.
   int64_t batches() const;
@@ -50,6 +52,7 @@ class StepBatcher {
  private:
   struct Entry {
     std::shared_ptr<const model::StyleModel> model;
+    std::string model_id;
     model::FrameStreamer* core;
     std::function<void(absl::Status)> done;
     std::chrono::steady_clock::time_point since;

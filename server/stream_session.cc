@@ -169,7 +169,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       Enqueue(*out);
       return absl::OkStatus();
     }
-    if (!service_->batcher->Submit(model_, streamer_.get(),
+    if (!service_->batcher->Submit(model_, outcome_.model, streamer_.get(),
                                    [this](absl::Status s) { AfterSteps(s); })) {
       return absl::UnavailableError("the server is shutting down");
     }

@@ -84,7 +84,9 @@ TEST(MetricsTest, AScrapeAfterRealCallsCountsThem) {
             content.num_frames);
   EXPECT_EQ(SeriesValue(text, "stylus_stream_frame_seconds_count"), content.num_frames);
   EXPECT_GT(SeriesValue(text, "stylus_step_batch_streams_count"), 0);
-  EXPECT_GT(SeriesValue(text, R"(stylus_model_seconds_count{model="contrastive/v5"})"), 0);
+  EXPECT_EQ(SeriesValue(text, R"(stylus_model_seconds_count{model="contrastive/v5"})"), 1);
+  EXPECT_EQ(SeriesValue(text, R"(stylus_model_seconds_count{model="live/v1"})"),
+            SeriesValue(text, "stylus_step_batch_streams_count"));
   // States read at the scrape.
   EXPECT_EQ(SeriesValue(text, "stylus_loaded_models"), 4);
   EXPECT_EQ(SeriesValue(text, "stylus_open_streams"), 0);

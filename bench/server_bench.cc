@@ -4,7 +4,10 @@
 //     without gRPC (so the ratio is the cost of the service around the model);
 //   - TransferStream per-frame latency p50/p99 when frames are sent at 30 fps
 //     (and the floor the windowing sets: a frame waits for the window after it);
-//   - the server's resident memory idle and after 1000 Transfer calls.
+//   - the server's resident memory idle and after 1000 Transfer calls;
+//   - the same unary latency on a second server with --metrics-listen,
+//     scraped every 100 ms meanwhile (Prometheus scrapes every 15 s or so),
+//     calls alternating between the two servers: the metrics' overhead.
 // Usage: server_bench [--server-bin PATH] [--calls 1000] [--reps 20]
 #include <atomic>
 #include <cstdio>
@@ -117,6 +120,47 @@ int main(int argc, char** argv) {
       "%.1f calls/s, %d failed) %.1f MB; after/before %.2f\n",
       rss_idle / 1024.0, rss_before / 1024.0, calls, secs, calls / secs, failures.load(),
       rss_after / 1024.0, static_cast<double>(rss_after) / rss_before);
+
+  // The metrics' overhead: a server with them on, alternating with the first.
+  const int metrics_port = stylus::bench::FreePort();
+  stylus::bench::ServerProcess with_metrics;
+  if (metrics_port == 0 ||
+      !with_metrics.Start(server_bin, {"--models", models, "--threads", "2", "--metrics-listen",
+                                       "127.0.0.1:" + std::to_string(metrics_port)})) {
+    std::fprintf(stderr, "server_bench: cannot start %s with metrics\n", server_bin.c_str());
+    return 1;
+  }
+  stylus::ClientOptions metrics_options;
+  metrics_options.address = with_metrics.address();
+  stylus::Client metrics_client(metrics_options);
+  (void)metrics_client.EncodeStyle(style, "bench");
+  std::atomic<bool> scraping{true};
+  std::atomic<int> scrapes{0}, empty_scrapes{0};
+  std::thread scraper([&] {
+    while (scraping) {
+      const std::string text = stylus::bench::HttpGet(metrics_port, "/metrics");
+      ++(text.find("grpc_server_handled_total") != std::string::npos ? scrapes : empty_scrapes);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  });
+  std::vector<double> plain, metered;
+  for (int r = 0; r < 3 * reps; ++r) {
+    auto t = Clock::now();
+    const bool a = client.Transfer(content, {nullptr, "bench"}).ok();
+    plain.push_back(Since(t));
+    t = Clock::now();
+    const bool b = metrics_client.Transfer(content, {nullptr, "bench"}).ok();
+    metered.push_back(Since(t));
+    if (!a || !b) ++failures;
+  }
+  scraping = false;
+  scraper.join();
+  const double pm = Percentile(plain, 0.5), mm = Percentile(metered, 0.5);
+  std::printf(
+      "metrics overhead: unary Transfer median %.1f ms without, %.1f ms with metrics scraped "
+      "every 100 ms (%d scrapes, %d without the series); ratio %.3f\n",
+      1000 * pm, 1000 * mm, scrapes.load(), empty_scrapes.load(), mm / pm);
+  std::printf("server with metrics exit on SIGTERM: %d\n", with_metrics.Stop());
   std::printf("server exit on SIGTERM: %d\n", server.Stop());
   return 0;
 }

@@ -112,6 +112,11 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   spdlog::info("listening on port {} with {} model(s) [{}], default {}; {} compute thread(s)",
                impl->port, ids.size(), absl::StrJoin(ids, ", "), impl->registry->default_id(),
                options.threads);
+  const model::BlasReport blas = model::DescribeBlas();
+  spdlog::info("LibTorch: {} thread(s) per forward; BLAS: {} (kernel {}; this CPU's best: {})",
+               model::ComputeThreads(), blas.library, blas.kernel.empty() ? "?" : blas.kernel,
+               blas.best.empty() ? "?" : blas.best);
+  if (!blas.warning.empty()) spdlog::warn("{}", blas.warning);
   if (impl->metrics != nullptr) {
     spdlog::info("metrics at http://{}/metrics (port {})", options.metrics_listen,
                  impl->metrics->port());

@@ -29,6 +29,7 @@ std::unique_ptr<grpc::ClientContext> Client::Context(double deadline_scale) cons
   ctx->set_deadline(
       std::chrono::system_clock::now() +
       std::chrono::duration_cast<std::chrono::milliseconds>(options_.deadline * deadline_scale));
+  if (!options_.token.empty()) ctx->AddMetadata("authorization", "Bearer " + options_.token);
   return ctx;
 }
 

@@ -25,6 +25,9 @@ struct ClientOptions {
   std::string address = "localhost:50051";
   std::chrono::milliseconds deadline{60000};  // Per unary call; per stream, x10.
   int max_message_mb = 64;
+  // Sent as "authorization: Bearer TOKEN" with every call when not empty
+  // (a server started with --auth-tokens).
+  std::string token;
 };
 
 struct CallOptions {

@@ -30,7 +30,8 @@ constexpr char kUsage[] =
     "%s\n"
     "global options (before or after the command):\n"
     "  --server ADDR      the server (default $STYLUS_SERVER, else localhost:50051)\n"
-    "  --deadline-s S     give up on a call after S seconds (default 60)\n";
+    "  --deadline-s S     give up on a call after S seconds (default 60)\n"
+    "  --token TOKEN      the server's access token (default $STYLUS_TOKEN)\n";
 
 constexpr char kCallOptions[] =
     "  --model NAME[/VERSION]   the model (default: the server's default)\n"
@@ -386,7 +387,7 @@ void PrintCommandHelp(const Command& c, FILE* f) {
   if (c.call_options) absl::FPrintF(f, "\n%s", kCallOptions);
   absl::FPrintF(f,
                 "\nglobal options: --server ADDR (default $STYLUS_SERVER, else "
-                "localhost:50051), --deadline-s S\n");
+                "localhost:50051), --deadline-s S, --token TOKEN (default $STYLUS_TOKEN)\n");
 }
 
 }  // namespace
@@ -398,7 +399,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   // The command is the first argument that is not a global option or its value.
-  const std::set<std::string> global = {"--server", "--deadline-s"};
+  const std::set<std::string> global = {"--server", "--deadline-s", "--token"};
   size_t at = 0;
   while (at < args.size() && global.count(args[at])) at += 2;
   if (at < args.size() && (args[at] == "--help" || args[at] == "-h")) {
@@ -423,7 +424,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> rest(args.begin(), args.begin() + at);
   rest.insert(rest.end(), args.begin() + at + 1, args.end());
   stylus::cli::ArgSpec spec{command->options, {}};
-  spec.options.insert({"server", "deadline-s"});
+  spec.options.insert({"server", "deadline-s", "token"});
   if (command->call_options) spec.options.insert({"model", "postprocess"});
   absl::StatusOr<Args> a = stylus::cli::ParseArgs(rest, spec);
   if (!a.ok()) {
@@ -444,6 +445,9 @@ int main(int argc, char** argv) {
   const char* env_server = std::getenv("STYLUS_SERVER");
   if (env_server != nullptr && *env_server != '\0') options.address = env_server;
   if (a->Has("server")) options.address = a->Get("server");
+  const char* env_token = std::getenv("STYLUS_TOKEN");
+  if (env_token != nullptr) options.token = env_token;
+  if (a->Has("token")) options.token = a->Get("token");
   if (a->Has("deadline-s")) {
     double s;
     if (!absl::SimpleAtod(a->Get("deadline-s"), &s) || !(s > 0)) {

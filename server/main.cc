@@ -16,7 +16,7 @@ constexpr char kHelp[] =
     "                     [--listen ADDR] [--threads N] [--torch-threads N]\n"
     "                     [--max-streams N] [--max-message-mb N] [--max-stream-frames N]\n"
     "                     [--max-batch N] [--max-queue-delay-us N] [--batch-unary]\n"
-    "                     [--metrics-listen ADDR]\n"
+    "                     [--metrics-listen ADDR] [--auth-tokens FILE]\n"
     "                     [--shutdown-grace-s S] [--port-file FILE]\n\n"
     "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService),\n"
     "grpc.health.v1 and server reflection. Loads every model package under\n"
@@ -33,6 +33,9 @@ constexpr char kHelp[] =
     "                         batch with (default 500)\n"
     "  --batch-unary          batch unary Transfer/Interpolate passes too (off:\n"
     "                         on a CPU, parallel calls are faster; docs/service.md)\n"
+    "  --auth-tokens FILE     calls need 'authorization: Bearer TOKEN' with a token\n"
+    "                         from FILE (one per line; re-read on SIGHUP); health\n"
+    "                         checks stay open\n"
     "  --metrics-listen ADDR  serve Prometheus metrics at http://ADDR/metrics\n"
     "                         (e.g. 0.0.0.0:9464; off by default)\n"
     "  --max-message-mb N     largest request or response (default 64)\n"
@@ -84,6 +87,8 @@ int main(int argc, char** argv) {
       ok = absl::SimpleAtoi(value, &options.max_batch) && options.max_batch >= 0;
     } else if (arg == "--max-queue-delay-us") {
       ok = absl::SimpleAtoi(value, &options.max_queue_delay_us) && options.max_queue_delay_us >= 0;
+    } else if (arg == "--auth-tokens") {
+      options.auth_tokens = value;
     } else if (arg == "--metrics-listen") {
       options.metrics_listen = value;
     } else if (arg == "--max-message-mb") {
@@ -106,6 +111,7 @@ int main(int argc, char** argv) {
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGHUP);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   absl::StatusOr<std::unique_ptr<stylus::server::StylusServer>> server =
@@ -124,7 +130,14 @@ int main(int argc, char** argv) {
   }
   std::thread waiter([&] {
     int sig = 0;
-    sigwait(&signals, &sig);
+    while (sigwait(&signals, &sig) == 0 && sig == SIGHUP) {
+      const absl::StatusOr<int> tokens = (*server)->ReloadTokens();
+      if (tokens.ok()) {
+        spdlog::info("received SIGHUP; {} token(s) in force", *tokens);
+      } else {
+        spdlog::warn("received SIGHUP; tokens unchanged: {}", tokens.status().ToString());
+      }
+    }
     spdlog::info("received {}; finishing in-flight calls (up to {} s)",
                  sig == SIGINT ? "SIGINT" : "SIGTERM", grace_s);
     (*server)->Shutdown(std::chrono::system_clock::now() +

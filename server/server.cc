@@ -18,6 +18,7 @@ struct StylusServer::Impl {
   StyleBank styles;
   // With --metrics-listen; outlives what it reads and what counts into it.
   std::unique_ptr<Metrics> metrics;
+  std::unique_ptr<TokenAuth> auth;                   // With auth_tokens.
   std::unique_ptr<model::PassBatcher> pass_batcher;  // With max_batch > 0; outlives the executor.
   std::unique_ptr<Executor> executor;
   std::unique_ptr<StepBatcher> batcher;  // With max_batch > 0.
@@ -61,6 +62,12 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
     return absl::InvalidArgumentError("threads, stream and message limits must be positive");
   }
   auto impl = std::make_unique<Impl>();
+  if (!options.auth_tokens.empty()) {
+    absl::StatusOr<std::unique_ptr<TokenAuth>> auth = TokenAuth::Load(options.auth_tokens);
+    if (!auth.ok()) return auth.status();
+    impl->auth = *std::move(auth);
+    impl->context.auth = impl->auth.get();
+  }
   model::SetComputeThreads(options.torch_threads);
   absl::StatusOr<std::unique_ptr<ModelRegistry>> registry =
       ModelRegistry::Create(options.models_dir, options.default_model);
@@ -117,6 +124,9 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
                model::ComputeThreads(), blas.library, blas.kernel.empty() ? "?" : blas.kernel,
                blas.best.empty() ? "?" : blas.best);
   if (!blas.warning.empty()) spdlog::warn("{}", blas.warning);
+  spdlog::info("access: {}", impl->auth != nullptr
+                                 ? absl::StrCat("bearer tokens from ", options.auth_tokens)
+                                 : std::string("open (no --auth-tokens)"));
   if (impl->metrics != nullptr) {
     spdlog::info("metrics at http://{}/metrics (port {})", options.metrics_listen,
                  impl->metrics->port());
@@ -125,6 +135,13 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
 }
 
 int StylusServer::port() const { return impl_->port; }
+
+absl::StatusOr<int> StylusServer::ReloadTokens() {
+  if (impl_->auth == nullptr) {
+    return absl::FailedPreconditionError("the server was started without --auth-tokens");
+  }
+  return impl_->auth->Reload();
+}
 
 int StylusServer::metrics_port() const {
   return impl_->metrics != nullptr ? impl_->metrics->port() : 0;

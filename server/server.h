@@ -32,6 +32,9 @@ struct ServerOptions {
   // Serves Prometheus metrics at http://ADDR/metrics when not empty
   // (server/metrics.h); port 0 picks a free one (metrics_port()).
   std::string metrics_listen;
+  // When not empty, calls need "authorization: Bearer TOKEN" with a token
+  // from this file (server/token_auth.h); health checks stay open.
+  std::string auth_tokens;
   int max_message_mb = 64;
   int64_t max_stream_frames = 30 * 60 * 60;
 };
@@ -58,6 +61,9 @@ class StylusServer {
   int port() const;
   // The metrics port bound, 0 without metrics.
   int metrics_port() const;
+  // Reads the tokens file again (SIGHUP); the tokens in force, or the error
+  // (the old tokens stay). FAILED_PRECONDITION without --auth-tokens.
+  absl::StatusOr<int> ReloadTokens();
   // What is running now; not to be called while Shutdown runs.
   ServerLoad load() const;
   // Stops accepting calls, lets in-flight calls finish until `deadline`

@@ -39,6 +39,21 @@ void CountUnary(Metrics* metrics, const char* grpc_service, const std::string& r
 
 }  // namespace
 
+absl::Status CheckToken(const ServiceContext& service, const grpc::CallbackServerContext* ctx) {
+  if (service.auth == nullptr) return absl::OkStatus();
+  const auto& metadata = ctx->client_metadata();
+  const auto it = metadata.find("authorization");
+  const absl::string_view value = it == metadata.end()
+                                      ? absl::string_view()
+                                      : absl::string_view(it->second.data(), it->second.size());
+  if (service.auth->Allows(value)) return absl::OkStatus();
+  return absl::UnauthenticatedError(
+      it == metadata.end()
+          ? "this server needs a token: send the metadata 'authorization: Bearer TOKEN' "
+            "(stylus --token, $STYLUS_TOKEN)"
+          : "the token is not one this server accepts");
+}
+
 grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServerContext* ctx,
                                    const char* grpc_service, const std::string& rpc,
                                    std::function<CallOutcome()> work) {
@@ -48,6 +63,13 @@ grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServer
   if (metrics != nullptr) {
     metrics->CallStarted(grpc_service, rpc, "unary");
     metrics->MessageReceived(grpc_service, rpc, "unary");
+  }
+  if (absl::Status token = CheckToken(*service, ctx); !token.ok()) {
+    const CallOutcome outcome{token, "", 0};
+    LogCall(rpc, outcome, 0);
+    CountUnary(metrics, grpc_service, rpc, outcome, 0);
+    reactor->Finish(ToGrpcStatus(outcome.status));
+    return reactor;
   }
   auto run = [ctx, reactor, rpc, start, metrics, grpc_service, work = std::move(work)] {
     CallOutcome outcome;

@@ -17,6 +17,7 @@
 #include "server/registry.h"
 #include "server/step_batcher.h"
 #include "server/style_bank.h"
+#include "server/token_auth.h"
 
 namespace stylus::server {
 
@@ -29,6 +30,7 @@ struct ServiceContext {
   // Batches unary transfers' network passes (null: each call runs alone).
   model::PassBatcher* pass_batcher = nullptr;
   Metrics* metrics = nullptr;  // With --metrics-listen.
+  TokenAuth* auth = nullptr;   // With --auth-tokens: calls need a token.
   int max_streams = 16;
   int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
   std::atomic<int> open_streams{0};
@@ -54,7 +56,12 @@ void LogCall(const std::string& rpc, const CallOutcome& outcome, double ms);
 // unary pattern of every StyleService/ModelService method. A call whose
 // client has gone or whose deadline has passed before the work starts is not
 // computed. UNAVAILABLE when the executor no longer accepts work (shutdown).
-// Counted in the metrics (when on) under `grpc_service` and `rpc`.
+// OK, or UNAUTHENTICATED when the server wants a token and the call has no
+// valid one (the token is never logged).
+absl::Status CheckToken(const ServiceContext& service, const grpc::CallbackServerContext* ctx);
+
+// Counted in the metrics (when on) under `grpc_service` and `rpc`. A call
+// without a valid token (when tokens are on) ends UNAUTHENTICATED unrun.
 grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServerContext* ctx,
                                    const char* grpc_service, const std::string& rpc,
                                    std::function<CallOutcome()> work);

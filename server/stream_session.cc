@@ -18,12 +18,17 @@ namespace {
 
 class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse> {
  public:
-  explicit StreamSession(ServiceContext* service)
+  StreamSession(ServiceContext* service, const grpc::CallbackServerContext* ctx)
       : service_(service), start_(std::chrono::steady_clock::now()) {
     if (Metrics* m = service_->metrics) m->CallStarted(kStyleService, kMethod, kType);
     if (service_->open_streams.fetch_add(1) >= service_->max_streams) {
       outcome_.status = absl::ResourceExhaustedError(absl::StrCat(
           "the server already runs its maximum of ", service_->max_streams, " streams"));
+      Finish(ToGrpcStatus(outcome_.status));
+      return;
+    }
+    if (absl::Status token = CheckToken(*service_, ctx); !token.ok()) {
+      outcome_.status = token;
       Finish(ToGrpcStatus(outcome_.status));
       return;
     }
@@ -428,8 +433,8 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
 }  // namespace
 
 grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse>* StartStreamSession(
-    ServiceContext* service, grpc::CallbackServerContext*) {
-  return new StreamSession(service);
+    ServiceContext* service, grpc::CallbackServerContext* ctx) {
+  return new StreamSession(service, ctx);
 }
 
 grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse>* StyleServiceImpl::TransferStream(

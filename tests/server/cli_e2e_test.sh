@@ -82,5 +82,30 @@ if [ "$rc" -eq 0 ] && grep -q "shut down" "$work/server.log"; then
 else
   failed=$((failed + 1)); echo "FAIL SIGTERM: exit $rc"; tail -5 "$work/server.log"
 fi
+# A server that wants a token: the CLI's --token and $STYLUS_TOKEN, SIGHUP
+# re-reading the file, and no token in its log.
+printf '# tokens\ns3cret-alpha\n' >"$work/tokens"
+rm -f "$work/port"
+"$server" --models "$src/models" --listen localhost:0 --port-file "$work/port" \
+  --auth-tokens "$work/tokens" >"$work/auth.log" 2>&1 &
+pid=$!
+for _ in $(seq 1 300); do [ -s "$work/port" ] && break; sleep 0.1; done
+a=(--server "localhost:$(cat "$work/port")")
+check "no token" 1 "UNAUTHENTICATED.*Bearer" -- "$cli" "${a[@]}" models
+check "a wrong token" 1 "UNAUTHENTICATED" -- "$cli" "${a[@]}" --token s3cret-beta models
+check "--token" 0 "contrastive/v5 \(default\)" -- "$cli" "${a[@]}" --token s3cret-alpha models
+check "STYLUS_TOKEN" 0 "contrastive/v5" -- env STYLUS_TOKEN=s3cret-alpha "$cli" "${a[@]}" models
+printf 's3cret-beta\n' >"$work/tokens"
+kill -HUP "$pid"
+for _ in $(seq 1 50); do grep -q "SIGHUP" "$work/auth.log" && break; sleep 0.1; done
+check "SIGHUP re-reads the tokens" 0 "1 token\(s\) in force" -- cat "$work/auth.log"
+check "an old token after SIGHUP" 1 "UNAUTHENTICATED" -- "$cli" "${a[@]}" --token s3cret-alpha models
+check "the new token after SIGHUP" 0 "contrastive/v5" -- "$cli" "${a[@]}" --token s3cret-beta models
+check "the log says access is by token" 0 "access: bearer tokens from" -- cat "$work/auth.log"
+check "no token in the log" 1 "^0$" -- grep -c s3cret "$work/auth.log"
+kill -TERM "$pid"
+wait "$pid"
+check "the token server stops on SIGTERM" 0 "shut down" -- cat "$work/auth.log"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,10 +1,5 @@
 // Prometheus metrics of a real server (--metrics-listen), scraped over HTTP
 // after real calls.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <sstream>
 #include <string>
 #include <utility>
@@ -15,27 +10,6 @@
 
 namespace stylus::testing {
 namespace {
-
-// The body of GET http://127.0.0.1:port/path ("" when it cannot connect).
-std::string HttpGet(int port, const std::string& path) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) return "";
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  std::string out;
-  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) == 0) {
-    const std::string request = "GET " + path + " HTTP/1.0\r\nHost: localhost\r\n\r\n";
-    if (write(fd, request.data(), request.size()) == static_cast<ssize_t>(request.size())) {
-      char buf[65536];
-      for (ssize_t n; (n = read(fd, buf, sizeof(buf))) > 0;) out.append(buf, n);
-    }
-  }
-  close(fd);
-  const size_t body = out.find("\r\n\r\n");
-  return body == std::string::npos ? "" : out.substr(body + 4);
-}
 
 // The value of the sample `series` (name and labels as exposed), or -1.
 double SeriesValue(const std::string& text, const std::string& series) {
@@ -60,7 +34,7 @@ TEST(MetricsTest, AScrapeAfterRealCallsCountsThem) {
   ASSERT_TRUE(streamed.ok()) << streamed.status();
   ASSERT_EQ(streamed->output.num_frames, content.num_frames);
 
-  const std::string text = HttpGet(s->server->metrics_port(), "/metrics");
+  const std::string text = HttpGetBody(s->server->metrics_port(), "/metrics");
   ASSERT_FALSE(text.empty());
   const std::string transfer =
       R"(grpc_method="Transfer",grpc_service="stylus.v1.StyleService",grpc_type="unary")";
@@ -115,7 +89,7 @@ TEST(MetricsTest, OffByDefaultAndABadAddressFailsTheStart) {
     EXPECT_EQ(bad.status().code(), code) << listen << ": " << bad.status();
   }
   // Only GET of /metrics.
-  EXPECT_NE(HttpGet(first->server->metrics_port(), "/other").find("metrics are at /metrics"),
+  EXPECT_NE(HttpGetBody(first->server->metrics_port(), "/other").find("metrics are at /metrics"),
             std::string::npos);
 }
 

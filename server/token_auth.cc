@@ -1,0 +1,76 @@
+#include "server/token_auth.h"
+
+#include <fstream>
+#include <utility>
+
+#include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+
+namespace stylus::server {
+namespace {
+
+// Equal in time that depends only on the lengths, not on where a and b
+// first differ.
+bool ConstantTimeEquals(absl::string_view a, absl::string_view b) {
+  unsigned char diff = a.size() == b.size() ? 0 : 1;
+  const size_t n = std::max(a.size(), b.size());
+  for (size_t i = 0; i < n; ++i) {
+    const unsigned char x = i < a.size() ? a[i] : 0, y = i < b.size() ? b[i] : 0;
+    diff |= x ^ y;
+  }
+  return diff == 0;
+}
+
+}  // namespace
+
+absl::StatusOr<std::vector<std::string>> TokenAuth::Read(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return absl::NotFoundError(absl::StrCat("auth tokens: cannot read ", path));
+  std::vector<std::string> tokens;
+  int line_number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_number;
+    const absl::string_view token = absl::StripAsciiWhitespace(line);
+    if (token.empty() || token[0] == '#') continue;
+    for (const char c : token) {
+      if (c <= ' ' || c > '~') {
+        return absl::InvalidArgumentError(
+            absl::StrCat(path, ":", line_number,
+                         ": a token is printable ASCII without spaces (one token per line)"));
+      }
+    }
+    tokens.emplace_back(token);
+  }
+  if (tokens.empty()) {
+    return absl::InvalidArgumentError(absl::StrCat(path, ": no token (one token per line)"));
+  }
+  return tokens;
+}
+
+absl::StatusOr<std::unique_ptr<TokenAuth>> TokenAuth::Load(const std::string& path) {
+  std::unique_ptr<TokenAuth> auth(new TokenAuth(path));
+  absl::StatusOr<int> n = auth->Reload();
+  if (!n.ok()) return n.status();
+  return auth;
+}
+
+absl::StatusOr<int> TokenAuth::Reload() {
+  absl::StatusOr<std::vector<std::string>> tokens = Read(path_);
+  if (!tokens.ok()) return tokens.status();
+  absl::MutexLock lock(&mu_);
+  tokens_ = *std::move(tokens);
+  return static_cast<int>(tokens_.size());
+}
+
+bool TokenAuth::Allows(absl::string_view authorization) const {
+  constexpr absl::string_view kScheme = "Bearer ";
+  if (!absl::StartsWith(authorization, kScheme)) return false;
+  const absl::string_view token = authorization.substr(kScheme.size());
+  absl::MutexLock lock(&mu_);
+  bool allowed = false;
+  for (const std::string& t : tokens_) allowed |= ConstantTimeEquals(token, t);
+  return allowed;
+}
+
+}  // namespace stylus::server

@@ -66,6 +66,8 @@ struct PassBatcher::Impl {
   int64_t calls ABSL_GUARDED_BY(mu) = 0;
 };
 
+PassBatcher::Impl& BatcherImpl(PassBatcher* batcher) { return *batcher->impl_; }
+
 PassBatcher::PassBatcher(int64_t max_rows, std::chrono::microseconds max_delay)
     : impl_(std::make_unique<Impl>()) {
   impl_->max_rows = std::max<int64_t>(1, max_rows);
@@ -87,7 +89,7 @@ int64_t PassBatcher::calls() const {
 torch::Tensor RunPass(PassBatcher* batcher, const void* owner, int pass_id,
                       const std::vector<torch::Tensor>& inputs, const Pass& pass) {
   if (batcher == nullptr || inputs.empty()) return pass(inputs);
-  PassBatcher::Impl& b = batcher->impl();
+  PassBatcher::Impl& b = BatcherImpl(batcher);
   std::vector<std::vector<int64_t>> shapes;
   for (const torch::Tensor& t : inputs) {
     const auto sizes = t.sizes();

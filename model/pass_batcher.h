@@ -29,10 +29,10 @@ class PassBatcher {
   int64_t batches() const;  // Passes run for more than one call...
   int64_t calls() const;    // ...and the calls they held.
 
-  struct Impl;
-  Impl& impl() const { return *impl_; }
+  struct Impl;  // Defined in pass_batcher.cc; RunPass (pass_batching.h) uses it.
 
  private:
+  friend Impl& BatcherImpl(PassBatcher* batcher);
   std::unique_ptr<Impl> impl_;
 };
 

@@ -13,10 +13,12 @@
 
 #include <exception>
 #include <fstream>
+#include <map>
 #include <utility>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "absl/synchronization/mutex.h"
 #include "server/http_endpoint.h"
 
 namespace stylus::server {
@@ -128,9 +130,8 @@ struct Metrics::Impl {
           .Register(*registry)
           .Add({}, prometheus::Histogram::BucketBoundaries{1, 2, 4, 8, 16, 32, 64, 128, 256, 512});
 
-  static Labels Rpc(const std::string& service, const std::string& method, const char* type) {
-    return {{"grpc_service", service}, {"grpc_method", method}, {"grpc_type", type}};
-  }
+  absl::Mutex mu;
+  std::map<std::string, std::unique_ptr<Metrics::Rpc>> rpcs ABSL_GUARDED_BY(mu);
 };
 
 absl::StatusOr<std::unique_ptr<Metrics>> Metrics::Start(const std::string& listen,
@@ -157,26 +158,40 @@ Metrics::~Metrics() = default;
 
 int Metrics::port() const { return impl_->endpoint->port(); }
 
-void Metrics::CallStarted(const std::string& service, const std::string& method, const char* type) {
-  impl_->started.Add(Impl::Rpc(service, method, type)).Increment();
+struct Metrics::Rpc {
+  Labels labels;
+  prometheus::Counter* started;
+  prometheus::Counter* received;
+  prometheus::Counter* sent;
+  prometheus::Histogram* handling;
+};
+
+const Metrics::Rpc* Metrics::Series(const std::string& service, const std::string& method,
+                                    const char* type) {
+  const std::string key = absl::StrCat(service, "/", method, "/", type);
+  absl::MutexLock lock(&impl_->mu);
+  std::unique_ptr<Rpc>& rpc = impl_->rpcs[key];
+  if (rpc == nullptr) {
+    const Labels labels = {{"grpc_service", service}, {"grpc_method", method}, {"grpc_type", type}};
+    rpc = std::make_unique<Rpc>(Rpc{labels, &impl_->started.Add(labels),
+                                    &impl_->received.Add(labels), &impl_->sent.Add(labels),
+                                    &impl_->handling.Add(labels, SecondsBuckets())});
+  }
+  return rpc.get();
 }
 
-void Metrics::CallHandled(const std::string& service, const std::string& method, const char* type,
-                          absl::StatusCode code, double seconds) {
-  Labels labels = Impl::Rpc(service, method, type);
-  impl_->handling.Add(labels, SecondsBuckets()).Observe(seconds);
+void Metrics::CallStarted(const Rpc* rpc) { rpc->started->Increment(); }
+
+void Metrics::CallHandled(const Rpc* rpc, absl::StatusCode code, double seconds) {
+  rpc->handling->Observe(seconds);
+  Labels labels = rpc->labels;
   labels["grpc_code"] = absl::StatusCodeToString(code);
   impl_->handled.Add(labels).Increment();
 }
 
-void Metrics::MessageReceived(const std::string& service, const std::string& method,
-                              const char* type) {
-  impl_->received.Add(Impl::Rpc(service, method, type)).Increment();
-}
+void Metrics::MessageReceived(const Rpc* rpc) { rpc->received->Increment(); }
 
-void Metrics::MessageSent(const std::string& service, const std::string& method, const char* type) {
-  impl_->sent.Add(Impl::Rpc(service, method, type)).Increment();
-}
+void Metrics::MessageSent(const Rpc* rpc) { rpc->sent->Increment(); }
 
 void Metrics::ModelSeconds(const std::string& model, double seconds) {
   impl_->model_seconds.Add({{"model", model}}, SecondsBuckets()).Observe(seconds);

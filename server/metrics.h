@@ -41,12 +41,15 @@ class Metrics {
   ~Metrics();
   int port() const;
 
-  // The gRPC series; `type` is "unary" or "bidi_stream".
-  void CallStarted(const std::string& service, const std::string& method, const char* type);
-  void CallHandled(const std::string& service, const std::string& method, const char* type,
-                   absl::StatusCode code, double seconds);
-  void MessageReceived(const std::string& service, const std::string& method, const char* type);
-  void MessageSent(const std::string& service, const std::string& method, const char* type);
+  // The gRPC series of one method, resolved once and kept for the server's
+  // life, so that counting a stream's messages looks nothing up; `type` is
+  // "unary" or "bidi_stream".
+  struct Rpc;
+  const Rpc* Series(const std::string& service, const std::string& method, const char* type);
+  void CallStarted(const Rpc* rpc);
+  void CallHandled(const Rpc* rpc, absl::StatusCode code, double seconds);
+  void MessageReceived(const Rpc* rpc);
+  void MessageSent(const Rpc* rpc);
 
   // Stylus's: the model's compute time of a unary call or of a batch of
   // live steps, by model; frames transferred, by model and "unary"/"stream";

@@ -27,9 +27,10 @@ namespace {
 void CountUnary(Metrics* metrics, const char* grpc_service, const std::string& rpc,
                 const CallOutcome& outcome, double seconds) {
   if (metrics == nullptr) return;
-  metrics->CallHandled(grpc_service, rpc, "unary", outcome.status.code(), seconds);
+  const Metrics::Rpc* series = metrics->Series(grpc_service, rpc, "unary");
+  metrics->CallHandled(series, outcome.status.code(), seconds);
   if (!outcome.status.ok()) return;
-  metrics->MessageSent(grpc_service, rpc, "unary");
+  metrics->MessageSent(series);
   if (outcome.model_seconds > 0) metrics->ModelSeconds(outcome.model, outcome.model_seconds);
   if (outcome.frames > 0 && outcome.model_seconds > 0) {
     metrics->Frames(outcome.model, "unary", outcome.frames);
@@ -61,8 +62,9 @@ grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServer
   const auto start = std::chrono::steady_clock::now();
   Metrics* metrics = service->metrics;
   if (metrics != nullptr) {
-    metrics->CallStarted(grpc_service, rpc, "unary");
-    metrics->MessageReceived(grpc_service, rpc, "unary");
+    const Metrics::Rpc* series = metrics->Series(grpc_service, rpc, "unary");
+    metrics->CallStarted(series);
+    metrics->MessageReceived(series);
   }
   if (absl::Status token = CheckToken(*service, ctx); !token.ok()) {
     const CallOutcome outcome{token, "", 0};

@@ -19,8 +19,12 @@ namespace {
 class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse> {
  public:
   StreamSession(ServiceContext* service, const grpc::CallbackServerContext* ctx)
-      : service_(service), start_(std::chrono::steady_clock::now()) {
-    if (Metrics* m = service_->metrics) m->CallStarted(kStyleService, kMethod, kType);
+      : service_(service),
+        series_(service->metrics != nullptr
+                    ? service->metrics->Series(kStyleService, kMethod, kType)
+                    : nullptr),
+        start_(std::chrono::steady_clock::now()) {
+    if (series_ != nullptr) service_->metrics->CallStarted(series_);
     if (service_->open_streams.fetch_add(1) >= service_->max_streams) {
       outcome_.status = absl::ResourceExhaustedError(absl::StrCat(
           "the server already runs its maximum of ", service_->max_streams, " streams"));
@@ -38,7 +42,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   void OnReadDone(bool ok) override {
     if (ok) {
       read_at_ = std::chrono::steady_clock::now();
-      if (Metrics* m = service_->metrics) m->MessageReceived(kStyleService, kMethod, kType);
+      if (series_ != nullptr) service_->metrics->MessageReceived(series_);
     }
     {
       absl::MutexLock lock(&mu_);
@@ -75,9 +79,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       writes_.pop_front();
       writing_ = false;
       if (!ok) Fail(absl::CancelledError("the client stopped reading"));
-      if (ok && service_->metrics != nullptr) {
-        service_->metrics->MessageSent(kStyleService, kMethod, kType);
-      }
+      if (ok && series_ != nullptr) service_->metrics->MessageSent(series_);
       if (failed_) {
         writes_.clear();
       } else if (!writes_.empty()) {
@@ -371,7 +373,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
             .count();
     LogCall(kMethod, outcome_, ms);
     if (Metrics* m = service_->metrics) {
-      m->CallHandled(kStyleService, kMethod, kType, outcome_.status.code(), ms / 1000);
+      m->CallHandled(series_, outcome_.status.code(), ms / 1000);
       if (outcome_.frames > 0) m->Frames(outcome_.model, "stream", outcome_.frames);
     }
     delete this;
@@ -401,6 +403,8 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   static constexpr char kType[] = "bidi_stream";
 
   ServiceContext* const service_;
+  // The method's metric series (null without metrics).
+  const Metrics::Rpc* const series_;
   const std::chrono::steady_clock::time_point start_;
   // When the request being handled was read (written by OnReadDone before
   // its task runs; read by that task).

@@ -34,7 +34,7 @@ TEST(MetricsTest, AScrapeAfterRealCallsCountsThem) {
   ASSERT_TRUE(streamed.ok()) << streamed.status();
   ASSERT_EQ(streamed->output.num_frames, content.num_frames);
 
-  const std::string text = HttpGetBody(s->server->metrics_port(), "/metrics");
+  const std::string text = bench::HttpGet(s->server->metrics_port(), "/metrics");
   ASSERT_FALSE(text.empty());
   const std::string transfer =
       R"(grpc_method="Transfer",grpc_service="stylus.v1.StyleService",grpc_type="unary")";
@@ -89,7 +89,7 @@ TEST(MetricsTest, OffByDefaultAndABadAddressFailsTheStart) {
     EXPECT_EQ(bad.status().code(), code) << listen << ": " << bad.status();
   }
   // Only GET of /metrics.
-  EXPECT_NE(HttpGetBody(first->server->metrics_port(), "/other").find("metrics are at /metrics"),
+  EXPECT_NE(bench::HttpGet(first->server->metrics_port(), "/other").find("metrics are at /metrics"),
             std::string::npos);
 }
 

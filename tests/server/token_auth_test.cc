@@ -105,7 +105,7 @@ TEST(TokenAuthServerTest, OnlyCallsWithAValidTokenGetIn) {
   ++rejected;
   EXPECT_TRUE(client_with("gamma")->ListModels().ok());
   // Every rejection is counted.
-  const std::string text = HttpGetBody(s->server->metrics_port(), "/metrics");
+  const std::string text = bench::HttpGet(s->server->metrics_port(), "/metrics");
   double counted = 0;
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) {

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/synchronization/mutex.h"
+#include "wire/pem.h"
 #include "wire/wire.h"
 
 namespace stylus {
@@ -15,11 +16,49 @@ absl::Status FromGrpcStatus(const grpc::Status& status) {
   return absl::Status(static_cast<absl::StatusCode>(status.error_code()), status.error_message());
 }
 
+absl::StatusOr<TlsOptions> ReadTlsFiles(const std::string& ca_file, const std::string& cert_file,
+                                        const std::string& key_file) {
+  TlsOptions tls;
+  if (cert_file.empty() != key_file.empty()) {
+    return absl::InvalidArgumentError(
+        "a client certificate needs its key: give both --tls-cert and --tls-key");
+  }
+  if (!ca_file.empty()) {
+    absl::StatusOr<std::string> ca =
+        wire::ReadPem(ca_file, wire::PemKind::kCertificate, "--tls-ca");
+    if (!ca.ok()) return ca.status();
+    tls.ca_pem = *std::move(ca);
+  }
+  if (!cert_file.empty()) {
+    absl::StatusOr<std::string> cert =
+        wire::ReadPem(cert_file, wire::PemKind::kCertificate, "--tls-cert");
+    if (!cert.ok()) return cert.status();
+    absl::StatusOr<std::string> key =
+        wire::ReadPem(key_file, wire::PemKind::kPrivateKey, "--tls-key");
+    if (!key.ok()) return key.status();
+    tls.cert_pem = *std::move(cert);
+    tls.key_pem = *std::move(key);
+  }
+  tls.enabled = !ca_file.empty() || !cert_file.empty();
+  return tls;
+}
+
 Client::Client(const ClientOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(options.max_message_mb * 1024 * 1024);
   args.SetMaxSendMessageSize(options.max_message_mb * 1024 * 1024);
-  channel_ = grpc::CreateCustomChannel(options.address, grpc::InsecureChannelCredentials(), args);
+  std::shared_ptr<grpc::ChannelCredentials> credentials = grpc::InsecureChannelCredentials();
+  if (options.tls.enabled) {
+    grpc::SslCredentialsOptions ssl;
+    ssl.pem_root_certs = options.tls.ca_pem;
+    ssl.pem_cert_chain = options.tls.cert_pem;
+    ssl.pem_private_key = options.tls.key_pem;
+    credentials = grpc::SslCredentials(ssl);
+    if (!options.tls.server_name.empty()) {
+      args.SetSslTargetNameOverride(options.tls.server_name);
+    }
+  }
+  channel_ = grpc::CreateCustomChannel(options.address, credentials, args);
   models_ = v1::ModelService::NewStub(channel_);
   styles_ = v1::StyleService::NewStub(channel_);
 }

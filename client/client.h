@@ -21,6 +21,22 @@
 
 namespace stylus {
 
+// TLS to the server (a server started with --tls-cert). PEM text, not paths:
+// ReadTlsFiles reads them.
+struct TlsOptions {
+  bool enabled = false;
+  std::string ca_pem;       // Trusted roots; empty: the system's.
+  std::string cert_pem;     // Mutual TLS: this client's certificate...
+  std::string key_pem;      // ...and its key.
+  std::string server_name;  // Checked against the certificate instead of the address's host.
+};
+
+// TLS options from PEM files (any path may be empty; a CA or a certificate
+// turns TLS on). INVALID_ARGUMENT for a certificate without its key (or the
+// other way round) or a file that is not PEM; NOT_FOUND for a missing file.
+absl::StatusOr<TlsOptions> ReadTlsFiles(const std::string& ca_file, const std::string& cert_file,
+                                        const std::string& key_file);
+
 struct ClientOptions {
   std::string address = "localhost:50051";
   std::chrono::milliseconds deadline{60000};  // Per unary call; per stream, x10.
@@ -28,6 +44,7 @@ struct ClientOptions {
   // Sent as "authorization: Bearer TOKEN" with every call when not empty
   // (a server started with --auth-tokens).
   std::string token;
+  TlsOptions tls;  // Off: plain text.
 };
 
 struct CallOptions {

@@ -31,7 +31,11 @@ constexpr char kUsage[] =
     "global options (before or after the command):\n"
     "  --server ADDR      the server (default $STYLUS_SERVER, else localhost:50051)\n"
     "  --deadline-s S     give up on a call after S seconds (default 60)\n"
-    "  --token TOKEN      the server's access token (default $STYLUS_TOKEN)\n";
+    "  --token TOKEN      the server's access token (default $STYLUS_TOKEN)\n"
+    "  --tls-ca FILE      speak TLS, trusting the CAs in this PEM file (default\n"
+    "                     $STYLUS_TLS_CA; 'system': the system's CAs)\n"
+    "  --tls-cert FILE    mutual TLS: this client's PEM certificate...\n"
+    "  --tls-key FILE     ...and its key\n";
 
 constexpr char kCallOptions[] =
     "  --model NAME[/VERSION]   the model (default: the server's default)\n"
@@ -387,7 +391,8 @@ void PrintCommandHelp(const Command& c, FILE* f) {
   if (c.call_options) absl::FPrintF(f, "\n%s", kCallOptions);
   absl::FPrintF(f,
                 "\nglobal options: --server ADDR (default $STYLUS_SERVER, else "
-                "localhost:50051), --deadline-s S, --token TOKEN (default $STYLUS_TOKEN)\n");
+                "localhost:50051), --deadline-s S, --token TOKEN (default $STYLUS_TOKEN),\n"
+                "--tls-ca FILE|system (default $STYLUS_TLS_CA), --tls-cert FILE, --tls-key FILE\n");
 }
 
 }  // namespace
@@ -399,7 +404,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   // The command is the first argument that is not a global option or its value.
-  const std::set<std::string> global = {"--server", "--deadline-s", "--token"};
+  const std::set<std::string> global = {"--server", "--deadline-s", "--token",
+                                        "--tls-ca", "--tls-cert",   "--tls-key"};
   size_t at = 0;
   while (at < args.size() && global.count(args[at])) at += 2;
   if (at < args.size() && (args[at] == "--help" || args[at] == "-h")) {
@@ -424,7 +430,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> rest(args.begin(), args.begin() + at);
   rest.insert(rest.end(), args.begin() + at + 1, args.end());
   stylus::cli::ArgSpec spec{command->options, {}};
-  spec.options.insert({"server", "deadline-s", "token"});
+  spec.options.insert({"server", "deadline-s", "token", "tls-ca", "tls-cert", "tls-key"});
   if (command->call_options) spec.options.insert({"model", "postprocess"});
   absl::StatusOr<Args> a = stylus::cli::ParseArgs(rest, spec);
   if (!a.ok()) {
@@ -448,6 +454,17 @@ int main(int argc, char** argv) {
   const char* env_token = std::getenv("STYLUS_TOKEN");
   if (env_token != nullptr) options.token = env_token;
   if (a->Has("token")) options.token = a->Get("token");
+  const char* env_ca = std::getenv("STYLUS_TLS_CA");
+  std::string ca = a->Has("tls-ca") ? a->Get("tls-ca") : (env_ca != nullptr ? env_ca : "");
+  const bool system_ca = ca == "system";
+  absl::StatusOr<stylus::TlsOptions> tls =
+      stylus::ReadTlsFiles(system_ca ? "" : ca, a->Get("tls-cert"), a->Get("tls-key"));
+  if (!tls.ok()) {
+    absl::FPrintF(stderr, "stylus %s: %s\n", name, tls.status().message());
+    return 2;
+  }
+  options.tls = *std::move(tls);
+  options.tls.enabled = options.tls.enabled || system_ca;
   if (a->Has("deadline-s")) {
     double s;
     if (!absl::SimpleAtod(a->Get("deadline-s"), &s) || !(s > 0)) {

@@ -5,8 +5,8 @@
 
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "server/call_log.h"
 #include "server/server.h"
-#include "spdlog/sinks/stdout_color_sinks.h"
 #include "spdlog/spdlog.h"
 
 namespace {
@@ -17,7 +17,10 @@ constexpr char kHelp[] =
     "                     [--max-streams N] [--max-message-mb N] [--max-stream-frames N]\n"
     "                     [--max-batch N] [--max-queue-delay-us N] [--batch-unary]\n"
     "                     [--metrics-listen ADDR] [--auth-tokens FILE]\n"
-    "                     [--shutdown-grace-s S] [--port-file FILE]\n\n"
+    "                     [--tls-cert FILE --tls-key FILE [--tls-client-ca FILE]]\n"
+    "                     [--max-clip-frames N] [--max-joints N] [--max-unary-calls N]\n"
+    "                     [--max-saved-styles N] [--stream-idle-timeout-s S]\n"
+    "                     [--shutdown-grace-s S] [--port-file FILE] [--log-format F]\n\n"
     "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService),\n"
     "grpc.health.v1 and server reflection. Loads every model package under\n"
     "--models (default: models) at start-up.\n\n"
@@ -36,13 +39,29 @@ constexpr char kHelp[] =
     "  --auth-tokens FILE     calls need 'authorization: Bearer TOKEN' with a token\n"
     "                         from FILE (one per line; re-read on SIGHUP); health\n"
     "                         checks stay open\n"
+    "  --tls-cert FILE        serve TLS with this PEM certificate (chain)...\n"
+    "  --tls-key FILE         ...and its PEM private key (default: plain text,\n"
+    "                         for localhost or a trusted network only)\n"
+    "  --tls-client-ca FILE   mutual TLS: clients must present a certificate\n"
+    "                         signed by a CA in this PEM file\n"
     "  --metrics-listen ADDR  serve Prometheus metrics at http://ADDR/metrics\n"
     "                         (e.g. 0.0.0.0:9464; off by default)\n"
     "  --max-message-mb N     largest request or response (default 64)\n"
     "  --max-stream-frames N  frames per stream (default 108000, 1 h at 30 fps)\n"
+    "  --max-clip-frames N    frames per clip in a unary call (default 36000)\n"
+    "  --max-joints N         joints per skeleton (default 256)\n"
+    "  --max-unary-calls N    unary calls waiting or running; more are refused\n"
+    "                         RESOURCE_EXHAUSTED (default 64)\n"
+    "  --max-saved-styles N   style names saved per model (default 1000)\n"
+    "  --stream-idle-timeout-s S\n"
+    "                         close a stream whose client sends nothing for S\n"
+    "                         seconds (default 120; 0: never)\n"
     "  --shutdown-grace-s S   on SIGINT/SIGTERM, how long in-flight calls may\n"
     "                         run on (default 10)\n"
-    "  --port-file FILE       write the bound port there once serving\n";
+    "  --port-file FILE       write the bound port there once serving\n"
+    "  --log-format text|json text for people (default) or one JSON object per\n"
+    "                         line; a call's line has its request id (the\n"
+    "                         client's x-request-id, else one made) and peer\n";
 
 int Usage(const std::string& error) {
   std::fprintf(stderr, "stylus-server: %s\n\n%s", error.c_str(), kHelp);
@@ -52,11 +71,10 @@ int Usage(const std::string& error) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Logs go to stderr, one line per call.
-  spdlog::set_default_logger(spdlog::stderr_color_mt("stylus-server"));
   stylus::server::ServerOptions options;
   double grace_s = 10;
   std::string port_file;
+  stylus::server::LogFormat log_format = stylus::server::LogFormat::kText;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -89,14 +107,35 @@ int main(int argc, char** argv) {
       ok = absl::SimpleAtoi(value, &options.max_queue_delay_us) && options.max_queue_delay_us >= 0;
     } else if (arg == "--auth-tokens") {
       options.auth_tokens = value;
+    } else if (arg == "--tls-cert") {
+      options.tls_cert = value;
+    } else if (arg == "--tls-key") {
+      options.tls_key = value;
+    } else if (arg == "--tls-client-ca") {
+      options.tls_client_ca = value;
     } else if (arg == "--metrics-listen") {
       options.metrics_listen = value;
     } else if (arg == "--max-message-mb") {
       ok = to_int(&options.max_message_mb);
     } else if (arg == "--max-stream-frames") {
       ok = absl::SimpleAtoi(value, &options.max_stream_frames) && options.max_stream_frames > 0;
+    } else if (arg == "--max-clip-frames") {
+      ok = absl::SimpleAtoi(value, &options.max_clip_frames) && options.max_clip_frames > 0;
+    } else if (arg == "--max-joints") {
+      ok = to_int(&options.max_joints);
+    } else if (arg == "--max-unary-calls") {
+      ok = to_int(&options.max_unary_calls);
+    } else if (arg == "--max-saved-styles") {
+      ok = to_int(&options.max_saved_styles);
+    } else if (arg == "--stream-idle-timeout-s") {
+      ok = absl::SimpleAtod(value, &options.stream_idle_timeout_s) &&
+           options.stream_idle_timeout_s >= 0;
     } else if (arg == "--shutdown-grace-s") {
       ok = absl::SimpleAtod(value, &grace_s) && grace_s >= 0;
+    } else if (arg == "--log-format") {
+      absl::StatusOr<stylus::server::LogFormat> f = stylus::server::ParseLogFormat(value);
+      if (!f.ok()) return Usage(std::string(f.status().message()));
+      log_format = *f;
     } else if (arg == "--port-file") {
       port_file = value;
     } else {
@@ -104,6 +143,9 @@ int main(int argc, char** argv) {
     }
     if (!ok) return Usage(absl::StrCat(arg, ": '", value, "' is not a valid value"));
   }
+
+  // Logs go to stderr: start-up, one line per call, shutdown.
+  stylus::server::SetUpLogging(log_format);
 
   // Signals are taken by one thread with sigwait; block them everywhere else
   // (gRPC's and LibTorch's threads inherit this mask).

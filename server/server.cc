@@ -9,13 +9,14 @@
 #include "absl/synchronization/notification.h"
 #include "model/runtime.h"
 #include "server/services.h"
+#include "server/tls.h"
 #include "spdlog/spdlog.h"
 
 namespace stylus::server {
 
 struct StylusServer::Impl {
   std::unique_ptr<ModelRegistry> registry;
-  StyleBank styles;
+  std::unique_ptr<StyleBank> styles;
   // With --metrics-listen; outlives what it reads and what counts into it.
   std::unique_ptr<Metrics> metrics;
   std::unique_ptr<TokenAuth> auth;                   // With auth_tokens.
@@ -58,9 +59,14 @@ StylusServer::~StylusServer() {
 
 absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOptions& options) {
   if (options.threads < 1 || options.max_streams < 1 || options.max_message_mb < 1 ||
-      options.max_stream_frames < 1 || options.max_batch < 0 || options.max_queue_delay_us < 0) {
-    return absl::InvalidArgumentError("threads, stream and message limits must be positive");
+      options.max_stream_frames < 1 || options.max_batch < 0 || options.max_queue_delay_us < 0 ||
+      options.max_clip_frames < 1 || options.max_joints < 1 || options.max_unary_calls < 1 ||
+      options.max_saved_styles < 1 || !(options.stream_idle_timeout_s >= 0)) {
+    return absl::InvalidArgumentError("threads, stream, call and message limits must be positive");
   }
+  absl::StatusOr<ServerTransport> transport =
+      MakeServerTransport({options.tls_cert, options.tls_key, options.tls_client_ca});
+  if (!transport.ok()) return transport.status();
   auto impl = std::make_unique<Impl>();
   if (!options.auth_tokens.empty()) {
     absl::StatusOr<std::unique_ptr<TokenAuth>> auth = TokenAuth::Load(options.auth_tokens);
@@ -75,7 +81,8 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   impl->registry = *std::move(registry);
   impl->executor = std::make_unique<Executor>(options.threads);
   impl->context.registry = impl->registry.get();
-  impl->context.styles = &impl->styles;
+  impl->styles = std::make_unique<StyleBank>(options.max_saved_styles);
+  impl->context.styles = impl->styles.get();
   impl->context.executor = impl->executor.get();
   if (options.max_batch > 0 && options.batch_unary) {
     impl->pass_batcher = std::make_unique<model::PassBatcher>(
@@ -98,13 +105,18 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   }
   impl->context.max_streams = options.max_streams;
   impl->context.max_stream_frames = options.max_stream_frames;
+  impl->context.limits.max_clip_frames = options.max_clip_frames;
+  impl->context.limits.max_joints = options.max_joints;
+  impl->context.limits.max_unary_calls = options.max_unary_calls;
+  impl->context.limits.stream_idle_timeout =
+      std::chrono::milliseconds(static_cast<int64_t>(options.stream_idle_timeout_s * 1000));
   impl->model_service = std::make_unique<ModelServiceImpl>(&impl->context);
   impl->style_service = std::make_unique<StyleServiceImpl>(&impl->context);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
-  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &impl->port);
+  builder.AddListeningPort(options.listen, transport->credentials, &impl->port);
   builder.SetMaxReceiveMessageSize(options.max_message_mb * 1024 * 1024);
   builder.SetMaxSendMessageSize(options.max_message_mb * 1024 * 1024);
   builder.RegisterService(impl->model_service.get());
@@ -124,6 +136,13 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
                model::ComputeThreads(), blas.library, blas.kernel.empty() ? "?" : blas.kernel,
                blas.best.empty() ? "?" : blas.best);
   if (!blas.warning.empty()) spdlog::warn("{}", blas.warning);
+  spdlog::info("transport: {}", transport->description);
+  if (options.tls_cert.empty() && !IsLoopbackAddress(options.listen)) {
+    spdlog::warn(
+        "{} is reachable from other machines over plain text: give --tls-cert and "
+        "--tls-key (docs/service.md \"TLS\")",
+        options.listen);
+  }
   spdlog::info("access: {}", impl->auth != nullptr
                                  ? absl::StrCat("bearer tokens from ", options.auth_tokens)
                                  : std::string("open (no --auth-tokens)"));

@@ -35,8 +35,19 @@ struct ServerOptions {
   // When not empty, calls need "authorization: Bearer TOKEN" with a token
   // from this file (server/token_auth.h); health checks stay open.
   std::string auth_tokens;
+  // TLS (server/tls.h): certificate and key; with client_ca, mutual TLS.
+  // Empty: plain text.
+  std::string tls_cert;
+  std::string tls_key;
+  std::string tls_client_ca;
   int max_message_mb = 64;
   int64_t max_stream_frames = 30 * 60 * 60;
+  // Limits that protect the process (docs/service.md "Limits").
+  int64_t max_clip_frames = 36000;     // Per clip in a unary call.
+  int max_joints = 256;                // Per skeleton.
+  int max_unary_calls = 64;            // Waiting or running; more: RESOURCE_EXHAUSTED.
+  int max_saved_styles = 1000;         // Names saved per model.
+  double stream_idle_timeout_s = 120;  // 0: streams may wait forever.
 };
 
 // What the server is doing now.

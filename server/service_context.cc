@@ -2,24 +2,12 @@
 
 #include <chrono>
 
+#include "absl/strings/str_cat.h"
 #include "server/status.h"
 #include "spdlog/spdlog.h"
+#include "wire/wire.h"
 
 namespace stylus::server {
-
-void LogCall(const std::string& rpc, const CallOutcome& outcome, double ms) {
-  const std::string status =
-      outcome.status.ok() ? "OK" : std::string(absl::StatusCodeToString(outcome.status.code()));
-  if (outcome.status.ok()) {
-    spdlog::info("rpc={} model={} frames={} ms={:.1f} status={}{}{}", rpc,
-                 outcome.model.empty() ? "-" : outcome.model, outcome.frames, ms, status,
-                 outcome.note.empty() ? "" : " ", outcome.note);
-  } else {
-    spdlog::warn("rpc={} model={} frames={} ms={:.1f} status={} message=\"{}\"", rpc,
-                 outcome.model.empty() ? "-" : outcome.model, outcome.frames, ms, status,
-                 std::string(outcome.status.message()));
-  }
-}
 
 namespace {
 
@@ -40,6 +28,25 @@ void CountUnary(Metrics* metrics, const char* grpc_service, const std::string& r
 
 }  // namespace
 
+absl::Status CheckJoints(const ServiceContext& service, int joints, const std::string& what) {
+  if (joints <= service.limits.max_joints) return absl::OkStatus();
+  return absl::ResourceExhaustedError(absl::StrCat(what, ": ", joints,
+                                                   " joints, over this server's limit of ",
+                                                   service.limits.max_joints, " (--max-joints)"));
+}
+
+absl::StatusOr<motion::Motion> ReadClip(const ServiceContext& service, const v1::Clip& clip,
+                                        const std::string& what) {
+  if (absl::Status s = CheckJoints(service, clip.skeleton().joints_size(), what); !s.ok()) return s;
+  if (clip.frames_size() > service.limits.max_clip_frames) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat(what, ": ", clip.frames_size(), " frames, over this server's limit of ",
+                     service.limits.max_clip_frames,
+                     " per call (--max-clip-frames); split the clip or stream it"));
+  }
+  return wire::ClipFromProto(clip, what);
+}
+
 absl::Status CheckToken(const ServiceContext& service, const grpc::CallbackServerContext* ctx) {
   if (service.auth == nullptr) return absl::OkStatus();
   const auto& metadata = ctx->client_metadata();
@@ -55,10 +62,12 @@ absl::Status CheckToken(const ServiceContext& service, const grpc::CallbackServe
           : "the token is not one this server accepts");
 }
 
-grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServerContext* ctx,
-                                   const char* grpc_service, const std::string& rpc,
-                                   std::function<CallOutcome()> work) {
+grpc::ServerUnaryReactor* RunUnaryCall(ServiceContext* service, grpc::CallbackServerContext* ctx,
+                                       const char* grpc_service, const std::string& rpc,
+                                       const absl::Status& parsed,
+                                       std::function<CallOutcome()> work) {
   grpc::ServerUnaryReactor* reactor = ctx->DefaultReactor();
+  const CallOrigin origin = IdentifyCall(ctx);
   const auto start = std::chrono::steady_clock::now();
   Metrics* metrics = service->metrics;
   if (metrics != nullptr) {
@@ -66,14 +75,25 @@ grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServer
     metrics->CallStarted(series);
     metrics->MessageReceived(series);
   }
-  if (absl::Status token = CheckToken(*service, ctx); !token.ok()) {
-    const CallOutcome outcome{token, "", 0};
-    LogCall(rpc, outcome, 0);
+  absl::Status refused = CheckToken(*service, ctx);
+  if (refused.ok()) refused = parsed;
+  // Counted from here until the call is answered; over the cap, refused.
+  const int calls = service->unary_calls.fetch_add(1) + 1;
+  if (refused.ok() && calls > service->limits.max_unary_calls) {
+    refused = absl::ResourceExhaustedError(
+        absl::StrCat("the server already has ", service->limits.max_unary_calls,
+                     " calls waiting or running (--max-unary-calls); retry with backoff"));
+  }
+  if (!refused.ok()) {
+    service->unary_calls.fetch_sub(1);
+    const CallOutcome outcome{refused, "", 0};
+    LogCall(rpc, origin, outcome, 0);
     CountUnary(metrics, grpc_service, rpc, outcome, 0);
     reactor->Finish(ToGrpcStatus(outcome.status));
     return reactor;
   }
-  auto run = [ctx, reactor, rpc, start, metrics, grpc_service, work = std::move(work)] {
+  auto run = [service, ctx, reactor, rpc, origin, start, metrics, grpc_service,
+              work = std::move(work)] {
     CallOutcome outcome;
     if (ctx->IsCancelled()) {
       outcome.status = absl::CancelledError("cancelled or past its deadline before it ran");
@@ -82,13 +102,15 @@ grpc::ServerUnaryReactor* RunUnary(ServiceContext* service, grpc::CallbackServer
     }
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    LogCall(rpc, outcome, ms);
+    LogCall(rpc, origin, outcome, ms);
     CountUnary(metrics, grpc_service, rpc, outcome, ms / 1000);
+    service->unary_calls.fetch_sub(1);
     reactor->Finish(ToGrpcStatus(outcome.status));
   };
   if (!service->executor->Submit(run)) {
+    service->unary_calls.fetch_sub(1);
     CallOutcome outcome{absl::UnavailableError("the server is shutting down"), "", 0};
-    LogCall(rpc, outcome, 0);
+    LogCall(rpc, origin, outcome, 0);
     CountUnary(metrics, grpc_service, rpc, outcome, 0);
     reactor->Finish(ToGrpcStatus(outcome.status));
   }

@@ -10,45 +10,57 @@
 
 namespace stylus::server {
 
-class ModelServiceImpl final : public v1::ModelService::CallbackService {
+// Every method takes its request as bytes (server/raw_message.h).
+using ModelServiceBase = v1::ModelService::WithRawCallbackMethod_ListModels<
+    v1::ModelService::WithRawCallbackMethod_GetModel<
+        v1::ModelService::WithRawCallbackMethod_LoadModel<
+            v1::ModelService::WithRawCallbackMethod_UnloadModel<v1::ModelService::Service>>>>;
+using StyleServiceBase = v1::StyleService::WithRawCallbackMethod_Transfer<
+    v1::StyleService::WithRawCallbackMethod_EncodeStyle<
+        v1::StyleService::WithRawCallbackMethod_Interpolate<
+            v1::StyleService::WithRawCallbackMethod_TransferStream<
+                v1::StyleService::WithRawCallbackMethod_ComputeMetrics<
+                    v1::StyleService::Service>>>>>;
+
+class ModelServiceImpl final : public ModelServiceBase {
  public:
   explicit ModelServiceImpl(ServiceContext* service) : service_(service) {}
 
   grpc::ServerUnaryReactor* ListModels(grpc::CallbackServerContext* ctx,
-                                       const v1::ListModelsRequest* request,
-                                       v1::ListModelsResponse* response) override;
+                                       const grpc::ByteBuffer* request,
+                                       grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* GetModel(grpc::CallbackServerContext* ctx,
-                                     const v1::GetModelRequest* request,
-                                     v1::ModelInfo* response) override;
+                                     const grpc::ByteBuffer* request,
+                                     grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* LoadModel(grpc::CallbackServerContext* ctx,
-                                      const v1::LoadModelRequest* request,
-                                      v1::ModelInfo* response) override;
+                                      const grpc::ByteBuffer* request,
+                                      grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* UnloadModel(grpc::CallbackServerContext* ctx,
-                                        const v1::UnloadModelRequest* request,
-                                        v1::UnloadModelResponse* response) override;
+                                        const grpc::ByteBuffer* request,
+                                        grpc::ByteBuffer* response) override;
 
  private:
   ServiceContext* service_;
 };
 
-class StyleServiceImpl final : public v1::StyleService::CallbackService {
+class StyleServiceImpl final : public StyleServiceBase {
  public:
   explicit StyleServiceImpl(ServiceContext* service) : service_(service) {}
 
   grpc::ServerUnaryReactor* Transfer(grpc::CallbackServerContext* ctx,
-                                     const v1::TransferRequest* request,
-                                     v1::TransferResponse* response) override;
+                                     const grpc::ByteBuffer* request,
+                                     grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* EncodeStyle(grpc::CallbackServerContext* ctx,
-                                        const v1::EncodeStyleRequest* request,
-                                        v1::EncodeStyleResponse* response) override;
+                                        const grpc::ByteBuffer* request,
+                                        grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* Interpolate(grpc::CallbackServerContext* ctx,
-                                        const v1::InterpolateRequest* request,
-                                        v1::TransferResponse* response) override;
-  grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse>* TransferStream(
+                                        const grpc::ByteBuffer* request,
+                                        grpc::ByteBuffer* response) override;
+  grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* TransferStream(
       grpc::CallbackServerContext* ctx) override;
   grpc::ServerUnaryReactor* ComputeMetrics(grpc::CallbackServerContext* ctx,
-                                           const v1::MetricsRequest* request,
-                                           v1::MetricsResponse* response) override;
+                                           const grpc::ByteBuffer* request,
+                                           grpc::ByteBuffer* response) override;
 
  private:
   ServiceContext* service_;

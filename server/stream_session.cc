@@ -1,5 +1,7 @@
 #include "server/stream_session.h"
 
+#include <grpcpp/alarm.h>
+
 #include <chrono>
 #include <deque>
 #include <memory>
@@ -16,10 +18,11 @@
 namespace stylus::server {
 namespace {
 
-class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse> {
+class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer> {
  public:
-  StreamSession(ServiceContext* service, const grpc::CallbackServerContext* ctx)
+  StreamSession(ServiceContext* service, grpc::CallbackServerContext* ctx)
       : service_(service),
+        origin_(IdentifyCall(ctx)),
         series_(service->metrics != nullptr
                     ? service->metrics->Series(kStyleService, kMethod, kType)
                     : nullptr),
@@ -36,12 +39,21 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       Finish(ToGrpcStatus(outcome_.status));
       return;
     }
-    StartRead(&request_);
+    if (service_->limits.stream_idle_timeout.count() > 0) {
+      absl::MutexLock lock(&mu_);
+      ArmIdleAlarmLocked(start_);
+    }
+    StartRead(&read_bytes_);
   }
 
   void OnReadDone(bool ok) override {
+    {
+      absl::MutexLock lock(&mu_);
+      reading_ = false;
+    }
     if (ok) {
       read_at_ = std::chrono::steady_clock::now();
+      ++messages_read_;
       if (series_ != nullptr) service_->metrics->MessageReceived(series_);
     }
     {
@@ -53,11 +65,20 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     }
     // A task returns true when it handed its steps to the batcher, whose
     // continuation then ends the task.
-    // The request is read in place: the next read starts after the task
+    // The request is parsed in place: the next read starts after the task
     // (AfterTask), and parsing into the same message reuses its storage.
     std::function<bool()> task;
     if (ok) {
-      task = [this] { return Handle(request_); };
+      task = [this] {
+        absl::Status parsed =
+            ParseMessage(read_bytes_, absl::StrCat("stream message ", messages_read_), &request_);
+        if (!parsed.ok()) {
+          absl::MutexLock lock(&mu_);
+          Fail(parsed);
+          return false;
+        }
+        return Handle(request_);
+      };
     } else {
       task = [this] { return HandleEnd(); };
     }
@@ -88,7 +109,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
       }
     }
     if (next != nullptr) {
-      StartWrite(next);
+      Write(*next);
     } else {
       MaybeFinishOutsideLock();
     }
@@ -109,7 +130,10 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     {
       absl::MutexLock lock(&mu_);
       done_ = true;
-      now = busy_ == 0;
+      now = busy_ == 0 && !alarm_set_;
+      // A pending alarm's callback runs soon (on another thread, not
+      // fired); the last one out destroys the session.
+      if (alarm_set_) idle_alarms_[alarm_index_].Cancel();
     }
     if (now) Destroy();
   }
@@ -210,6 +234,10 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     if (!(std::isfinite(config.fps()) && config.fps() > 0)) {
       return absl::InvalidArgumentError(
           absl::StrCat("config: fps must be a positive number, got ", config.fps()));
+    }
+    if (absl::Status j = CheckJoints(*service_, config.skeleton().joints_size(), "config");
+        !j.ok()) {
+      return j;
     }
     absl::StatusOr<motion::Skeleton> sk = wire::SkeletonFromProto(config.skeleton(), "config");
     if (!sk.ok()) return sk.status();
@@ -331,8 +359,15 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
         write = &writes_.front();
       }
     }
-    if (write != nullptr) StartWrite(write);
-    if (read) StartRead(&request_);
+    if (write != nullptr) Write(*write);
+    if (read) {
+      {
+        absl::MutexLock lock(&mu_);
+        reading_ = true;
+        waiting_since_ = std::chrono::steady_clock::now();
+      }
+      StartRead(&read_bytes_);
+    }
     mu_.Lock();
     ReleaseLocked();
   }
@@ -344,7 +379,7 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   // delete it at any moment.
   void ReleaseLocked() ABSL_UNLOCK_FUNCTION(mu_) {
     --busy_;
-    const bool done = done_ && busy_ == 0;
+    const bool done = done_ && busy_ == 0 && !alarm_set_;
     const bool finish = !done && ShouldFinishLocked();
     absl::Status status;
     if (finish) {
@@ -359,6 +394,65 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
     }
   }
 
+  // The idle timeout: an alarm at `since` + the timeout. When it fires, a
+  // stream that has waited that long for the client's next message is ended;
+  // any other is re-armed from the time it started waiting.
+  void ArmIdleAlarmLocked(std::chrono::steady_clock::time_point since)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
+    alarm_set_ = true;
+    const auto at =
+        std::chrono::system_clock::now() +
+        (since + service_->limits.stream_idle_timeout - std::chrono::steady_clock::now());
+    // Re-armed from its own callback: set the other alarm, not the one whose
+    // callback is running.
+    alarm_index_ ^= 1;
+    idle_alarms_[alarm_index_].Set(at, [this](bool fired) { OnIdleAlarm(fired); });
+  }
+
+  void OnIdleAlarm(bool fired) {
+    bool destroy = false;
+    bool finish = false;
+    {
+      absl::MutexLock lock(&mu_);
+      alarm_set_ = false;
+      if (done_) {
+        destroy = busy_ == 0;
+      } else if (fired && !finished_ && !failed_) {
+        const auto now = std::chrono::steady_clock::now();
+        const bool waiting = reading_ && busy_ == 0;
+        if (waiting && now - waiting_since_ >= service_->limits.stream_idle_timeout) {
+          Fail(absl::DeadlineExceededError(absl::StrCat(
+              "no message from the client for ",
+              std::chrono::duration<double>(service_->limits.stream_idle_timeout).count(),
+              " s (--stream-idle-timeout-s): the stream is closed")));
+          finish = true;
+        } else {
+          ArmIdleAlarmLocked(waiting ? waiting_since_ : now);
+        }
+      }
+    }
+    if (destroy) {
+      Destroy();
+    } else if (finish) {
+      MaybeFinishOutsideLock();
+    }
+  }
+
+  // Starts writing `response` (the front of writes_, which stays until
+  // OnWriteDone; one write in flight at a time, so one buffer serves).
+  void Write(const v1::StreamResponse& response) {
+    const absl::Status s = SerializeMessage(response, &write_bytes_);
+    if (!s.ok()) {
+      {
+        absl::MutexLock lock(&mu_);
+        Fail(s);
+      }
+      OnWriteDone(false);
+      return;
+    }
+    StartWrite(&write_bytes_);
+  }
+
   bool ShouldFinishLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
     if (finished_ || busy_ > 0 || writing_) return false;
     return failed_ || (ending_ && writes_.empty());
@@ -367,15 +461,16 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   // The end: the call is done and no task of the session runs any more, so
   // nothing else reads or writes the session.
   void Destroy() {
-    service_->open_streams.fetch_sub(1);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
             .count();
-    LogCall(kMethod, outcome_, ms);
+    LogCall(kMethod, origin_, outcome_, ms);
     if (Metrics* m = service_->metrics) {
       m->CallHandled(series_, outcome_.status.code(), ms / 1000);
       if (outcome_.frames > 0) m->Frames(outcome_.model, "stream", outcome_.frames);
     }
+    // Counted out last: once no stream is open, every stream's line is logged.
+    service_->open_streams.fetch_sub(1);
     delete this;
   }
 
@@ -403,13 +498,17 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   static constexpr char kType[] = "bidi_stream";
 
   ServiceContext* const service_;
+  const CallOrigin origin_;
   // The method's metric series (null without metrics).
   const Metrics::Rpc* const series_;
   const std::chrono::steady_clock::time_point start_;
   // When the request being handled was read (written by OnReadDone before
   // its task runs; read by that task).
   std::chrono::steady_clock::time_point read_at_;
-  v1::StreamRequest request_;  // Read buffer; the task reads it in place.
+  grpc::ByteBuffer read_bytes_;   // Read buffer; the task parses it...
+  v1::StreamRequest request_;     // ...into this, and reads it in place.
+  int64_t messages_read_ = 0;     // Counted by OnReadDone, read by the task.
+  grpc::ByteBuffer write_bytes_;  // The write in flight.
 
   // Touched by the executor task only (one at a time per session).
   std::unique_ptr<model::FrameStreamer> streamer_;
@@ -431,17 +530,23 @@ class StreamSession : public grpc::ServerBidiReactor<v1::StreamRequest, v1::Stre
   bool failed_ ABSL_GUARDED_BY(mu_) = false;
   bool finished_ ABSL_GUARDED_BY(mu_) = false;
   bool done_ ABSL_GUARDED_BY(mu_) = false;  // OnDone has run.
-  CallOutcome outcome_;                     // status guarded by mu_; model/frames by the task.
+  // A read is started and not done, since waiting_since_.
+  bool reading_ ABSL_GUARDED_BY(mu_) = true;
+  std::chrono::steady_clock::time_point waiting_since_ ABSL_GUARDED_BY(mu_) = start_;
+  grpc::Alarm idle_alarms_[2];
+  int alarm_index_ ABSL_GUARDED_BY(mu_) = 0;     // The one set last.
+  bool alarm_set_ ABSL_GUARDED_BY(mu_) = false;  // Its callback has yet to run.
+  CallOutcome outcome_;                          // status guarded by mu_; model/frames by the task.
 };
 
 }  // namespace
 
-grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse>* StartStreamSession(
+grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* StartStreamSession(
     ServiceContext* service, grpc::CallbackServerContext* ctx) {
   return new StreamSession(service, ctx);
 }
 
-grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse>* StyleServiceImpl::TransferStream(
+grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* StyleServiceImpl::TransferStream(
     grpc::CallbackServerContext* ctx) {
   return StartStreamSession(service_, ctx);
 }

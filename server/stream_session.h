@@ -8,7 +8,8 @@
 // whose index is one more than the previous frame's (the first may start
 // anywhere). When the client half-closes, the remaining frames are flushed
 // and the call ends OK. Errors end the call with the status of the first
-// problem (INVALID_ARGUMENT, NOT_FOUND, RESOURCE_EXHAUSTED, ...).
+// problem (INVALID_ARGUMENT, NOT_FOUND, RESOURCE_EXHAUSTED, ...); a message
+// whose bytes do not parse as a StreamRequest is INVALID_ARGUMENT.
 #ifndef STYLUS_SERVER_STREAM_SESSION_H_
 #define STYLUS_SERVER_STREAM_SESSION_H_
 
@@ -20,7 +21,7 @@
 namespace stylus::server {
 
 // Starts a session for `ctx`; it deletes itself when the call is done.
-grpc::ServerBidiReactor<v1::StreamRequest, v1::StreamResponse>* StartStreamSession(
+grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* StartStreamSession(
     ServiceContext* service, grpc::CallbackServerContext* ctx);
 
 }  // namespace stylus::server

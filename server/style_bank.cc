@@ -10,7 +10,19 @@ absl::Status StyleBank::Save(const std::string& model_id, const std::string& nam
     return absl::InvalidArgumentError("a style name must have 1 to 200 characters");
   }
   absl::MutexLock lock(&mu_);
-  codes_[{model_id, name}] = std::move(code);
+  auto it = codes_.find({model_id, name});
+  if (it != codes_.end()) {
+    it->second = std::move(code);
+    return absl::OkStatus();
+  }
+  int& count = per_model_[model_id];
+  if (max_per_model_ > 0 && count >= max_per_model_) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("model ", model_id, " already has its most saved styles (", max_per_model_,
+                     ", --max-saved-styles); save over a name already there"));
+  }
+  codes_.emplace(std::make_pair(model_id, name), std::move(code));
+  ++count;
   return absl::OkStatus();
 }
 

@@ -19,14 +19,21 @@ namespace stylus::server {
 
 class StyleBank {
  public:
-  // INVALID_ARGUMENT for an empty name or one longer than 200 characters.
+  // At most `max_per_model` names per model (0: no cap).
+  explicit StyleBank(int max_per_model = 0) : max_per_model_(max_per_model) {}
+
+  // INVALID_ARGUMENT for an empty name or one longer than 200 characters;
+  // RESOURCE_EXHAUSTED for a new name when the model has its most (saving
+  // over a name already there is always allowed).
   absl::Status Save(const std::string& model_id, const std::string& name, model::StyleCode code);
   // NOT_FOUND names the model and the style.
   absl::StatusOr<model::StyleCode> Get(const std::string& model_id, const std::string& name) const;
 
  private:
+  const int max_per_model_;
   mutable absl::Mutex mu_;
   std::map<std::pair<std::string, std::string>, model::StyleCode> codes_ ABSL_GUARDED_BY(mu_);
+  std::map<std::string, int> per_model_ ABSL_GUARDED_BY(mu_);  // Names saved per model.
 };
 
 }  // namespace stylus::server

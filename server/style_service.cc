@@ -34,7 +34,7 @@ absl::StatusOr<ContentCall> StartContentCall(const ServiceContext& service,
   absl::StatusOr<motion::PostProcessMode> mode = ToPostProcessMode(post);
   if (!mode.ok()) return mode.status();
   call.post = *mode;
-  absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(content, "content clip");
+  absl::StatusOr<motion::Motion> clip = ReadClip(service, content, "content clip");
   if (!clip.ok()) return clip.status();
   call.content = *std::move(clip);
   return call;
@@ -60,7 +60,7 @@ absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
     case v1::StyleRef::kName:
       return service.styles->Get(model.id, ref.name());
     case v1::StyleRef::kClip: {
-      absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(ref.clip(), what);
+      absl::StatusOr<motion::Motion> clip = ReadClip(service, ref.clip(), what);
       if (!clip.ok()) return clip.status();
       return model.model->EncodeStyle(*clip);
     }
@@ -70,127 +70,137 @@ absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
 }
 
 grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext* ctx,
-                                                     const v1::TransferRequest* request,
-                                                     v1::TransferResponse* response) {
-  return RunUnary(service_, ctx, kStyleService, "Transfer", [this, request, response] {
-    const auto t0 = std::chrono::steady_clock::now();
-    CallOutcome out{absl::OkStatus(), request->model(), request->content().frames_size()};
-    absl::StatusOr<ContentCall> call = StartContentCall(
-        *service_, request->model(), request->postprocess(), request->content(), &out);
-    if (!call.ok()) return out.status = call.status(), out;
-    absl::StatusOr<model::StyleCode> style =
-        ResolveStyle(*service_, call->model, request->style(), "style clip");
-    if (!style.ok()) return out.status = style.status(), out;
-    model::TransferOptions options(call->post);
-    options.batcher = service_->pass_batcher;
-    absl::StatusOr<model::TransferResult> result =
-        call->model.model->Transfer(call->content, *style, options);
-    if (!result.ok()) return out.status = result.status(), out;
-    NoteGuard(result->note, response, &out);
-    wire::ClipToProto(result->motion, response->mutable_output());
-    response->set_model(call->model.id);
-    response->set_compute_ms(MsSince(t0));
-    out.model_seconds = response->compute_ms() / 1000;
-    return out;
-  });
+                                                     const grpc::ByteBuffer* request,
+                                                     grpc::ByteBuffer* response) {
+  return RunUnary<v1::TransferRequest, v1::TransferResponse>(
+      service_, ctx, kStyleService, "Transfer", request, response,
+      [this](const v1::TransferRequest& request, v1::TransferResponse* response) {
+        const auto t0 = std::chrono::steady_clock::now();
+        CallOutcome out{absl::OkStatus(), request.model(), request.content().frames_size()};
+        absl::StatusOr<ContentCall> call = StartContentCall(
+            *service_, request.model(), request.postprocess(), request.content(), &out);
+        if (!call.ok()) return out.status = call.status(), out;
+        absl::StatusOr<model::StyleCode> style =
+            ResolveStyle(*service_, call->model, request.style(), "style clip");
+        if (!style.ok()) return out.status = style.status(), out;
+        model::TransferOptions options(call->post);
+        options.batcher = service_->pass_batcher;
+        absl::StatusOr<model::TransferResult> result =
+            call->model.model->Transfer(call->content, *style, options);
+        if (!result.ok()) return out.status = result.status(), out;
+        NoteGuard(result->note, response, &out);
+        wire::ClipToProto(result->motion, response->mutable_output());
+        response->set_model(call->model.id);
+        response->set_compute_ms(MsSince(t0));
+        out.model_seconds = response->compute_ms() / 1000;
+        return out;
+      });
 }
 
 grpc::ServerUnaryReactor* StyleServiceImpl::EncodeStyle(grpc::CallbackServerContext* ctx,
-                                                        const v1::EncodeStyleRequest* request,
-                                                        v1::EncodeStyleResponse* response) {
-  return RunUnary(service_, ctx, kStyleService, "EncodeStyle", [this, request, response] {
-    CallOutcome out{absl::OkStatus(), request->model(), request->clip().frames_size()};
-    absl::StatusOr<HostedModel> m = service_->registry->Get(request->model());
-    if (!m.ok()) return out.status = m.status(), out;
-    out.model = m->id;
-    absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(request->clip(), "style clip");
-    if (!clip.ok()) return out.status = clip.status(), out;
-    absl::StatusOr<model::StyleCode> code = m->model->EncodeStyle(*clip);
-    if (!code.ok()) return out.status = code.status(), out;
-    if (!request->save_as().empty()) {
-      out.status = service_->styles->Save(m->id, request->save_as(), *code);
-      if (!out.status.ok()) return out;
-      response->set_name(request->save_as());
-    }
-    response->mutable_code()->Add(code->values.begin(), code->values.end());
-    response->set_model(m->id);
-    return out;
-  });
+                                                        const grpc::ByteBuffer* request,
+                                                        grpc::ByteBuffer* response) {
+  return RunUnary<v1::EncodeStyleRequest, v1::EncodeStyleResponse>(
+      service_, ctx, kStyleService, "EncodeStyle", request, response,
+      [this](const v1::EncodeStyleRequest& request, v1::EncodeStyleResponse* response) {
+        CallOutcome out{absl::OkStatus(), request.model(), request.clip().frames_size()};
+        absl::StatusOr<HostedModel> m = service_->registry->Get(request.model());
+        if (!m.ok()) return out.status = m.status(), out;
+        out.model = m->id;
+        absl::StatusOr<motion::Motion> clip = ReadClip(*service_, request.clip(), "style clip");
+        if (!clip.ok()) return out.status = clip.status(), out;
+        absl::StatusOr<model::StyleCode> code = m->model->EncodeStyle(*clip);
+        if (!code.ok()) return out.status = code.status(), out;
+        if (!request.save_as().empty()) {
+          out.status = service_->styles->Save(m->id, request.save_as(), *code);
+          if (!out.status.ok()) return out;
+          response->set_name(request.save_as());
+        }
+        response->mutable_code()->Add(code->values.begin(), code->values.end());
+        response->set_model(m->id);
+        return out;
+      });
 }
 
 grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerContext* ctx,
-                                                        const v1::InterpolateRequest* request,
-                                                        v1::TransferResponse* response) {
-  return RunUnary(service_, ctx, kStyleService, "Interpolate", [this, request, response] {
-    const auto t0 = std::chrono::steady_clock::now();
-    CallOutcome out{absl::OkStatus(), request->model(), request->content().frames_size()};
-    absl::StatusOr<ContentCall> call = StartContentCall(
-        *service_, request->model(), request->postprocess(), request->content(), &out);
-    if (!call.ok()) return out.status = call.status(), out;
-    if (request->styles_size() < 2) {
-      out.status = absl::InvalidArgumentError(
-          absl::StrCat("Interpolate needs two or more styles, got ", request->styles_size()));
-      return out;
-    }
-    std::vector<model::StyleCode> styles;
-    for (int i = 0; i < request->styles_size(); ++i) {
-      absl::StatusOr<model::StyleCode> s =
-          ResolveStyle(*service_, call->model, request->styles(i), absl::StrCat("style ", i));
-      if (!s.ok()) return out.status = s.status(), out;
-      styles.push_back(*std::move(s));
-    }
-    model::StyleWeights weights;
-    if (request->schedule_size() > 0) {
-      for (const v1::Weights& row : request->schedule())
-        weights.per_frame.emplace_back(row.values().begin(), row.values().end());
-    } else {
-      weights.fixed.assign(request->weights().values().begin(), request->weights().values().end());
-    }
-    model::TransferOptions options(call->post);
-    options.batcher = service_->pass_batcher;
-    absl::StatusOr<model::TransferResult> result =
-        call->model.model->Interpolate(call->content, styles, weights, options);
-    if (!result.ok()) return out.status = result.status(), out;
-    NoteGuard(result->note, response, &out);
-    wire::ClipToProto(result->motion, response->mutable_output());
-    response->set_model(call->model.id);
-    response->set_compute_ms(MsSince(t0));
-    out.model_seconds = response->compute_ms() / 1000;
-    return out;
-  });
+                                                        const grpc::ByteBuffer* request,
+                                                        grpc::ByteBuffer* response) {
+  return RunUnary<v1::InterpolateRequest, v1::TransferResponse>(
+      service_, ctx, kStyleService, "Interpolate", request, response,
+      [this](const v1::InterpolateRequest& request, v1::TransferResponse* response) {
+        const auto t0 = std::chrono::steady_clock::now();
+        CallOutcome out{absl::OkStatus(), request.model(), request.content().frames_size()};
+        absl::StatusOr<ContentCall> call = StartContentCall(
+            *service_, request.model(), request.postprocess(), request.content(), &out);
+        if (!call.ok()) return out.status = call.status(), out;
+        if (request.styles_size() < 2) {
+          out.status = absl::InvalidArgumentError(
+              absl::StrCat("Interpolate needs two or more styles, got ", request.styles_size()));
+          return out;
+        }
+        std::vector<model::StyleCode> styles;
+        for (int i = 0; i < request.styles_size(); ++i) {
+          absl::StatusOr<model::StyleCode> s =
+              ResolveStyle(*service_, call->model, request.styles(i), absl::StrCat("style ", i));
+          if (!s.ok()) return out.status = s.status(), out;
+          styles.push_back(*std::move(s));
+        }
+        model::StyleWeights weights;
+        if (request.schedule_size() > 0) {
+          for (const v1::Weights& row : request.schedule())
+            weights.per_frame.emplace_back(row.values().begin(), row.values().end());
+        } else {
+          weights.fixed.assign(request.weights().values().begin(),
+                               request.weights().values().end());
+        }
+        model::TransferOptions options(call->post);
+        options.batcher = service_->pass_batcher;
+        absl::StatusOr<model::TransferResult> result =
+            call->model.model->Interpolate(call->content, styles, weights, options);
+        if (!result.ok()) return out.status = result.status(), out;
+        NoteGuard(result->note, response, &out);
+        wire::ClipToProto(result->motion, response->mutable_output());
+        response->set_model(call->model.id);
+        response->set_compute_ms(MsSince(t0));
+        out.model_seconds = response->compute_ms() / 1000;
+        return out;
+      });
 }
 
 grpc::ServerUnaryReactor* StyleServiceImpl::ComputeMetrics(grpc::CallbackServerContext* ctx,
-                                                           const v1::MetricsRequest* request,
-                                                           v1::MetricsResponse* response) {
-  return RunUnary(service_, ctx, kStyleService, "ComputeMetrics", [request, response] {
-    CallOutcome out{absl::OkStatus(), "", request->output().frames_size()};
-    absl::StatusOr<motion::Motion> output = wire::ClipFromProto(request->output(), "output clip");
-    if (!output.ok()) return out.status = output.status(), out;
-    std::optional<motion::Motion> content;
-    if (request->has_content()) {
-      absl::StatusOr<motion::Motion> c = wire::ClipFromProto(request->content(), "content clip");
-      if (!c.ok()) return out.status = c.status(), out;
-      content = *std::move(c);
-    }
-    absl::StatusOr<std::map<std::string, double>> metrics =
-        motion::ComputeMetrics(*output, content ? &*content : nullptr);
-    if (!metrics.ok()) return out.status = metrics.status(), out;
-    for (const auto& [k, v] : *metrics) (*response->mutable_metrics())[k] = v;
-    // The same kinematic measures of the inputs, as baselines for the output's.
-    for (const auto& [prefix, clip] : std::vector<std::pair<std::string, const v1::Clip*>>{
-             {"content_", request->has_content() ? &request->content() : nullptr},
-             {"style_", request->has_style() ? &request->style() : nullptr}}) {
-      if (clip == nullptr) continue;
-      absl::StatusOr<motion::Motion> m = wire::ClipFromProto(*clip, prefix + "clip");
-      if (!m.ok()) return out.status = m.status(), out;
-      absl::StatusOr<std::map<std::string, double>> own = motion::ComputeMetrics(*m, nullptr);
-      if (!own.ok()) return out.status = own.status(), out;
-      for (const char* k : {"foot_skating", "jitter", "bone_length_error"})
-        (*response->mutable_metrics())[prefix + k] = own->at(k);
-    }
-    return out;
-  });
+                                                           const grpc::ByteBuffer* request,
+                                                           grpc::ByteBuffer* response) {
+  return RunUnary<v1::MetricsRequest, v1::MetricsResponse>(
+      service_, ctx, kStyleService, "ComputeMetrics", request, response,
+      [this](const v1::MetricsRequest& request, v1::MetricsResponse* response) {
+        CallOutcome out{absl::OkStatus(), "", request.output().frames_size()};
+        absl::StatusOr<motion::Motion> output =
+            ReadClip(*service_, request.output(), "output clip");
+        if (!output.ok()) return out.status = output.status(), out;
+        std::optional<motion::Motion> content;
+        if (request.has_content()) {
+          absl::StatusOr<motion::Motion> c = ReadClip(*service_, request.content(), "content clip");
+          if (!c.ok()) return out.status = c.status(), out;
+          content = *std::move(c);
+        }
+        absl::StatusOr<std::map<std::string, double>> metrics =
+            motion::ComputeMetrics(*output, content ? &*content : nullptr);
+        if (!metrics.ok()) return out.status = metrics.status(), out;
+        for (const auto& [k, v] : *metrics) (*response->mutable_metrics())[k] = v;
+        // The same kinematic measures of the inputs, as baselines for the output's.
+        for (const auto& [prefix, clip] : std::vector<std::pair<std::string, const v1::Clip*>>{
+                 {"content_", request.has_content() ? &request.content() : nullptr},
+                 {"style_", request.has_style() ? &request.style() : nullptr}}) {
+          if (clip == nullptr) continue;
+          absl::StatusOr<motion::Motion> m = ReadClip(*service_, *clip, prefix + "clip");
+          if (!m.ok()) return out.status = m.status(), out;
+          absl::StatusOr<std::map<std::string, double>> own = motion::ComputeMetrics(*m, nullptr);
+          if (!own.ok()) return out.status = own.status(), out;
+          for (const char* k : {"foot_skating", "jitter", "bone_length_error"})
+            (*response->mutable_metrics())[prefix + k] = own->at(k);
+        }
+        return out;
+      });
 }
 
 }  // namespace stylus::server

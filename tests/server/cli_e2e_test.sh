@@ -107,5 +107,41 @@ kill -TERM "$pid"
 wait "$pid"
 check "the token server stops on SIGTERM" 0 "shut down" -- cat "$work/auth.log"
 
+# TLS with a client certificate (mutual TLS), from certificates made here.
+"$(dirname "$0")/make_test_certs.sh" "$work/pki" >"$work/pki.log" 2>&1 || { echo "FAIL: openssl"; cat "$work/pki.log"; exit 1; }
+p=$work/pki
+check "server TLS key without a cert" 1 "needs both --tls-cert and --tls-key" -- \
+  "$server" --models "$src/models" --listen localhost:0 --tls-key "$p/server.key"
+rm -f "$work/port"
+"$server" --models "$src/models" --listen localhost:0 --port-file "$work/port" \
+  --tls-cert "$p/server.pem" --tls-key "$p/server.key" --tls-client-ca "$p/ca.pem" \
+  --log-format json >"$work/tls.log" 2>&1 &
+pid=$!
+for _ in $(seq 1 300); do [ -s "$work/port" ] && break; sleep 0.1; done
+t=(--server "localhost:$(cat "$work/port")" --deadline-s 10)
+mtls=(--tls-ca "$p/ca.pem" --tls-cert "$p/client.pem" --tls-key "$p/client.key")
+check "the log says TLS" 0 "transport: TLS .*client certificates required" -- cat "$work/tls.log"
+check "plain text to a TLS server" 1 "UNAVAILABLE" -- "$cli" "${t[@]}" models
+check "TLS without a client cert" 1 "UNAVAILABLE" -- "$cli" "${t[@]}" --tls-ca "$p/ca.pem" models
+check "mutual TLS" 0 "contrastive/v5 \(default\)" -- "$cli" "${t[@]}" "${mtls[@]}" models
+check "mutual TLS transfer" 0 "wrote .*tls.bvh" -- "$cli" "${t[@]}" "${mtls[@]}" transfer \
+  --content "$walk" --style "$old" -o "$work/tls.bvh"
+check "STYLUS_TLS_CA" 0 "contrastive/v5" -- env STYLUS_TLS_CA="$p/ca.pem" "$cli" "${t[@]}" \
+  --tls-cert "$p/client.pem" --tls-key "$p/client.key" models
+check "a cert without its key" 2 "needs its key" -- "$cli" "${t[@]}" --tls-cert "$p/client.pem" models
+check "a CA that is not PEM" 2 "is not a PEM certificate" -- "$cli" "${t[@]}" --tls-ca "$p/client.key" models
+kill -TERM "$pid"
+wait "$pid"
+check "the TLS server stops on SIGTERM" 0 "shut down" -- cat "$work/tls.log"
+# --log-format json: every line is one JSON object; calls carry a request id and the peer.
+check "JSON logs parse" 0 "calls [3-9]" -- /usr/bin/python3 -c '
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+calls = [l for l in lines if "rpc" in l]
+assert len(calls) >= 3 and all(l["request_id"] and l["peer"] for l in calls), calls
+print("lines", len(lines), "calls", len(calls))' "$work/tls.log"
+check "server --log-format bad" 2 "unknown log format" -- "$server" --log-format xml
+check "the plain server said plain text" 0 "transport: plain text" -- cat "$work/server.log"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

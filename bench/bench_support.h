@@ -137,8 +137,15 @@ struct ServerProcess {
   std::string address() const { return "localhost:" + std::to_string(port); }
   // SIGTERM and wait; the exit code (-1 if it did not exit normally).
   int Stop() {
+    Signal(SIGTERM);
+    return Wait();
+  }
+  void Signal(int sig) const {
+    if (pid > 0) kill(pid, sig);
+  }
+  // Waits for the process to exit; its exit code (-1 if it did not exit normally).
+  int Wait() {
     if (pid < 0) return -1;
-    kill(pid, SIGTERM);
     int status = 0;
     waitpid(pid, &status, 0);
     pid = -1;

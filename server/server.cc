@@ -190,8 +190,12 @@ void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
     if (impl_->shut_down) return;
     impl_->shut_down = true;
   }
-  spdlog::info("shutting down: no new calls; in-flight calls may finish");
   impl_->server->GetHealthCheckService()->SetServingStatus(false);
+  // Streams stop taking frames, return the ones they took and end; unary
+  // calls run to their end. Both until `deadline`, then they are cancelled.
+  const int drained = impl_->context.streams.DrainAll();
+  spdlog::info("shutting down: no new calls; {} open stream(s) drained, in-flight calls may finish",
+               drained);
   impl_->server->Shutdown(deadline);
   // Calls are over; the batcher runs the steps it holds, the executor what
   // it accepted; then both stop.

@@ -77,8 +77,9 @@ class StylusServer {
   absl::StatusOr<int> ReloadTokens();
   // What is running now; not to be called while Shutdown runs.
   ServerLoad load() const;
-  // Stops accepting calls, lets in-flight calls finish until `deadline`
-  // (then cancels them), and drains the compute executor.
+  // Stops accepting calls; drains open streams (no more frames taken; every
+  // frame taken is returned, then the stream ends UNAVAILABLE); lets unary
+  // calls finish; cancels what is left at `deadline`; drains the executor.
   void Shutdown(std::chrono::system_clock::time_point deadline);
   // Blocks until Shutdown has completed.
   void Wait();

@@ -17,6 +17,7 @@
 #include "server/call_log.h"
 #include "server/executor.h"
 #include "server/metrics.h"
+#include "server/open_streams.h"
 #include "server/raw_message.h"
 #include "server/registry.h"
 #include "server/step_batcher.h"
@@ -50,6 +51,7 @@ struct ServiceContext {
   int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
   CallLimits limits;
   std::atomic<int> open_streams{0};
+  OpenStreams streams;  // Drained at shutdown.
   std::atomic<int> unary_calls{0};  // Accepted and not yet answered.
 };
 

@@ -18,10 +18,12 @@
 namespace stylus::server {
 namespace {
 
-class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer> {
+class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>,
+                      public DrainableStream {
  public:
   StreamSession(ServiceContext* service, grpc::CallbackServerContext* ctx)
       : service_(service),
+        ctx_(ctx),
         origin_(IdentifyCall(ctx)),
         series_(service->metrics != nullptr
                     ? service->metrics->Series(kStyleService, kMethod, kType)
@@ -39,6 +41,12 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
       Finish(ToGrpcStatus(outcome_.status));
       return;
     }
+    if (!service_->streams.Add(this)) {
+      outcome_.status = absl::UnavailableError("the server is shutting down");
+      Finish(ToGrpcStatus(outcome_.status));
+      return;
+    }
+    registered_ = true;
     if (service_->limits.stream_idle_timeout.count() > 0) {
       absl::MutexLock lock(&mu_);
       ArmIdleAlarmLocked(start_);
@@ -50,6 +58,9 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     {
       absl::MutexLock lock(&mu_);
       reading_ = false;
+      // A message that arrives once the drain has begun is not taken: the
+      // drain's task ends the stream.
+      if (draining_) return;
     }
     if (ok) {
       read_at_ = std::chrono::steady_clock::now();
@@ -88,6 +99,28 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
       absl::MutexLock lock(&mu_);
       Fail(absl::UnavailableError("the server is shutting down"));
       ReleaseLocked();
+    }
+  }
+
+  // Shutdown: take no more frames, return every frame taken, and end the
+  // call UNAVAILABLE (the client reconnects elsewhere). Called with the
+  // registry's lock held: hands the work to the executor, never finishes
+  // inline.
+  void Drain() override {
+    absl::MutexLock lock(&mu_);
+    if (draining_ || done_ || finished_ || failed_ || ending_) return;
+    draining_ = true;
+    outcome_.status = absl::UnavailableError(
+        "the server is shutting down: every frame it received was returned (trailing metadata "
+        "stylus-frames-received); reconnect");
+    // A task that runs now ends the stream when it is done (AfterTask); with
+    // none, and a read waiting for the client, a task of its own does.
+    if (busy_ > 0 || !reading_) return;
+    ++busy_;
+    if (!service_->executor->Submit([this] {
+          if (!HandleEnd()) AfterTask();
+        })) {
+      --busy_;  // The executor is gone: nothing left to flush with.
     }
   }
 
@@ -350,16 +383,23 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   // operation on a finished call is an API misuse).
   void AfterTask() {
     bool read = false;
+    bool end = false;
     const v1::StreamResponse* write = nullptr;
     {
       absl::MutexLock lock(&mu_);
-      read = !failed_ && !ending_ && !finished_;
+      if (!failed_ && !ending_ && !finished_) (draining_ ? end : read) = true;
       if (!writing_ && !writes_.empty() && !failed_ && !finished_) {
         writing_ = true;
         write = &writes_.front();
       }
     }
     if (write != nullptr) Write(*write);
+    if (end) {
+      // Draining: flush instead of reading on; the session stays busy until
+      // the end's own AfterTask (ending_ is set by then).
+      if (!HandleEnd()) AfterTask();
+      return;
+    }
     if (read) {
       {
         absl::MutexLock lock(&mu_);
@@ -390,7 +430,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     if (done) {
       Destroy();
     } else if (finish) {
-      Finish(ToGrpcStatus(status));
+      FinishCall(status);
     }
   }
 
@@ -461,6 +501,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   // The end: the call is done and no task of the session runs any more, so
   // nothing else reads or writes the session.
   void Destroy() {
+    if (registered_) service_->streams.Remove(this);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
             .count();
@@ -491,6 +532,14 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
       finished_ = true;
       status = outcome_.status;
     }
+    FinishCall(status);
+  }
+
+  // Ends the call with `status`, telling the client how many frames the
+  // server took (all of which it returned unless the status says otherwise).
+  // Called once, after the last task (outcome_.frames is settled).
+  void FinishCall(const absl::Status& status) {
+    ctx_->AddTrailingMetadata("stylus-frames-received", std::to_string(outcome_.frames));
     Finish(ToGrpcStatus(status));
   }
 
@@ -498,7 +547,9 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   static constexpr char kType[] = "bidi_stream";
 
   ServiceContext* const service_;
+  grpc::CallbackServerContext* const ctx_;
   const CallOrigin origin_;
+  bool registered_ = false;  // In service_->streams (set in the constructor).
   // The method's metric series (null without metrics).
   const Metrics::Rpc* const series_;
   const std::chrono::steady_clock::time_point start_;
@@ -529,7 +580,8 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   bool ending_ ABSL_GUARDED_BY(mu_) = false;
   bool failed_ ABSL_GUARDED_BY(mu_) = false;
   bool finished_ ABSL_GUARDED_BY(mu_) = false;
-  bool done_ ABSL_GUARDED_BY(mu_) = false;  // OnDone has run.
+  bool done_ ABSL_GUARDED_BY(mu_) = false;      // OnDone has run.
+  bool draining_ ABSL_GUARDED_BY(mu_) = false;  // Shutdown: no more frames taken.
   // A read is started and not done, since waiting_since_.
   bool reading_ ABSL_GUARDED_BY(mu_) = true;
   std::chrono::steady_clock::time_point waiting_since_ ABSL_GUARDED_BY(mu_) = start_;

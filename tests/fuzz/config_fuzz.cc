@@ -1,0 +1,14 @@
+// libFuzzer target: a model package's config.txt, read by both families'
+// parsers (the text before the first NUL byte; the rest is ignored).
+#include <cstdint>
+#include <string>
+
+#include "model/contrastive/contrastive_config.h"
+#include "model/cyclic/cyclic_config.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  (void)stylus::model::ContrastiveConfig::Parse(text, "config.txt");
+  (void)stylus::model::CyclicConfig::Parse(text, "config.txt");
+  return 0;
+}

@@ -225,13 +225,13 @@ void Print(const char* when, double t, const ProcessFigures& f, Soak& soak) {
 
 int Main(int argc, char** argv) {
   std::string server_bin = std::string(STYLUS_BINARY_DIR) + "/server/stylus-server";
-  double seconds = 1800, warmup_s = 120, report_s = 60, rate = 30;
+  double seconds = 1800, warmup_s = 300, report_s = 60, rate = 30;
   int streams = 50, unary_clients = 2;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {
       std::printf(
-          "usage: soak [--seconds 1800] [--warmup-s 120] [--report-s 60] [--streams 50]\n"
+          "usage: soak [--seconds 1800] [--warmup-s 300] [--report-s 60] [--streams 50]\n"
           "            [--unary-clients 2] [--rate 30] [--server-bin PATH]\n\n"
           "Drives a stylus-server it starts with mixed traffic (streams opened\n"
           "and cut, unary calls, bad input, model unload/load) for --seconds and\n"

@@ -1,5 +1,6 @@
 #include "client/client.h"
 
+#include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
 
 #include <thread>
@@ -82,6 +83,37 @@ absl::Status Client::SetStyle(const Style& style, v1::StyleRef* out) const {
     return absl::InvalidArgumentError("no style: give a clip or a saved style name");
   }
   return absl::OkStatus();
+}
+
+absl::StatusOr<bool> Client::Serving() {
+  // grpc.health.v1 has no generated C++ stubs in Debian: the request is an
+  // empty HealthCheckRequest (service ""), the response's field 1 the status
+  // (1 SERVING, 2 NOT_SERVING), both read and written as bytes here.
+  grpc::GenericStub stub(channel_);
+  auto ctx = Context();
+  grpc::CompletionQueue cq;
+  grpc::Slice empty(std::string{});  // A message of zero bytes, not none.
+  grpc::ByteBuffer request(&empty, 1), response;
+  auto call = stub.PrepareUnaryCall(ctx.get(), "/grpc.health.v1.Health/Check", request, &cq);
+  call->StartCall();
+  grpc::Status status;
+  call->Finish(&response, &status, nullptr);
+  void* tag = nullptr;
+  bool ok = false;
+  cq.Next(&tag, &ok);
+  if (!status.ok()) return FromGrpcStatus(status);
+  std::vector<grpc::Slice> slices;
+  std::string bytes;
+  if (response.Dump(&slices).ok()) {
+    for (const grpc::Slice& s : slices)
+      bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+  }
+  // Field 1, varint: 0x08 then the value (an empty message means UNKNOWN, 0).
+  const int value = bytes.size() >= 2 && bytes[0] == 0x08 ? bytes[1] : 0;
+  if (value != 1 && value != 2) {
+    return absl::InternalError(absl::StrCat("health check: unexpected status ", value));
+  }
+  return value == 1;
 }
 
 absl::StatusOr<std::vector<v1::ModelInfo>> Client::ListModels() {

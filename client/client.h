@@ -84,6 +84,9 @@ class Client {
  public:
   explicit Client(const ClientOptions& options);
 
+  // grpc.health.v1 Check of the whole server: true when SERVING (false when
+  // NOT_SERVING, e.g. while it shuts down). Needs no token.
+  absl::StatusOr<bool> Serving();
   absl::StatusOr<std::vector<v1::ModelInfo>> ListModels();
   absl::StatusOr<v1::ModelInfo> GetModel(const std::string& model);
   absl::StatusOr<v1::ModelInfo> LoadModel(const std::string& model);

@@ -91,6 +91,13 @@ int Models(stylus::Client& client) {
   return 0;
 }
 
+int Health(stylus::Client& client) {
+  absl::StatusOr<bool> serving = client.Serving();
+  if (!serving.ok()) return Fail("health", serving.status());
+  absl::PrintF("%s\n", *serving ? "SERVING" : "NOT_SERVING");
+  return *serving ? 0 : 1;
+}
+
 int ModelInfo(stylus::Client& client, const Args& a) {
   auto m = client.GetModel(a.Get("model"));
   if (!m.ok()) return Fail("model-info", m.status());
@@ -312,6 +319,12 @@ struct Command {
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command>* commands = new std::vector<Command>{
+      {"health",
+       "SERVING or NOT_SERVING (exit 0 or 1), the server's gRPC health",
+       "",
+       {},
+       false,
+       [](stylus::Client& c, const Args&) { return Health(c); }},
       {"models",
        "list the server's models",
        "",

@@ -23,6 +23,7 @@ addr=localhost:$(cat "$work/port")
 s=(--server "$addr")
 walk=$src/samples/walk_normal.bvh old=$src/samples/walk_old.bvh run=$src/samples/run.bvh
 
+check "health" 0 "^SERVING" -- "$cli" "${s[@]}" health
 check "models" 0 "contrastive/v5 \(default\)" -- "$cli" "${s[@]}" models
 check "models lists both families" 0 "cyclic/v2" -- "$cli" "${s[@]}" models
 check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrastive
@@ -91,6 +92,7 @@ rm -f "$work/port"
 pid=$!
 for _ in $(seq 1 300); do [ -s "$work/port" ] && break; sleep 0.1; done
 a=(--server "localhost:$(cat "$work/port")")
+check "health needs no token" 0 "^SERVING" -- "$cli" "${a[@]}" health
 check "no token" 1 "UNAUTHENTICATED.*Bearer" -- "$cli" "${a[@]}" models
 check "a wrong token" 1 "UNAUTHENTICATED" -- "$cli" "${a[@]}" --token s3cret-beta models
 check "--token" 0 "contrastive/v5 \(default\)" -- "$cli" "${a[@]}" --token s3cret-alpha models

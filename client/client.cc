@@ -17,6 +17,24 @@ absl::Status FromGrpcStatus(const grpc::Status& status) {
   return absl::Status(static_cast<absl::StatusCode>(status.error_code()), status.error_message());
 }
 
+namespace {
+
+constexpr char kServiceConfig[] = R"({
+  "loadBalancingConfig": [{"round_robin": {}}],
+  "methodConfig": [{
+    "name": [{"service": "stylus.v1.StyleService"}, {"service": "stylus.v1.ModelService"}],
+    "retryPolicy": {
+      "maxAttempts": 3,
+      "initialBackoff": "0.1s",
+      "maxBackoff": "1s",
+      "backoffMultiplier": 2,
+      "retryableStatusCodes": ["UNAVAILABLE"]
+    }
+  }]
+})";
+
+}  // namespace
+
 absl::StatusOr<TlsOptions> ReadTlsFiles(const std::string& ca_file, const std::string& cert_file,
                                         const std::string& key_file) {
   TlsOptions tls;
@@ -59,6 +77,10 @@ Client::Client(const ClientOptions& options) : options_(options) {
       args.SetSslTargetNameOverride(options.tls.server_name);
     }
   }
+  // Every address the target resolves to (dns:///name:port, or
+  // ipv4:a:p,b:q) gets calls in turn; a call refused UNAVAILABLE (a server
+  // shutting down, or gone before it answered) is tried again on another.
+  args.SetServiceConfigJSON(kServiceConfig);
   channel_ = grpc::CreateCustomChannel(options.address, credentials, args);
   models_ = v1::ModelService::NewStub(channel_);
   styles_ = v1::StyleService::NewStub(channel_);

@@ -38,6 +38,9 @@ absl::StatusOr<TlsOptions> ReadTlsFiles(const std::string& ca_file, const std::s
                                         const std::string& key_file);
 
 struct ClientOptions {
+  // A gRPC target: host:port, or dns:///name:port or ipv4:a:p,b:q for
+  // several servers; calls go round-robin over every address it resolves,
+  // and one refused UNAVAILABLE is retried on another (up to 3 tries).
   std::string address = "localhost:50051";
   std::chrono::milliseconds deadline{60000};  // Per unary call; per stream, x10.
   int max_message_mb = 64;

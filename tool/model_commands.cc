@@ -1,8 +1,10 @@
 // train and transfer.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
@@ -300,12 +302,17 @@ int Transfer(const Argv& argv) {
       "and the others still run (exit 1 if any failed). --threads N sets the\n"
       "compute threads (default: one per core). --postprocess none|feet|full\n"
       "(default full): feet locked where the content's feet are planted, bone\n"
-      "lengths restored, rotations smoothed and written continuously.\n";
+      "lengths restored, rotations smoothed and written continuously.\n\n"
+      "--shard-count N [--shard-index I] runs only rows I, I+N, I+2N, ... (rows\n"
+      "counted from 0, header excluded), so N workers share a library; I defaults\n"
+      "to $JOB_COMPLETION_INDEX, which a Kubernetes Indexed Job sets\n"
+      "(deploy/k8s/jobs/transfer-library.yaml).\n";
   int code = 0;
-  auto args = ParseOrExit(
-      "transfer", argv,
-      {{"model", "content", "style", "out", "pairs", "out-dir", "threads", "postprocess"}, {}},
-      kHelp, &code);
+  auto args = ParseOrExit("transfer", argv,
+                          {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
+                            "postprocess", "shard-count", "shard-index"},
+                           {}},
+                          kHelp, &code);
   if (!args) return code;
   const bool batch = args->Has("pairs");
   if (!args->Has("model") ||
@@ -332,15 +339,30 @@ int Transfer(const Argv& argv) {
     absl::PrintF("wrote %s%s\n", args->Get("out"), note);
     return 0;
   }
+  absl::StatusOr<int> shards = args->GetInt("shard-count", 1);
+  if (!shards.ok()) return Fail("transfer", shards.status());
+  const char* job_index = std::getenv("JOB_COMPLETION_INDEX");
+  int env_index = 0;
+  if (job_index != nullptr && !absl::SimpleAtoi(job_index, &env_index)) env_index = -1;
+  absl::StatusOr<int> shard = args->GetInt("shard-index", env_index);
+  if (!shard.ok()) return Fail("transfer", shard.status());
+  if (*shards < 1 || *shard < 0 || *shard >= *shards) {
+    return Fail("transfer",
+                absl::InvalidArgumentError(absl::StrCat("--shard-index ", *shard,
+                                                        " (or $JOB_COMPLETION_INDEX) must be "
+                                                        "from 0 to --shard-count - 1 = ",
+                                                        *shards - 1)));
+  }
   std::ifstream csv(args->Get("pairs"));
   if (!csv) return Fail("transfer", absl::NotFoundError(args->Get("pairs") + ": cannot open"));
   std::filesystem::create_directories(args->Get("out-dir"));
   std::string line;
-  int line_no = 0, ok = 0, failed = 0;
+  int line_no = 0, row = -1, ok = 0, failed = 0;
   while (std::getline(csv, line)) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || (line_no == 1 && line.rfind("content_bvh", 0) == 0)) continue;
+    if (++row % *shards != *shard) continue;  // Another shard's row.
     std::vector<std::string> cols = absl::StrSplit(line, ',');
     if (cols.size() != 2) {
       std::fprintf(stderr, "%s:%d: expected content_bvh,style_bvh\n", args->Get("pairs").c_str(),
@@ -360,6 +382,7 @@ int Transfer(const Argv& argv) {
     absl::PrintF("wrote %s%s\n", out, note);
     ++ok;
   }
+  if (*shards > 1) absl::PrintF("shard %d of %d: ", *shard, *shards);
   absl::PrintF("%d transferred, %d failed\n", ok, failed);
   return failed ? 1 : 0;
 }

@@ -112,6 +112,20 @@ check("the example mounts the TLS and token secrets",
                                           for v in o["spec"]["template"]["spec"].get("volumes", [])})
 
 
+# The Indexed Job of an offline library: one shard per completion index.
+job = yaml.safe_load(open(src + "/deploy/k8s/jobs/transfer-library.yaml"))
+spec = job["spec"]
+command = spec["template"]["spec"]["containers"][0]["command"]
+shards = int(command[command.index("--shard-count") + 1]) if "--shard-count" in command else 0
+check("the library job is Indexed", spec.get("completionMode") == "Indexed")
+check("the job's completions equal its --shard-count", spec.get("completions") == shards,
+      "%s completions, %s shards" % (spec.get("completions"), shards))
+found = problems([{"kind": "Deployment", "metadata": job["metadata"],
+                   "spec": {"template": spec["template"]}}])
+# A job has no gRPC port or probes: only the container rules apply.
+found = [f for f in found if "port" not in f and "listens" not in f]
+check("the job's container has limits and runs as non-root", not found, "; ".join(found))
+
 # The checks catch what they are for.
 def broken(change):
     objects = copy.deepcopy(base)

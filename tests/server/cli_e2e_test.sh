@@ -24,6 +24,7 @@ s=(--server "$addr")
 walk=$src/samples/walk_normal.bvh old=$src/samples/walk_old.bvh run=$src/samples/run.bvh
 
 check "health" 0 "^SERVING" -- "$cli" "${s[@]}" health
+check "a dns:/// target" 0 "contrastive/v5" -- "$cli" --server "dns:///$addr" models
 check "models" 0 "contrastive/v5 \(default\)" -- "$cli" "${s[@]}" models
 check "models lists both families" 0 "cyclic/v2" -- "$cli" "${s[@]}" models
 check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrastive

@@ -165,6 +165,21 @@ printf 'content_bvh,style_bvh\n%s,%s\n%s,%s\n' "$work/old.bvh" "$work/proud.bvh"
 check "transfer batch" 1 "1 transferred, 1 failed" -- "$tool" transfer --model "$work/model" \
   --pairs "$work/pairs.csv" --out-dir "$work/batch"
 check "transfer batch output" 0 "frames: 45" -- "$tool" bvh-info "$work/batch/old__proud.bvh"
+# Sharding (an Indexed Job's pods): rows 0 and 2 to shard 0, rows 1 and 3 to shard 1.
+printf 'content_bvh,style_bvh\n%s,%s\n%s,%s\n%s,%s\n%s,%s\n' "$work/old.bvh" "$work/proud.bvh" \
+  "$work/proud.bvh" "$work/old.bvh" "$work/old.bvh" "$work/old.bvh" "$work/proud.bvh" "$work/proud.bvh" \
+  > "$work/pairs4.csv"
+check "transfer shard 0 of 2" 0 "shard 0 of 2: 2 transferred, 0 failed" -- "$tool" transfer \
+  --model "$work/model" --pairs "$work/pairs4.csv" --out-dir "$work/shard0" --shard-count 2 --shard-index 0
+check "transfer shard 1 of 2 from JOB_COMPLETION_INDEX" 0 "shard 1 of 2: 2 transferred, 0 failed" -- \
+  env JOB_COMPLETION_INDEX=1 "$tool" transfer --model "$work/model" --pairs "$work/pairs4.csv" \
+  --out-dir "$work/shard1" --shard-count 2
+check "shard 0 took rows 0 and 2" 0 "^old__old.bvh old__proud.bvh $" -- \
+  bash -c "ls '$work/shard0' | tr '\n' ' '"
+check "shard 1 took rows 1 and 3" 0 "^proud__old.bvh proud__proud.bvh $" -- \
+  bash -c "ls '$work/shard1' | tr '\n' ' '"
+check "transfer shard out of range" 1 "must be from 0 to --shard-count - 1 = 1" -- "$tool" transfer \
+  --model "$work/model" --pairs "$work/pairs4.csv" --out-dir "$work/shardx" --shard-count 2 --shard-index 2
 
 for s in walk_normal walk_old run; do
   check "sample $s" 0 "joints: 22" -- "$tool" bvh-info "$src/samples/$s.bvh"

@@ -15,14 +15,18 @@ absl::Status StyleBank::Save(const std::string& model_id, const std::string& nam
     it->second = std::move(code);
     return absl::OkStatus();
   }
-  int& count = per_model_[model_id];
+  // Keys sort by model first: the model's names are one run from here.
+  int count = 0;
+  for (auto m = codes_.lower_bound({model_id, ""}); m != codes_.end() && m->first.first == model_id;
+       ++m) {
+    ++count;
+  }
   if (max_per_model_ > 0 && count >= max_per_model_) {
     return absl::ResourceExhaustedError(
         absl::StrCat("model ", model_id, " already has its most saved styles (", max_per_model_,
                      ", --max-saved-styles); save over a name already there"));
   }
   codes_.emplace(std::make_pair(model_id, name), std::move(code));
-  ++count;
   return absl::OkStatus();
 }
 

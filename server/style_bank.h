@@ -33,7 +33,6 @@ class StyleBank {
   const int max_per_model_;
   mutable absl::Mutex mu_;
   std::map<std::pair<std::string, std::string>, model::StyleCode> codes_ ABSL_GUARDED_BY(mu_);
-  std::map<std::string, int> per_model_ ABSL_GUARDED_BY(mu_);  // Names saved per model.
 };
 
 }  // namespace stylus::server

@@ -249,4 +249,66 @@ Vec3 QuatToEulerNear(const Quat& q, const EulerOrder& order, const Vec3& previou
   return best;
 }
 
+namespace {
+
+// The eigenvector of the largest eigenvalue of a symmetric 4x4 matrix
+// (cyclic Jacobi rotations).
+std::array<double, 4> TopEigenvector(std::array<std::array<double, 4>, 4> a) {
+  std::array<std::array<double, 4>, 4> v{};
+  for (int i = 0; i < 4; ++i) v[i][i] = 1;
+  for (int sweep = 0; sweep < 30; ++sweep) {
+    double off = 0;
+    for (int p = 0; p < 4; ++p)
+      for (int q = p + 1; q < 4; ++q) off += a[p][q] * a[p][q];
+    if (off < 1e-24) break;
+    for (int p = 0; p < 4; ++p)
+      for (int q = p + 1; q < 4; ++q) {
+        if (std::fabs(a[p][q]) < 1e-30) continue;
+        const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
+        const double t = (theta >= 0 ? 1 : -1) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
+        const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+        for (int k = 0; k < 4; ++k) {  // a = J^T a J, columns then rows.
+          const double akp = a[k][p], akq = a[k][q];
+          a[k][p] = c * akp - s * akq;
+          a[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 4; ++k) {
+          const double apk = a[p][k], aqk = a[q][k];
+          a[p][k] = c * apk - s * aqk;
+          a[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 4; ++k) {
+          const double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  int best = 0;
+  for (int i = 1; i < 4; ++i)
+    if (a[i][i] > a[best][best]) best = i;
+  return {v[0][best], v[1][best], v[2][best], v[3][best]};
+}
+
+}  // namespace
+
+Quat BestRotation(const std::vector<std::pair<Vec3, Vec3>>& pairs) {
+  double s[3][3] = {};
+  for (const auto& [a, b] : pairs) {
+    const double av[3] = {a.x, a.y, a.z}, bv[3] = {b.x, b.y, b.z};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) s[i][j] += av[i] * bv[j];
+  }
+  const double xx = s[0][0], xy = s[0][1], xz = s[0][2], yx = s[1][0], yy = s[1][1],
+               yz = s[1][2], zx = s[2][0], zy = s[2][1], zz = s[2][2];
+  const std::array<std::array<double, 4>, 4> n = {{
+      {xx + yy + zz, yz - zy, zx - xz, xy - yx},
+      {yz - zy, xx - yy - zz, xy + yx, zx + xz},
+      {zx - xz, xy + yx, -xx + yy - zz, yz + zy},
+      {xy - yx, zx + xz, yz + zy, -xx - yy + zz},
+  }};
+  const std::array<double, 4> e = TopEigenvector(n);
+  return Normalized(Quat{e[0], e[1], e[2], e[3]});
+}
+
 }  // namespace stylus::motion

@@ -13,6 +13,8 @@
 
 #include <array>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
@@ -57,6 +59,10 @@ Quat SameHemisphere(const Quat& q, const Quat& reference);
 // (w + 0.1x + 0.01y + 0.001z >= 0): unlike w >= 0, small noise cannot flip the
 // sign of half turns (w ~ 0), which rigs use for mirrored limbs.
 Quat CanonicalSign(const Quat& q);
+// The rotation R that best turns each `first` of `pairs` onto the direction
+// of its `second` (least squares, Horn's quaternion method): maximizes the sum
+// of (R a) . b. The length of each `a` weighs its pair; give `b` unit length.
+Quat BestRotation(const std::vector<std::pair<Vec3, Vec3>>& pairs);
 // The smallest rotation that turns direction `from` onto direction `to`.
 Quat RotationBetween(const Vec3& from, const Vec3& to);
 // The angle between two rotations, in radians, in [0, pi].

@@ -99,6 +99,7 @@ absl::Status Client::SetStyle(const Style& style, v1::StyleRef* out) const {
   if (style.clip != nullptr) {
     if (absl::Status s = wire::CheckFinite(*style.clip, "style clip"); !s.ok()) return s;
     wire::ClipToProto(*style.clip, out->mutable_clip());
+    wire::JointMapToProto(style.joint_map, out->mutable_clip()->mutable_skeleton());
   } else if (!style.name.empty()) {
     out->set_name(style.name);
   } else {
@@ -177,6 +178,7 @@ absl::StatusOr<motion::Motion> Client::Transfer(const motion::Motion& content, c
   request.set_model(options.model);
   request.set_postprocess(options.postprocess);
   wire::ClipToProto(content, request.mutable_content());
+  wire::JointMapToProto(options.joint_map, request.mutable_content()->mutable_skeleton());
   if (absl::Status s = SetStyle(style, request.mutable_style()); !s.ok()) return s;
   v1::TransferResponse response;
   const grpc::Status s = styles_->Transfer(Context().get(), request, &response);
@@ -193,6 +195,7 @@ absl::StatusOr<std::vector<float>> Client::EncodeStyle(const motion::Motion& cli
   request.set_model(options.model);
   request.set_save_as(save_as);
   wire::ClipToProto(clip, request.mutable_clip());
+  wire::JointMapToProto(options.joint_map, request.mutable_clip()->mutable_skeleton());
   v1::EncodeStyleResponse response;
   const grpc::Status s = styles_->EncodeStyle(Context().get(), request, &response);
   if (!s.ok()) return FromGrpcStatus(s);
@@ -209,6 +212,7 @@ absl::StatusOr<motion::Motion> Client::Interpolate(const motion::Motion& content
   request.set_model(options.model);
   request.set_postprocess(options.postprocess);
   wire::ClipToProto(content, request.mutable_content());
+  wire::JointMapToProto(options.joint_map, request.mutable_content()->mutable_skeleton());
   for (const Style& style : styles) {
     if (absl::Status s = SetStyle(style, request.add_styles()); !s.ok()) return s;
   }
@@ -232,6 +236,7 @@ absl::StatusOr<StreamResult> Client::Stream(const motion::Motion& content, const
   config.mutable_config()->set_postprocess(options.postprocess);
   config.mutable_config()->set_fps(content.fps());
   wire::SkeletonToProto(content.skeleton, config.mutable_config()->mutable_skeleton());
+  wire::JointMapToProto(options.joint_map, config.mutable_config()->mutable_skeleton());
   if (absl::Status s = SetStyle(style, config.mutable_config()->mutable_style()); !s.ok()) {
     return s;
   }

@@ -13,10 +13,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "absl/status/statusor.h"
 #include "motion/motion.h"
+#include "motion/rig_roles.h"
 #include "stylus/v1/stylus.grpc.pb.h"
 
 namespace stylus {
@@ -56,12 +58,19 @@ struct CallOptions {
   // Transfer and Interpolate: when set, receives how the model's content
   // guard treated the call (left empty for a model without one).
   v1::ContentGuardNote* content_guard = nullptr;
+  // For a content clip (or stream) on another rig than the model's: roles
+  // the server should not guess (motion/rig_roles.h), sent with its skeleton.
+  motion::JointMap joint_map = {};
 };
 
 // A style: a clip to encode on the server, or a name saved with EncodeStyle.
 struct Style {
-  const motion::Motion* clip = nullptr;
+  Style(const motion::Motion* clip = nullptr, std::string name = "",  // NOLINT
+        motion::JointMap joint_map = {})
+      : clip(clip), name(std::move(name)), joint_map(std::move(joint_map)) {}
+  const motion::Motion* clip;
   std::string name;
+  motion::JointMap joint_map;  // The clip's, as CallOptions::joint_map.
 };
 
 // A style change sent in a stream (live models): from input frame `frame`

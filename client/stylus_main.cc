@@ -40,7 +40,10 @@ constexpr char kUsage[] =
 constexpr char kCallOptions[] =
     "  --model NAME[/VERSION]   the model (default: the server's default)\n"
     "  --postprocess default|none|feet|full   clean-up of the output (default: the\n"
-    "                           server's, full)\n";
+    "                           server's, full)\n"
+    "  --joint-map FILE         for clips on another rig than the model's: humanoid\n"
+    "                           roles not to guess, lines like 'left_foot = MyFootL'\n"
+    "                           (also used for style clips on the content's rig)\n";
 
 int Fail(const std::string& command, const absl::Status& status) {
   std::fprintf(stderr, "stylus %s: %s: %s\n", command.c_str(),
@@ -68,6 +71,12 @@ absl::StatusOr<stylus::CallOptions> Common(const Args& a) {
     o.postprocess = stylus::v1::POSTPROCESS_FULL;
   } else {
     return absl::InvalidArgumentError("--postprocess must be default, none, feet or full");
+  }
+  if (a.Has("joint-map")) {
+    absl::StatusOr<stylus::motion::JointMap> map =
+        stylus::motion::ReadJointMapFile(a.Get("joint-map"));
+    if (!map.ok()) return map.status();
+    o.joint_map = *std::move(map);
   }
   return o;
 }
@@ -142,6 +151,7 @@ int Transfer(stylus::Client& client, const Args& a) {
     style = Read(a.Get("style"), "style");
     if (!style.ok()) return Fail("transfer", style.status());
     ref.clip = &*style;
+    if (style->skeleton.SameTopology(content->skeleton)) ref.joint_map = opts->joint_map;
   }
   if (a.Get("out").empty()) return Fail("transfer", absl::InvalidArgumentError("-o is required"));
   stylus::v1::ContentGuardNote guard;
@@ -175,7 +185,11 @@ int Interpolate(stylus::Client& client, const Args& a) {
     return Fail("interpolate", absl::InvalidArgumentError("give two or more --style clips"));
   }
   std::vector<stylus::Style> styles;
-  for (const auto& c : clips) styles.push_back({&c, ""});
+  for (const auto& c : clips) {
+    styles.push_back(
+        {&c, "", c.skeleton.SameTopology(content->skeleton) ? opts->joint_map
+                                                             : stylus::motion::JointMap{}});
+  }
   const std::string prefix = a.Get("out");
   if (prefix.empty())
     return Fail("interpolate", absl::InvalidArgumentError("-o PREFIX is required"));
@@ -259,7 +273,10 @@ int Stream(stylus::Client& client, const Args& a) {
     }
     changes.push_back(std::move(c));
   }
-  auto result = client.Stream(*content, {&*style, ""}, *rate, *opts, changes);
+  const stylus::motion::JointMap style_map =
+      style->skeleton.SameTopology(content->skeleton) ? opts->joint_map
+                                                      : stylus::motion::JointMap{};
+  auto result = client.Stream(*content, {&*style, "", style_map}, *rate, *opts, changes);
   if (!result.ok()) return Fail("stream", result.status());
   if (!a.Get("out").empty()) {
     if (absl::Status s = stylus::motion::WriteBvhFile(result->output, a.Get("out")); !s.ok()) {
@@ -378,8 +395,8 @@ const std::vector<Command>& Commands() {
        Metrics},
       {"encode-style",
        "a style clip's code, optionally saved under a name",
-       "--style S.bvh [--save-as NAME] [--model M]",
-       {"style", "save-as", "model"},
+       "--style S.bvh [--save-as NAME] [--model M] [--joint-map FILE]",
+       {"style", "save-as", "model", "joint-map"},
        false,
        EncodeStyle},
   };
@@ -444,7 +461,7 @@ int main(int argc, char** argv) {
   rest.insert(rest.end(), args.begin() + at + 1, args.end());
   stylus::cli::ArgSpec spec{command->options, {}};
   spec.options.insert({"server", "deadline-s", "token", "tls-ca", "tls-cert", "tls-key"});
-  if (command->call_options) spec.options.insert({"model", "postprocess"});
+  if (command->call_options) spec.options.insert({"model", "postprocess", "joint-map"});
   absl::StatusOr<Args> a = stylus::cli::ParseArgs(rest, spec);
   if (!a.ok()) {
     absl::FPrintF(stderr, "stylus %s: %s\n\n", name, a.status().message());

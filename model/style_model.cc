@@ -6,6 +6,7 @@
 #include "model/chunked_streamer.h"
 #include "model/content_guard.h"
 #include "model/resampling_streamer.h"
+#include "model/retargeting_streamer.h"
 #include "motion/features.h"
 #include "motion/resample.h"
 
@@ -64,6 +65,18 @@ absl::StatusOr<TransferResult> StyleModel::Interpolate(const motion::Motion& con
                                                        const TransferOptions& options) const {
   if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, code_size()); !s.ok()) {
     return s;
+  }
+  if (content.num_frames > 0 && !content.skeleton.SameTopology(data().skeleton)) {
+    absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
+        RetargeterFor(content, options.joint_map, "content clip");
+    if (!r.ok()) return r.status();
+    const motion::Motion on_model = (*r)->ToModel(content);
+    absl::StatusOr<TransferResult> result = Interpolate(on_model, styles, weights, options);
+    if (!result.ok()) return result.status();
+    absl::StatusOr<motion::Motion> back = (*r)->FromModel(result->motion, content);
+    if (!back.ok()) return back.status();
+    result->motion = *std::move(back);
+    return result;
   }
   if (motion::SameRate(content.frame_time, data().frame_time) || content.num_frames == 0) {
     return InterpolateAtModelRate(content, content, styles, weights, options);
@@ -138,7 +151,14 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
   return result;
 }
 
-absl::StatusOr<StyleCode> StyleModel::EncodeStyle(const motion::Motion& clip) const {
+absl::StatusOr<StyleCode> StyleModel::EncodeStyle(const motion::Motion& clip,
+                                                  const motion::JointMap& joint_map) const {
+  if (clip.num_frames > 0 && !clip.skeleton.SameTopology(data().skeleton)) {
+    absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
+        RetargeterFor(clip, joint_map, "style clip");
+    if (!r.ok()) return r.status();
+    return EncodeStyle((*r)->ToModel(clip));
+  }
   if (motion::SameRate(clip.frame_time, data().frame_time) || clip.num_frames == 0) {
     return EncodeModelRateStyle(clip);
   }
@@ -152,6 +172,24 @@ absl::StatusOr<std::unique_ptr<FrameStreamer>> StyleModel::OpenStream(
     return absl::FailedPreconditionError(
         absl::StrCat("model ", dir(), ": streams need a model owned by a std::shared_ptr"));
   }
+  if (!spec.skeleton.SameTopology(data().skeleton)) {
+    // Checked on the rig's rest pose now; the roles are found again on the
+    // stream's first frame.
+    absl::StatusOr<std::shared_ptr<const motion::ModelRig>> rig = model_rig();
+    if (!rig.ok()) return rig.status();
+    const motion::Motion rest = motion::RestMotion(spec.skeleton, 1, spec.frame_time);
+    if (absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
+            RetargeterFor(rest, spec.joint_map, "stream");
+        !r.ok()) {
+      return r.status();
+    }
+    StreamSpec inner = spec;
+    inner.skeleton = data().skeleton;
+    absl::StatusOr<std::unique_ptr<FrameStreamer>> s = OpenStream(inner);
+    if (!s.ok()) return s.status();
+    return std::unique_ptr<FrameStreamer>(new RetargetingStreamer(
+        *std::move(s), *rig, spec.skeleton, spec.frame_time, spec.joint_map));
+  }
   if (motion::SameRate(spec.frame_time, data().frame_time)) return OpenModelRateStream(spec);
   if (absl::Status s = motion::CheckServedRate(spec.frame_time, "stream"); !s.ok()) return s;
   StreamSpec inner = spec;
@@ -161,6 +199,32 @@ absl::StatusOr<std::unique_ptr<FrameStreamer>> StyleModel::OpenStream(
   motion::Motion empty = motion::RestMotion(spec.skeleton, 0, spec.frame_time);
   return std::unique_ptr<FrameStreamer>(
       new ResamplingStreamer(*std::move(s), empty, data().frame_time));
+}
+
+absl::StatusOr<std::shared_ptr<const motion::ModelRig>> StyleModel::model_rig() const {
+  std::call_once(rig_once_, [this] {
+    rig_ = motion::MakeModelRig(
+        data().skeleton,
+        motion::MeanFeatureRotations(data().norm.mean, data().skeleton, data().roles.pelvis));
+  });
+  return rig_;
+}
+
+absl::StatusOr<std::unique_ptr<motion::Retargeter>> StyleModel::RetargeterFor(
+    const motion::Motion& clip, const motion::JointMap& joint_map, const std::string& what) const {
+  absl::StatusOr<std::shared_ptr<const motion::ModelRig>> rig = model_rig();
+  if (!rig.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(what, " is on another skeleton than the model's, which cannot retarget: ",
+                     rig.status().message()));
+  }
+  absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
+      motion::Retargeter::Create(*rig, clip.skeleton, clip.frame(0), joint_map);
+  if (!r.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(what, " is on another rig than the model's: ", r.status().message()));
+  }
+  return r;
 }
 
 absl::StatusOr<std::unique_ptr<FrameStreamer>> StyleModel::OpenModelRateStream(

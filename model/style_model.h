@@ -14,6 +14,7 @@
 #define STYLUS_MODEL_STYLE_MODEL_H_
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@
 #include "model/package.h"
 #include "motion/motion.h"
 #include "motion/postprocess.h"
+#include "motion/retarget.h"
 
 namespace stylus::model {
 
@@ -77,6 +79,9 @@ struct TransferOptions {
   // those of concurrent transfers (model/pass_batcher.h); families whose
   // passes cannot batch run alone.
   PassBatcher* batcher = nullptr;
+  // Roles of the content clip's joints the role finder should not guess,
+  // for a clip on another rig than the model's (motion/rig_roles.h).
+  motion::JointMap joint_map = {};
 };
 
 // What every package says of itself, whatever its family (config.txt).
@@ -101,6 +106,8 @@ struct StreamSpec {
   motion::Skeleton skeleton;
   double frame_time = 1.0 / 30;
   motion::PostProcessMode post = motion::PostProcessMode::kFull;
+  // For frames on another rig than the model's (motion/rig_roles.h).
+  motion::JointMap joint_map = {};
 };
 
 class StyleModel : public std::enable_shared_from_this<StyleModel> {
@@ -118,7 +125,10 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // to it first (motion/resample.h). INVALID_ARGUMENT for a clip the model
   // cannot take (another skeleton, a rate outside 24-240 Hz, non-finite
   // values, no frames); INTERNAL when LibTorch fails.
-  absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip) const;
+  // A clip on another humanoid rig than the model's is retargeted onto the
+  // model's skeleton first (motion/retarget.h; `joint_map` fixes roles).
+  absl::StatusOr<StyleCode> EncodeStyle(const motion::Motion& clip,
+                                        const motion::JointMap& joint_map = {}) const;
 
   // The content clip re-generated with a blend sum_k w_k s_k of `styles`,
   // fixed or per frame: same skeleton, channel layout, frame count and frame
@@ -127,7 +137,10 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // the package's forms whose action reads as the content's (the note says
   // which). Content at another frame rate than the model's (24-240 Hz) is
   // resampled to it on the way in, and the output back to the content's
-  // rate and frame count on the way out (before post-processing).
+  // rate and frame count on the way out (before post-processing). Content
+  // on another humanoid rig is retargeted onto the model's skeleton, and the
+  // output (post-processed there) back onto the content's rig, frame for
+  // frame (motion/retarget.h).
   // INVALID_ARGUMENT for a clip, codes or weights the model cannot take;
   // INTERNAL when LibTorch fails.
   absl::StatusOr<TransferResult> Interpolate(const motion::Motion& content,
@@ -141,7 +154,9 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // A streamer for frames on `spec.skeleton` at `spec.frame_time`
   // (model/frame_streamer.h); it shares ownership of the model. At another
   // rate than the model's (24-240 Hz), frames are resampled on the way in
-  // and out (model/resampling_streamer.h). Streams are never guarded.
+  // and out (model/resampling_streamer.h); on another humanoid rig,
+  // retargeted both ways (model/retargeting_streamer.h). Streams are never
+  // guarded.
   // INVALID_ARGUMENT when such frames or the style cannot feed the model;
   // FAILED_PRECONDITION when the model is not owned by a std::shared_ptr.
   absl::StatusOr<std::unique_ptr<FrameStreamer>> OpenStream(const StreamSpec& spec) const;
@@ -152,6 +167,15 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   virtual absl::Status StepStreams(const std::vector<FrameStreamer*>& /*cores*/) const {
     return absl::UnimplementedError("this model's streams run whole windows");
   }
+
+  // This model's side of retargeting: its skeleton, roles and the mean
+  // pose of its training features. INVALID_ARGUMENT when its skeleton has
+  // no humanoid roles.
+  absl::StatusOr<std::shared_ptr<const motion::ModelRig>> model_rig() const;
+  // A retargeter from `clip`'s rig onto this model's skeleton;
+  // INVALID_ARGUMENT names `what` and the roles the rig lacks.
+  absl::StatusOr<std::unique_ptr<motion::Retargeter>> RetargeterFor(
+      const motion::Motion& clip, const motion::JointMap& joint_map, const std::string& what) const;
 
  protected:
   // Interpolate of `content` at the model's rate; `original` is the clip as
@@ -196,6 +220,10 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // The package's content guard and its keys (null when it has none).
   virtual const ContentGuard* content_guard() const { return nullptr; }
   virtual const GuardKeys& guard_keys() const = 0;
+
+ private:
+  mutable std::once_flag rig_once_;
+  mutable absl::StatusOr<std::shared_ptr<const motion::ModelRig>> rig_;
 };
 
 // INVALID_ARGUMENT unless every code has `code_size` values and `weights`

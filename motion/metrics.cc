@@ -7,6 +7,7 @@
 #include "motion/contacts.h"
 #include "motion/kinematics.h"
 #include "motion/postprocess.h"
+#include "motion/rig_roles.h"
 
 namespace stylus::motion {
 namespace {
@@ -155,7 +156,7 @@ int EulerDiscontinuities(const Motion& clip) {
 absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const Motion& clip,
                                                              const Motion* reference) {
   if (clip.num_frames <= 0) return absl::InvalidArgumentError("the clip has no frames");
-  absl::StatusOr<HumanoidRoles> roles = FindHumanoidRoles(clip.skeleton);
+  absl::StatusOr<HumanoidRoles> roles = HumanoidRolesOf(clip);
   if (!roles.ok()) return roles.status();
   if (reference != nullptr) {
     if (!reference->skeleton.SameTopology(clip.skeleton)) {

@@ -474,6 +474,33 @@ absl::StatusOr<RigRoles> FindRigRoles(const Skeleton& skeleton, const GlobalPose
   return r;
 }
 
+absl::StatusOr<HumanoidRoles> HumanoidRolesOf(const Motion& clip) {
+  absl::StatusOr<HumanoidRoles> by_name = FindHumanoidRoles(clip.skeleton);
+  if (clip.num_frames == 0) return by_name;
+  const Skeleton& sk = clip.skeleton;
+  absl::StatusOr<RigRoles> r = FindRigRoles(sk, ForwardKinematics(sk, PoseAt(clip, 0)));
+  if (by_name.ok()) {
+    if (r.ok()) by_name->up_axis = r->up.x != 0 ? 0 : (r->up.y != 0 ? 1 : 2);
+    return by_name;
+  }
+  if (!r.ok()) return r.status();
+  HumanoidRoles h;
+  h.pelvis = (*r)[Role::kPelvis];
+  h.left_hip = (*r)[Role::kLeftThigh];
+  h.right_hip = (*r)[Role::kRightThigh];
+  h.left_shoulder = (*r)[Role::kLeftUpperArm];
+  h.right_shoulder = (*r)[Role::kRightUpperArm];
+  h.left_ankle = (*r)[Role::kLeftFoot];
+  h.right_ankle = (*r)[Role::kRightFoot];
+  h.left_toe = r->has(Role::kLeftToe) ? (*r)[Role::kLeftToe] : h.left_ankle;
+  h.right_toe = r->has(Role::kRightToe) ? (*r)[Role::kRightToe] : h.right_ankle;
+  for (int j = h.left_toe; j != h.left_hip && j >= 0; j = sk.joint(j).parent) {
+    h.leg_length += Norm(sk.joint(j).offset);
+  }
+  h.up_axis = r->up.x != 0 ? 0 : (r->up.y != 0 ? 1 : 2);
+  return h;
+}
+
 std::string DescribeRigRoles(const Skeleton& skeleton, const RigRoles& roles) {
   std::string out;
   for (int i = 0; i < kRoleCount; ++i) {

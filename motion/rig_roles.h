@@ -25,6 +25,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
+#include "motion/humanoid.h"
 #include "motion/kinematics.h"
 #include "motion/skeleton.h"
 
@@ -91,6 +92,12 @@ struct RigRoles {
 // to give them (--joint-map).
 absl::StatusOr<RigRoles> FindRigRoles(const Skeleton& skeleton, const GlobalPose& sample,
                                       const JointMap& joint_map = {});
+
+// The roles features and metrics read (motion/humanoid.h) of any rig
+// FindRigRoles maps, from `clip`'s first frame: FindHumanoidRoles by names
+// where it works, else the rig roles (a toe that is an End Site stands as
+// its foot). INVALID_ARGUMENT as FindRigRoles.
+absl::StatusOr<HumanoidRoles> HumanoidRolesOf(const Motion& clip);
 
 // A table of role, joint and how it was found, one line per role.
 std::string DescribeRigRoles(const Skeleton& skeleton, const RigRoles& roles);

@@ -277,8 +277,11 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, *m, config.style(), "config style");
     if (!style.ok()) return style.status();
+    absl::StatusOr<motion::JointMap> joint_map =
+        wire::JointMapFromProto(config.skeleton(), "config");
+    if (!joint_map.ok()) return joint_map.status();
     absl::StatusOr<std::unique_ptr<model::FrameStreamer>> streamer =
-        m->model->OpenStream({*style, *sk, 1.0 / config.fps(), *post});
+        m->model->OpenStream({*style, *sk, 1.0 / config.fps(), *post, *joint_map});
     if (!streamer.ok()) return streamer.status();
     streamer_ = *std::move(streamer);
     model_ = m->model;

@@ -19,6 +19,7 @@ struct ContentCall {
   HostedModel model;
   motion::PostProcessMode post = motion::PostProcessMode::kFull;
   motion::Motion content;
+  motion::JointMap joint_map;  // The content clip's, for another rig than the model's.
 };
 
 // Resolves the model (recording its id in `out`), the post-processing mode
@@ -37,6 +38,9 @@ absl::StatusOr<ContentCall> StartContentCall(const ServiceContext& service,
   absl::StatusOr<motion::Motion> clip = ReadClip(service, content, "content clip");
   if (!clip.ok()) return clip.status();
   call.content = *std::move(clip);
+  absl::StatusOr<motion::JointMap> map = wire::JointMapFromProto(content.skeleton(), "content clip");
+  if (!map.ok()) return map.status();
+  call.joint_map = *std::move(map);
   return call;
 }
 
@@ -62,7 +66,9 @@ absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
     case v1::StyleRef::kClip: {
       absl::StatusOr<motion::Motion> clip = ReadClip(service, ref.clip(), what);
       if (!clip.ok()) return clip.status();
-      return model.model->EncodeStyle(*clip);
+      absl::StatusOr<motion::JointMap> map = wire::JointMapFromProto(ref.clip().skeleton(), what);
+      if (!map.ok()) return map.status();
+      return model.model->EncodeStyle(*clip, *map);
     }
     default:
       return absl::InvalidArgumentError(absl::StrCat(what, ": give a clip or a saved style name"));
@@ -85,6 +91,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
         if (!style.ok()) return out.status = style.status(), out;
         model::TransferOptions options(call->post);
         options.batcher = service_->pass_batcher;
+        options.joint_map = call->joint_map;
         absl::StatusOr<model::TransferResult> result =
             call->model.model->Transfer(call->content, *style, options);
         if (!result.ok()) return out.status = result.status(), out;
@@ -109,7 +116,10 @@ grpc::ServerUnaryReactor* StyleServiceImpl::EncodeStyle(grpc::CallbackServerCont
         out.model = m->id;
         absl::StatusOr<motion::Motion> clip = ReadClip(*service_, request.clip(), "style clip");
         if (!clip.ok()) return out.status = clip.status(), out;
-        absl::StatusOr<model::StyleCode> code = m->model->EncodeStyle(*clip);
+        absl::StatusOr<motion::JointMap> map =
+            wire::JointMapFromProto(request.clip().skeleton(), "style clip");
+        if (!map.ok()) return out.status = map.status(), out;
+        absl::StatusOr<model::StyleCode> code = m->model->EncodeStyle(*clip, *map);
         if (!code.ok()) return out.status = code.status(), out;
         if (!request.save_as().empty()) {
           out.status = service_->styles->Save(m->id, request.save_as(), *code);
@@ -155,6 +165,7 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
         }
         model::TransferOptions options(call->post);
         options.batcher = service_->pass_batcher;
+        options.joint_map = call->joint_map;
         absl::StatusOr<model::TransferResult> result =
             call->model.model->Interpolate(call->content, styles, weights, options);
         if (!result.ok()) return out.status = result.status(), out;

@@ -22,6 +22,7 @@ int Render(const Argv& argv);
 int Train(const Argv& argv);
 int TrainCyclicModel(const Argv& argv);  // train --family cyclic.
 int Transfer(const Argv& argv);
+int RigInfo(const Argv& argv);
 int TrainJudges(const Argv& argv);
 int TrainGuard(const Argv& argv);
 int Eval(const Argv& argv);

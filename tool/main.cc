@@ -28,6 +28,7 @@ const Command kCommands[] = {
     {"render", stylus::tool::Render, "draw a clip as a filmstrip of stick figures (SVG)"},
     {"train", stylus::tool::Train, "train a style-transfer model (family contrastive or cyclic)"},
     {"transfer", stylus::tool::Transfer, "transfer a style clip onto a content clip with a model"},
+    {"rig-info", stylus::tool::RigInfo, "how a BVH file's rig maps onto a model's skeleton"},
     {"train-judges", stylus::tool::TrainJudges,
      "train the style and content classifiers used by eval"},
     {"train-guard", stylus::tool::TrainGuard,

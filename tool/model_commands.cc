@@ -272,16 +272,21 @@ std::string GuardNote(const model::TransferNote& note) {
 // Transfers one pair and writes it; `note` gets GuardNote's text.
 absl::Status TransferOne(const model::StyleModel& m, const std::string& content_path,
                          const std::string& style_path, const std::string& out_path,
-                         motion::PostProcessMode post, std::string* note) {
+                         motion::PostProcessMode post, const motion::JointMap& joint_map,
+                         std::string* note) {
   absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(content_path);
   if (!content.ok()) return content.status();
   absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(style_path);
   if (!style.ok()) return style.status();
-  absl::StatusOr<model::StyleCode> code = m.EncodeStyle(*style);
+  // The joint map names the content's rig; a style clip on that rig uses it too.
+  absl::StatusOr<model::StyleCode> code = m.EncodeStyle(
+      *style, style->skeleton.SameTopology(content->skeleton) ? joint_map : motion::JointMap{});
   if (!code.ok())
     return absl::Status(code.status().code(),
                         absl::StrCat(style_path, ": ", code.status().message()));
-  absl::StatusOr<model::TransferResult> out = m.Transfer(*content, *code, post);
+  model::TransferOptions options(post);
+  options.joint_map = joint_map;
+  absl::StatusOr<model::TransferResult> out = m.Transfer(*content, *code, options);
   if (!out.ok())
     return absl::Status(out.status().code(),
                         absl::StrCat(content_path, ": ", out.status().message()));
@@ -303,6 +308,12 @@ int Transfer(const Argv& argv) {
       "compute threads (default: one per core). --postprocess none|feet|full\n"
       "(default full): feet locked where the content's feet are planted, bone\n"
       "lengths restored, rotations smoothed and written continuously.\n\n"
+      "Clips on another humanoid rig than the model's (other joint names, rest\n"
+      "pose, units, up axis, extra joints) are retargeted onto the model's\n"
+      "skeleton and the result back onto the content's rig: same joints, offsets\n"
+      "and channels as the input (stylus-tool rig-info shows the mapping).\n"
+      "--joint-map FILE fixes roles the finder gets wrong or cannot find\n"
+      "(lines like 'left_foot = MyFootL'; docs/rigs.md).\n\n"
       "--shard-count N [--shard-index I] runs only rows I, I+N, I+2N, ... (rows\n"
       "counted from 0, header excluded), so N workers share a library; I defaults\n"
       "to $JOB_COMPLETION_INDEX, which a Kubernetes Indexed Job sets\n"
@@ -310,7 +321,7 @@ int Transfer(const Argv& argv) {
   int code = 0;
   auto args = ParseOrExit("transfer", argv,
                           {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
-                            "postprocess", "shard-count", "shard-index"},
+                            "postprocess", "shard-count", "shard-index", "joint-map"},
                            {}},
                           kHelp, &code);
   if (!args) return code;
@@ -327,12 +338,18 @@ int Transfer(const Argv& argv) {
   absl::StatusOr<motion::PostProcessMode> post =
       motion::ParsePostProcessMode(args->Get("postprocess", "full"));
   if (!post.ok()) return Fail("transfer", post.status());
+  motion::JointMap joint_map;
+  if (args->Has("joint-map")) {
+    absl::StatusOr<motion::JointMap> map = motion::ReadJointMapFile(args->Get("joint-map"));
+    if (!map.ok()) return Fail("transfer", map.status());
+    joint_map = *std::move(map);
+  }
   absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {
     std::string note;
     if (absl::Status s = TransferOne(**m, args->Get("content"), args->Get("style"),
-                                     args->Get("out"), *post, &note);
+                                     args->Get("out"), *post, joint_map, &note);
         !s.ok()) {
       return Fail("transfer", s);
     }
@@ -373,7 +390,8 @@ int Transfer(const Argv& argv) {
     const std::string out =
         absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
     std::string note;
-    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, *post, &note); !s.ok()) {
+    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, *post, joint_map, &note);
+        !s.ok()) {
       std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
                    std::string(s.message()).c_str());
       ++failed;
@@ -385,6 +403,56 @@ int Transfer(const Argv& argv) {
   if (*shards > 1) absl::PrintF("shard %d of %d: ", *shard, *shards);
   absl::PrintF("%d transferred, %d failed\n", ok, failed);
   return failed ? 1 : 0;
+}
+
+int RigInfo(const Argv& argv) {
+  static const char kHelp[] =
+      "usage: stylus-tool rig-info FILE [--model DIR] [--joint-map FILE]\n\n"
+      "Shows how a BVH file's rig maps onto a model's skeleton: the joint found\n"
+      "for each humanoid role and how (joint map, name, hierarchy, geometry, End\n"
+      "Site), the up axis, and the scale (model units per rig unit). Exits 1\n"
+      "naming the roles it cannot find. --model defaults to models/contrastive/v5.\n"
+      "Known naming conventions: docs/rigs.md.\n";
+  int code = 0;
+  auto args = ParseOrExit("rig-info", argv, {{"model", "joint-map"}, {}}, kHelp, &code);
+  if (!args) return code;
+  if (args->positional.size() != 1) {
+    std::fprintf(stderr, "stylus-tool rig-info: expected one FILE\n\n%s", kHelp);
+    return 2;
+  }
+  absl::StatusOr<motion::Motion> clip = motion::ReadBvhFile(args->positional[0]);
+  if (!clip.ok()) return Fail("rig-info", clip.status());
+  if (clip->num_frames == 0) {
+    return Fail("rig-info", absl::InvalidArgumentError(args->positional[0] + ": no frames"));
+  }
+  motion::JointMap joint_map;
+  if (args->Has("joint-map")) {
+    absl::StatusOr<motion::JointMap> map = motion::ReadJointMapFile(args->Get("joint-map"));
+    if (!map.ok()) return Fail("rig-info", map.status());
+    joint_map = *std::move(map);
+  }
+  absl::StatusOr<std::unique_ptr<model::StyleModel>> m =
+      LoadModelSpec(args->Get("model", "models/contrastive/v5"));
+  if (!m.ok()) return Fail("rig-info", m.status());
+  absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
+      (*m)->RetargeterFor(*clip, joint_map, args->positional[0]);
+  if (!r.ok()) return Fail("rig-info", r.status());
+  absl::PrintF("file: %s (%d joints)\nmodel: %s\n", args->positional[0],
+               clip->skeleton.num_joints(), (*m)->dir());
+  if (clip->skeleton.SameTopology((*m)->data().skeleton)) {
+    absl::PrintF("the model's own rig: clips go in as they are\n");
+  }
+  absl::PrintF("%-16s %-32s %s\n", "role", "joint", "found by");
+  absl::PrintF("%s", motion::DescribeRigRoles(clip->skeleton, (*r)->roles()));
+  absl::PrintF("scale: %.6g model units per rig unit\n", (*r)->scale());
+  int unmapped = 0;
+  for (int j = 0; j < clip->skeleton.num_joints(); ++j) {
+    bool mapped = false;
+    for (int k : (*r)->roles().joint) mapped |= k == j;
+    unmapped += !mapped;
+  }
+  absl::PrintF("joints without a role (keep their input motion): %d\n", unmapped);
+  return 0;
 }
 
 }  // namespace stylus::tool

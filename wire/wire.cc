@@ -179,4 +179,30 @@ absl::StatusOr<motion::Motion> ClipFromProto(const v1::Clip& clip, const std::st
   return m;
 }
 
+absl::StatusOr<motion::JointMap> JointMapFromProto(const v1::Skeleton& skeleton,
+                                                   const std::string& what) {
+  motion::JointMap map;
+  for (const auto& [role_name, joint] : skeleton.joint_map()) {
+    motion::Role role;
+    if (!motion::ParseRole(role_name, &role)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(what, ": joint_map: unknown role '", role_name,
+                       "' (roles: pelvis, spine, chest, neck, head, left_/right_ clavicle, "
+                       "upper_arm, forearm, hand, thigh, shin, foot, toe)"));
+    }
+    if (joint.empty()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(what, ": joint_map: no joint name for role '", role_name, "'"));
+    }
+    map.emplace_back(role, joint);
+  }
+  return map;
+}
+
+void JointMapToProto(const motion::JointMap& map, v1::Skeleton* out) {
+  for (const auto& [role, joint] : map) {
+    (*out->mutable_joint_map())[std::string(motion::RoleName(role))] = joint;
+  }
+}
+
 }  // namespace stylus::wire

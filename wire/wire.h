@@ -14,6 +14,7 @@
 
 #include "absl/status/statusor.h"
 #include "motion/motion.h"
+#include "motion/rig_roles.h"
 #include "motion/skeleton.h"
 #include "stylus/v1/motion.pb.h"
 
@@ -24,6 +25,12 @@ void SkeletonToProto(const motion::Skeleton& skeleton, v1::Skeleton* out);
 // unknown channel names, parents out of order, non-finite offsets, ...
 absl::StatusOr<motion::Skeleton> SkeletonFromProto(const v1::Skeleton& skeleton,
                                                    const std::string& what);
+
+// A skeleton's joint map (role -> joint name). INVALID_ARGUMENT (prefixed
+// with `what`) for an unknown role or an empty joint name.
+absl::StatusOr<motion::JointMap> JointMapFromProto(const v1::Skeleton& skeleton,
+                                                   const std::string& what);
+void JointMapToProto(const motion::JointMap& map, v1::Skeleton* out);
 
 // Frame `f` of `motion` as a wire frame with the given index.
 void FrameToProto(const motion::Motion& motion, int f, int64_t index, v1::Frame* out);

@@ -157,7 +157,7 @@ for post in none feet full; do
 done
 check "transfer bad --postprocess" 1 "'most' is not one of none, feet, full" -- "$tool" transfer --model "$work/model" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.bvh" --postprocess most
-check "transfer wrong skeleton" 1 "another skeleton" -- "$tool" transfer --model "$work/model" \
+check "transfer on a rig that is no humanoid" 1 "another rig than the model.s: not a humanoid rig that can be mapped" -- "$tool" transfer --model "$work/model" \
   --content "$good" --style "$work/proud.bvh" -o "$work/x.bvh"
 check "transfer no model" 1 "no such model directory" -- "$tool" transfer --model "$work/none" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.bvh"
@@ -218,6 +218,38 @@ check "train-judges --swap-parts out of range" 1 "--swap-parts must be in \\[0, 
   "$tool" train-judges --data "$work" --out "$work/judges_x" --swap-parts 1.5
 check "judge missing judges" 1 "labels.txt: missing" -- \
   "$tool" judge --judges "$work/none" "$src/samples/run.bvh"
+
+# Other rigs: the real Mixamo and mocapbank files (../shared/data/rigs, MIT).
+rigs=$src/../shared/data/rigs
+model=$src/models/contrastive/v5
+check "rig-info --help" 0 "usage: stylus-tool rig-info" -- "$tool" rig-info --help
+if [ -d "$rigs" ]; then
+  check "rig-info mixamo" 0 "left_upper_arm +mixamorig:LeftArm +hierarchy" -- \
+    "$tool" rig-info --model "$model" "$rigs/mixamo_55joints_30fps.bvh"
+  check "rig-info mocapbank toes" 0 "left_toe +\(End Site of LeftAnkle\) +end site" -- \
+    "$tool" rig-info --model "$model" "$rigs/mocapbank_19joints_30fps.bvh"
+  check "transfer on the mixamo rig" 0 "wrote .*mixamo_out.bvh" -- "$tool" transfer --model "$model" \
+    --content "$rigs/mixamo_55joints_30fps.bvh" --style "$src/samples/walk_old.bvh" \
+    -o "$work/mixamo_out.bvh" --threads 1
+  check "the output is on the mixamo rig" 0 "joints: 55 \(root 'mixamorig:Hips'\)" -- \
+    "$tool" bvh-info "$work/mixamo_out.bvh"
+  printf '# the feet, by hand\nleft_foot = LeftAnkle\nright_foot = RightAnkle\n' > "$work/map.txt"
+  check "rig-info --joint-map" 0 "left_foot +LeftAnkle +joint map" -- \
+    "$tool" rig-info --model "$model" --joint-map "$work/map.txt" "$rigs/mocapbank_19joints_30fps.bvh"
+  printf 'left_foot = NoSuchJoint\n' > "$work/badmap.txt"
+  check "transfer --joint-map naming a missing joint" 1 "left_foot = 'NoSuchJoint': the skeleton has no such joint" -- \
+    "$tool" transfer --model "$model" --content "$rigs/mocapbank_19joints_30fps.bvh" \
+    --style "$src/samples/walk_old.bvh" -o "$work/x.bvh" --joint-map "$work/badmap.txt" --threads 1
+  printf 'left_paw = LeftAnkle\n' > "$work/badrole.txt"
+  check "rig-info bad joint map" 1 "badrole.txt:1: unknown role 'left_paw'" -- \
+    "$tool" rig-info --model "$model" --joint-map "$work/badrole.txt" "$rigs/mocapbank_19joints_30fps.bvh"
+elif [ "${CI:-}" = true ]; then
+  echo "FAIL: $rigs missing (required under CI)"; failed=$((failed + 1))
+else
+  echo "SKIP: $rigs missing: other-rig checks skipped"
+fi
+check "rig-info on a non-humanoid" 1 "not a humanoid rig that can be mapped: found no joint for" -- \
+  "$tool" rig-info --model "$model" "$good"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -134,11 +134,9 @@ TEST(CyclicModelTest, CycleLossFallsAndThePackageServesTransfers) {
     EXPECT_GT(own_error, 20 * kept_error);
   }
 
-  // Bad input: a clip on another skeleton, a wrong-size style code.
-  motion::Motion other = content;
-  std::vector<motion::Joint> joints = other.skeleton.joints();
-  joints[3].name = "Renamed";
-  other.skeleton = *motion::Skeleton::Create(joints);
+  // Bad input: a clip on a rig that is no humanoid, a wrong-size style code.
+  const motion::Motion other = *motion::ReadBvhFile(std::string(STYLUS_SOURCE_DIR) +
+                                                    "/tests/fixtures/bvh/good/three_joint.bvh");
   EXPECT_EQ((*m)->Transfer(other, sa).status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ((*m)->Transfer(content, StyleCode{{1, 2, 3}}).status().code(),
             absl::StatusCode::kInvalidArgument);

@@ -29,6 +29,16 @@ check "features rebuilt parses" 0 "frames: 45" -- "$tool" bvh-info "$work/rebuil
 check "features non-humanoid" 1 "not a recognizable humanoid" -- "$tool" features "$good"
 check "render" 0 "wrote .*walk.svg" -- "$tool" render "$work/old.bvh" -o "$work/walk.svg"
 check "render svg" 0 "<svg" -- cat "$work/walk.svg"
+check "render mp4" 0 "wrote .*walk.mp4 and .*png/frame_\*.png \(45 frames, 1.50 s, 640x400, [0-9]+ kB\)" -- \
+  "$tool" render "$work/old.bvh" --style "$src/samples/run.bvh" -o "$work/walk.mp4" \
+  --png-dir "$work/png" --caption "a caption: with odd 'signs'"
+check "the mp4 holds every frame" 0 "^45$" -- ffprobe -v error -count_frames -select_streams v:0 \
+  -show_entries stream=nb_read_frames -of csv=p=0 "$work/walk.mp4"
+check "the mp4 is H.264 640x400" 0 "^h264,640,400$" -- ffprobe -v error -select_streams v:0 \
+  -show_entries stream=codec_name,width,height -of csv=p=0 "$work/walk.mp4"
+check "one png per frame" 0 "^45$" -- sh -c "ls '$work/png' | grep -c 'frame_.*png'"
+check "render a rig that is no humanoid" 1 "not a humanoid rig" -- "$tool" render "$good" -o "$work/x.mp4"
+check "render bad size" 1 "--size must be WIDTHxHEIGHT" -- "$tool" render "$work/old.bvh" -o "$work/x.mp4" --size big
 check "dataset-stats missing dir" 1 "not a directory" -- "$tool" dataset-stats "$work/none"
 # Training and transfer on synthesized clips (a few iterations: the plumbing,
 # not the quality, which model_tests and the evaluation cover).

@@ -37,4 +37,11 @@ std::vector<std::string> DataSources(const Args& args) {
   return out;
 }
 
+model::TrainingDataOptions DataOptions(const Args& args) {
+  model::TrainingDataOptions o;
+  o.labels_csv = args.Get("labels");
+  o.skeleton = args.Get("skeleton");
+  return o;
+}
+
 }  // namespace stylus::tool

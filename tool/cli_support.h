@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "train/clip_sources.h"
 #include "absl/status/status.h"
 #include "cli/args.h"
 #include "tool/commands.h"
@@ -26,6 +27,8 @@ std::optional<Args> ParseOrExit(const char* command, const Argv& argv, const Arg
 // Every --data value (each may list several, separated by commas) and the
 // positional arguments: the clips or dataset directories to train on.
 std::vector<std::string> DataSources(const Args& args);
+// A training run's --labels FILE.csv and --skeleton PACKAGE_DIR|FILE.bvh.
+model::TrainingDataOptions DataOptions(const Args& args);
 
 // Prints "stylus-tool COMMAND: message" to stderr and returns 1.
 int Fail(const char* command, const absl::Status& status);

@@ -73,7 +73,7 @@ int TrainCyclicModel(const Argv& argv) {
                 "window",    "hop",          "hidden",       "kernel",
                 "dropout",   "kc-iters",     "threads",      "checkpoint-every",
                 "log-every", "commit",       "init-from",    "style-dim",
-                "blocks",    "average-from", "average-every"},
+                "blocks",    "average-from", "average-every", "labels", "skeleton"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan", "random-starts",
                 "mirror", "keep-path", "adain-skip", "rotations"}};
   for (const std::string& w : weights) spec.options.insert(w);
@@ -81,6 +81,7 @@ int TrainCyclicModel(const Argv& argv) {
   if (!args) return code;
   model::CyclicTrainOptions opt;
   opt.data = DataSources(*args);
+  opt.data_options = DataOptions(*args);
   opt.out = args->Get("out");
   if (opt.data.empty() || opt.out.empty()) {
     std::fprintf(stderr, "stylus-tool train: --data and --out are required\n\n%s", kHelp);

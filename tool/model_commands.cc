@@ -88,7 +88,14 @@ int Train(const Argv& argv) {
       "network sees about 30 frames of history, so it trains on 64-frame windows.\n"
       "--init-from PACKAGE starts the networks from a trained package of the\n"
       "same shape (fine-tuning; critics and optimizers start afresh).\n"
-      "For the cyclic family's options: stylus-tool train --family cyclic --help\n";
+      "For the cyclic family's options: stylus-tool train --family cyclic --help\n\n"
+      "Data: --data takes folders and .bvh files on any humanoid rig. Clips on\n"
+      "another rig than the package's are retargeted onto it (docs/rigs.md), other\n"
+      "frame rates resampled; a clip that cannot be used is skipped and listed.\n"
+      "The package's skeleton is the first clip's, or --skeleton PACKAGE_DIR|FILE.bvh.\n"
+      "Labels (for --guided; the contrastive method itself needs none) come from\n"
+      "Bandai names (dataset-N_{content}_{style}_{take}.bvh) or --labels FILE.csv\n"
+      "(clip,content,style; clip paths relative to the CSV).\n";
   int code = 0;
   auto args =
       ParseOrExit("train", argv,
@@ -119,7 +126,9 @@ int Train(const Argv& argv) {
                     "lookahead",
                     "dilation-growth",
                     "window",
-                    "hop"},
+                    "hop",
+                    "labels",
+                    "skeleton"},
                    {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
                     "random-starts", "mirror", "residual", "live", "frame-residual"}},
                   kHelp, &code);
@@ -130,6 +139,7 @@ int Train(const Argv& argv) {
   }
   model::ContrastiveTrainOptions opt;
   opt.data = DataSources(*args);
+  opt.data_options = DataOptions(*args);
   opt.out = args->Get("out");
   if (opt.data.empty() || opt.out.empty()) {
     std::fprintf(stderr, "stylus-tool train: --data and --out are required\n\n%s", kHelp);

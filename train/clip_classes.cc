@@ -28,14 +28,24 @@ int PickPreferring(const std::vector<int>& items, Keep keep, std::mt19937_64* rn
 
 absl::StatusOr<ClipClasses> ClipClasses::FromPaths(const std::vector<std::string>& paths,
                                                    const std::vector<bool>& usable) {
+  std::vector<std::optional<motion::ClipLabel>> labels;
+  for (const std::string& p : paths) labels.push_back(motion::ParseClipName(p));
+  return FromLabels(paths, labels, usable);
+}
+
+absl::StatusOr<ClipClasses> ClipClasses::FromLabels(
+    const std::vector<std::string>& paths,
+    const std::vector<std::optional<motion::ClipLabel>>& clip_labels,
+    const std::vector<bool>& usable) {
   ClipClasses c;
   std::vector<motion::ClipLabel> labels;
-  for (const std::string& p : paths) {
-    std::optional<motion::ClipLabel> label = motion::ParseClipName(p);
+  for (size_t i = 0; i < paths.size(); ++i) {
+    const std::optional<motion::ClipLabel>& label =
+        i < clip_labels.size() ? clip_labels[i] : std::nullopt;
     if (!label) {
-      return absl::InvalidArgumentError(p +
-                                        ": labels are read from clip names, and this one has none "
-                                        "(dataset-N_{content}_{style}_{take}.bvh)");
+      return absl::InvalidArgumentError(
+          paths[i] + ": this clip has no labels: name it dataset-N_{content}_{style}_{take}.bvh "
+                     "(stylus-tool train also reads them from --labels FILE.csv)");
     }
     labels.push_back(*label);
     c.styles.push_back(label->style);
@@ -59,7 +69,7 @@ absl::StatusOr<ClipClasses> ClipClasses::ForTraining(
     const TrainingSet& data, int window, const std::function<void(const std::string&)>& log) {
   std::vector<bool> usable;
   for (const motion::FeatureClip& clip : data.clips) usable.push_back(clip.frames >= window);
-  absl::StatusOr<ClipClasses> c = FromPaths(data.paths, usable);
+  absl::StatusOr<ClipClasses> c = FromLabels(data.paths, data.labels, usable);
   if (c.ok()) {
     LogLine(log, absl::StrCat("label-guided: ", c->styles.size(), " styles, ", c->contents.size(),
                               " contents"));

@@ -4,6 +4,7 @@
 #define STYLUS_TRAIN_CLIP_CLASSES_H_
 
 #include <random>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,12 @@ struct ClipClasses {
   // false (e.g. shorter than a window) are labelled but never drawn.
   static absl::StatusOr<ClipClasses> FromPaths(const std::vector<std::string>& paths,
                                                const std::vector<bool>& usable);
+  // The same from labels given per clip (TrainingSet::labels); `paths` name
+  // the clips in errors.
+  static absl::StatusOr<ClipClasses> FromLabels(
+      const std::vector<std::string>& paths,
+      const std::vector<std::optional<motion::ClipLabel>>& labels,
+      const std::vector<bool>& usable);
 
   // The classes of a training set's clips for windows of `window` frames
   // (shorter clips are never drawn); logs the class counts through `log`.

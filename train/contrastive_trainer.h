@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "train/clip_sources.h"
 #include "absl/status/status.h"
 #include "model/contrastive/contrastive_config.h"
 
@@ -23,6 +24,7 @@ struct LossRecord {
 
 struct ContrastiveTrainOptions {
   std::vector<std::string> data;  // Directories (training split) or .bvh files.
+  TrainingDataOptions data_options;  // Labels CSV, the package's skeleton.
   std::string out;                // Package directory, e.g. models/contrastive/v5.
   ContrastiveConfig config;       // dim is filled from the data.
   bool resume = false;            // Continue from out/checkpoint if present.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "train/clip_sources.h"
 #include "absl/status/status.h"
 #include "model/cyclic/cyclic_config.h"
 #include "train/training_run.h"
@@ -18,6 +19,7 @@ namespace stylus::model {
 
 struct CyclicTrainOptions {
   std::vector<std::string> data;  // Directories (training split) or .bvh files.
+  TrainingDataOptions data_options;  // Labels CSV, the package's skeleton.
   std::string out;                // Package directory, e.g. models/cyclic/v1.
   CyclicConfig config;            // dim is filled from the data.
   bool resume = false;

@@ -11,6 +11,7 @@
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 #include "motion/mirror.h"
+#include "motion/rig_roles.h"
 #include "train/training_run.h"
 
 namespace stylus::model {
@@ -88,51 +89,33 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
                                             const std::function<void(int, int)>& progress,
                                             bool test, const motion::NormStats* fixed_norm,
                                             std::vector<motion::Motion>* motions,
-                                            const motion::ContactParams& contacts) {
-  std::vector<std::string> paths, dirs;
-  for (const std::string& s : sources) {
-    if (!test || !absl::EndsWith(s, ".bvh"))
-      (absl::EndsWith(s, ".bvh") ? paths : dirs).push_back(s);
-  }
-  if (!dirs.empty()) {
-    absl::StatusOr<motion::DatasetIndex> index = motion::IndexDataset(dirs);
-    if (!index.ok()) return index.status();
-    for (const motion::ClipEntry* c : index->Split(test)) paths.push_back(c->path);
-  }
-  if (paths.empty())
-    return absl::InvalidArgumentError(test ? "no held-out clips" : "no training clips");
+                                            const motion::ContactParams& contacts,
+                                            const TrainingDataOptions& data_options,
+                                            const std::function<void(const ClipSources&)>& report) {
+  absl::StatusOr<ClipSources> read = ReadClipSources(sources, test, data_options);
+  if (!read.ok()) return read.status();
+  if (report) report(*read);
   TrainingSet set;
-  std::vector<const motion::FeatureClip*> raw;
-  for (size_t i = 0; i < paths.size(); ++i) {
-    absl::StatusOr<motion::Motion> m = motion::ReadBvhFile(paths[i]);
-    if (!m.ok()) return m.status();
-    if (i == 0) {
-      set.skeleton = m->skeleton;
-      set.frame_time = m->frame_time;
-      absl::StatusOr<motion::HumanoidRoles> roles = motion::FindHumanoidRoles(m->skeleton);
-      if (!roles.ok())
-        return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", roles.status().message()));
-      set.roles = *roles;
-    } else {
-      const std::string mismatch = m->skeleton.DescribeMismatch(set.skeleton);
-      if (!mismatch.empty()) {
-        return absl::InvalidArgumentError(
-            absl::StrCat(paths[i], ": another skeleton than ", paths[0], ": ", mismatch));
-      }
-      if (std::fabs(m->frame_time - set.frame_time) > 0.01 * set.frame_time) {
-        return absl::InvalidArgumentError(absl::StrCat(paths[i], ": frame time ", m->frame_time,
-                                                       " differs from ", set.frame_time, " of ",
-                                                       paths[0]));
-      }
-    }
-    absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(*m, set.roles, contacts);
-    if (!f.ok())
-      return absl::InvalidArgumentError(absl::StrCat(paths[i], ": ", f.status().message()));
-    set.clips.push_back(*std::move(f));
-    set.paths.push_back(paths[i]);
-    if (motions != nullptr) motions->push_back(*std::move(m));
-    if (progress) progress(static_cast<int>(i + 1), static_cast<int>(paths.size()));
+  set.skeleton = read->skeleton;
+  set.frame_time = read->frame_time;
+  absl::StatusOr<motion::HumanoidRoles> roles = motion::HumanoidRolesOf(read->motions[0]);
+  if (!roles.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(read->paths[0], ": ", roles.status().message()));
   }
+  set.roles = *roles;
+  std::vector<const motion::FeatureClip*> raw;
+  for (size_t i = 0; i < read->motions.size(); ++i) {
+    absl::StatusOr<motion::FeatureClip> f =
+        motion::ExtractFeatures(read->motions[i], set.roles, contacts);
+    if (!f.ok())
+      return absl::InvalidArgumentError(absl::StrCat(read->paths[i], ": ", f.status().message()));
+    set.clips.push_back(*std::move(f));
+    set.paths.push_back(read->paths[i]);
+    set.labels.push_back(read->labels[i]);
+    if (progress) progress(static_cast<int>(i + 1), static_cast<int>(read->motions.size()));
+  }
+  if (motions != nullptr) *motions = std::move(read->motions);
   for (const auto& c : set.clips) raw.push_back(&c);
   const motion::FeatureLayout layout(set.skeleton.num_joints());
   if (fixed_norm != nullptr) {
@@ -198,6 +181,9 @@ absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
     for (int s : *starts) set->windows.push_back({static_cast<int>(set->clips.size()), s});
     set->clips.push_back(*std::move(f));
     set->paths.push_back(MirroredPath(set->paths[i]));
+    std::optional<motion::ClipLabel> label = set->labels[i];
+    if (label) label->content = motion::MirrorLabel(label->content);
+    set->labels.push_back(label);
   }
   return absl::OkStatus();
 }
@@ -207,11 +193,13 @@ absl::Status AddMirroredClips(const std::vector<motion::Motion>& motions,
 absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sources,
                                              const motion::WindowSpec& windows,
                                              const std::function<void(const std::string&)>& log,
-                                             bool mirror, const motion::ContactParams& contacts) {
+                                             bool mirror, const motion::ContactParams& contacts,
+                                             const TrainingDataOptions& data_options) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<motion::Motion> motions;
   absl::StatusOr<TrainingSet> loaded =
-      LoadTrainingSet(sources, windows, {}, false, nullptr, mirror ? &motions : nullptr, contacts);
+      LoadTrainingSet(sources, windows, {}, false, nullptr, mirror ? &motions : nullptr, contacts,
+                      data_options, [&log](const ClipSources& read) { LogLine(log, read.Report()); });
   if (!loaded.ok()) return loaded.status();
   if (mirror) {
     if (absl::Status s = AddMirroredClips(motions, windows, contacts, &*loaded); !s.ok()) return s;

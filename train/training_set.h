@@ -3,6 +3,7 @@
 #define STYLUS_TRAIN_TRAINING_SET_H_
 
 #include <functional>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "motion/humanoid.h"
 #include "motion/normalization.h"
 #include "motion/windowing.h"
+#include "train/clip_sources.h"
 
 namespace stylus::model {
 
@@ -23,6 +25,8 @@ struct TrainingSet {
   motion::NormStats norm;                  // Computed over these clips.
   std::vector<motion::FeatureClip> clips;  // Normalized.
   std::vector<std::string> paths;
+  // Each clip's labels (from its name or a labels CSV), when it has any.
+  std::vector<std::optional<motion::ClipLabel>> labels;
   struct Window {
     int clip, start;
   };
@@ -54,12 +58,13 @@ struct TrainingSet {
                        std::vector<float>* out) const;
 };
 
-// Loads the training split of `sources` (directories are indexed and split as
-// motion::IndexDataset does; .bvh paths are taken whole), or with `test` the
-// held-out split of the directories. Normalizes with `norm` when given, else
-// with statistics computed over the loaded clips. `progress` (may be empty) is
-// told how many clips are loaded. INVALID_ARGUMENT names a clip on another
-// skeleton or frame rate, or a clip that fails to parse.
+// Loads the training split of `sources` (train/clip_sources.h: folders and
+// .bvh files on any humanoid rig, retargeted onto one skeleton and resampled
+// to one rate; clips that cannot be used are skipped and reported), or with
+// `test` the held-out split of the labelled folders. Normalizes with `norm`
+// when given, else with statistics computed over the loaded clips.
+// `progress` (may be empty) is told how many clips are loaded; `report`
+// (may be empty) gets what was read and skipped.
 // `motions` (if not null) gets the loaded clips as read.
 absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
                                             const motion::WindowSpec& windows,
@@ -67,7 +72,9 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
                                             bool test = false,
                                             const motion::NormStats* norm = nullptr,
                                             std::vector<motion::Motion>* motions = nullptr,
-                                            const motion::ContactParams& contacts = {});
+                                            const motion::ContactParams& contacts = {},
+                                            const TrainingDataOptions& data_options = {},
+                                            const std::function<void(const ClipSources&)>& report = {});
 
 // LoadTrainingSet of the training split for a trainer: logs "loaded N clips,
 // W windows of T frames, D channels in S s" through `log` (stderr when
@@ -82,7 +89,8 @@ absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sou
                                              const motion::WindowSpec& windows,
                                              const std::function<void(const std::string&)>& log,
                                              bool mirror = false,
-                                             const motion::ContactParams& contacts = {});
+                                             const motion::ContactParams& contacts = {},
+                                             const TrainingDataOptions& data_options = {});
 
 // A trainer's data: LoadTrainingData of `options.data` in `config`'s windows
 // (mirrored with config->mirror, random starts with config->random_starts,
@@ -91,7 +99,8 @@ absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sou
 template <typename Options, typename Config>
 absl::StatusOr<TrainingSet> LoadRunData(const Options& options, Config* config) {
   absl::StatusOr<TrainingSet> data = LoadTrainingData(
-      options.data, {config->window, config->hop}, options.log, config->mirror, config->Contacts());
+      options.data, {config->window, config->hop}, options.log, config->mirror, config->Contacts(),
+      options.data_options);
   if (!data.ok()) return data.status();
   data->random_starts = config->random_starts;
   config->dim = data->dim();

@@ -73,7 +73,7 @@ cp "$work/proud.bvh" "$work/dataset-1_run_proud_1.bvh"
 check "train-guard --help" 0 "usage: stylus-tool train-guard" -- "$tool" train-guard --help
 check "train-guard needs --model" 2 "--model and --data are required" -- "$tool" train-guard \
   --data "$work/old.bvh"
-check "train-guard on unlabelled clips" 1 "old.bvh: labels are read from clip names" -- "$tool" train-guard \
+check "train-guard on unlabelled clips" 1 "old.bvh: this clip has no labels" -- "$tool" train-guard \
   --model "$work/narrow" --data "$work/old.bvh" --data "$work/proud.bvh" --iters 2
 check "train-guard" 0 "2 guards written to .*narrow" -- "$tool" train-guard \
   --model "$work/narrow" --data "$work/dataset-1_walk_old_1.bvh" \
@@ -125,7 +125,7 @@ check "the residual package transfers" 0 "wrote .*tuned_out.bvh" -- "$tool" tran
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/tuned_out.bvh" --threads 1
 check "train --smooth-sigma negative" 1 "--smooth-sigma must be a number in \\[0, 100\\]" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --smooth-sigma -1
-check "train --guided on unlabelled names" 1 "old.bvh: labels are read from clip names, and this one has none" -- \
+check "train --guided on unlabelled names" 1 "old.bvh: this clip has no labels: name it dataset-N_" -- \
   "$tool" train --guided --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/guided" --iters 2
 check "train cyclic --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \
   "$tool" train --family cyclic --data "$work/old.bvh" --out "$work/unguided" --content-class-weight 3
@@ -253,6 +253,21 @@ if [ -d "$rigs" ]; then
   printf 'left_paw = LeftAnkle\n' > "$work/badrole.txt"
   check "rig-info bad joint map" 1 "badrole.txt:1: unknown role 'left_paw'" -- \
     "$tool" rig-info --model "$model" --joint-map "$work/badrole.txt" "$rigs/mocapbank_19joints_30fps.bvh"
+  # Training on a folder of clips on three rigs, one file broken.
+  mkdir -p "$work/mixed"
+  cp "$work/old.bvh" "$rigs/mixamo_55joints_30fps.bvh" "$rigs/mocapbank_19joints_30fps.bvh" "$work/mixed/"
+  echo "not a bvh" > "$work/mixed/broken.bvh"
+  check "train on other rigs reports what it read and skipped" 0 \
+    "read 3 clips \(2 retargeted from 2 other rigs, 0 labelled\); skipped 1" -- \
+    "$tool" train --data "$work/mixed" --out "$work/mixed_model" --iters 2 --batch 2 --threads 1
+  check "train --skeleton takes a package's skeleton" 0 "read 3 clips \(2 retargeted" -- \
+    "$tool" train --data "$work/mixed" --out "$work/mixed_model2" --iters 1 --batch 2 --threads 1 \
+    --skeleton "$model"
+  printf 'clip,content,style\nmixamo_55joints_30fps.bvh,walk,normal\n' > "$work/mixed/labels.csv"
+  check "train --labels" 0 "1 labelled" -- "$tool" train --data "$work/mixed" \
+    --labels "$work/mixed/labels.csv" --out "$work/mixed_model3" --iters 1 --batch 2 --threads 1
+  check "train --guided without labels names the clip" 1 "has no labels: name it .*also reads them from --labels" -- \
+    "$tool" train --data "$work/mixed" --out "$work/mixed_model4" --iters 1 --batch 2 --threads 1 --guided
 elif [ "${CI:-}" = true ]; then
   echo "FAIL: $rigs missing (required under CI)"; failed=$((failed + 1))
 else

@@ -1,6 +1,10 @@
 // train-judges and eval.
 #include <algorithm>
 #include <cstdio>
+#include <optional>
+#include <map>
+#include <filesystem>
+#include <array>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -12,6 +16,7 @@
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 #include "motion/files.h"
+#include "tool/charts.h"
 #include "tool/cli_support.h"
 #include "tool/model_spec.h"
 #include "tool/part_swap.h"
@@ -272,11 +277,64 @@ int Eval(const Argv& argv) {
   if (!report.ok()) return Fail("eval", report.status());
   const std::string second_name =
       second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
-  const std::string text = absl::StrFormat(
+  std::string text = absl::StrFormat(
       "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d.\n\n%s\nStyle / content "
       "accuracy by dataset (the labels in the clips' names):\n\n%s",
       args->Get("model"), args->Get("judges"), second_name, pairs->size(), report->Markdown(),
       report->ByDatasetMarkdown(*pairs));
+  // Charts next to the report: accuracies of every row, and the model's
+  // style accuracy per target style.
+  const std::string stem = std::filesystem::path(args->Get("out")).replace_extension().string();
+  if (const auto parent = std::filesystem::path(args->Get("out")).parent_path(); !parent.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(parent, ec);  // A failure shows when writing.
+  }
+  std::vector<std::string> row_names;
+  BarSeries style{"style", {200, 70, 60}, {}}, content{"content", {60, 110, 190}, {}};
+  for (const model::EvalRow& r : report->rows) {
+    row_names.push_back(r.name);
+    style.values.push_back(r.style_accuracy);
+    content.values.push_back(r.content_accuracy);
+  }
+  std::vector<std::string> targets;
+  std::vector<BarSeries> per_style;
+  for (int row = 0; row < std::min<int>(2, report->rows.size()); ++row) {
+    per_style.push_back({report->rows[row].name, row == 0 ? Rgb{200, 70, 60} : Rgb{240, 160, 60}, {}});
+  }
+  std::map<std::string, std::array<std::array<int, 2>, 2>> hits;  // style -> row -> (hit, n)
+  for (const model::EvalVerdict& v : report->verdicts) {
+    if (v.row >= 2) continue;
+    const std::optional<motion::ClipLabel> want = motion::ParseClipName((*pairs)[v.pair].style_path);
+    if (!want) continue;
+    auto& h = hits[want->style][v.row];
+    h[0] += v.style == want->style;
+    h[1] += 1;
+  }
+  for (const auto& [name, h] : hits) {
+    targets.push_back(name);
+    for (size_t row = 0; row < per_style.size(); ++row) {
+      per_style[row].values.push_back(h[row][1] ? double(h[row][0]) / h[row][1] : 0);
+    }
+  }
+  std::string charts;
+  for (const auto& [file, status] :
+       {std::pair<std::string, absl::Status>{
+            stem + "_accuracy.png",
+            WriteBarChart("Style and content accuracy", row_names, {style, content},
+                          stem + "_accuracy.png")},
+        {stem + "_styles.png",
+         targets.empty() ? absl::NotFoundError("no labelled styles")
+                         : WriteBarChart("Style accuracy per target style", targets, per_style,
+                                         stem + "_styles.png")}}) {
+    if (status.ok()) {
+      const std::string name = std::filesystem::path(file).filename().string();
+      absl::StrAppend(&charts, "![", name, "](", name, ")\n");
+    } else {
+      std::fprintf(stderr, "stylus-tool eval: no chart %s: %s\n", file.c_str(),
+                   std::string(status.message()).c_str());
+    }
+  }
+  if (!charts.empty()) text += "\nCharts:\n\n" + charts;
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
   if (args->Has("verdicts")) {

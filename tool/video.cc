@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 
 #include "absl/strings/str_cat.h"
@@ -38,6 +39,71 @@ std::string SafeText(const std::string& s) {
 }
 
 }  // namespace
+
+absl::Status RunFfmpeg(std::vector<std::string> args, int frames,
+                       const std::function<Image(int)>& frame) {
+  int pipe_fd[2];
+  if (pipe(pipe_fd) != 0) return absl::InternalError("pipe failed");
+  const pid_t pid = fork();
+  if (pid < 0) return absl::InternalError("fork failed");
+  if (pid == 0) {
+    dup2(pipe_fd[0], 0);
+    close(pipe_fd[0]);
+    close(pipe_fd[1]);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execvp("ffmpeg", argv.data());
+    std::fprintf(stderr, "cannot run ffmpeg: install Debian's ffmpeg (apt-get install ffmpeg)\n");
+    _exit(127);
+  }
+  close(pipe_fd[0]);
+  std::signal(SIGPIPE, SIG_IGN);
+  bool write_failed = false;
+  for (int k = 0; k < frames && !write_failed; ++k) {
+    const Image image = frame(k);
+    const std::vector<uint8_t>& bytes = image.bytes();
+    size_t done = 0;
+    while (done < bytes.size()) {
+      const ssize_t n = write(pipe_fd[1], bytes.data() + done, bytes.size() - done);
+      if (n <= 0) {
+        write_failed = true;
+        break;
+      }
+      done += static_cast<size_t>(n);
+    }
+  }
+  close(pipe_fd[1]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || write_failed) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "ffmpeg failed (exit ", WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+        WIFEXITED(status) && WEXITSTATUS(status) == 127 ? ": not installed" : "", ")"));
+  }
+  return absl::OkStatus();
+}
+
+std::string DrawTextFilter(const std::vector<TextLabel>& labels) {
+  std::string filter;
+  if (!std::filesystem::exists(kFont)) return filter;
+  for (const TextLabel& l : labels) {
+    absl::StrAppendFormat(&filter, ",drawtext=fontfile=%s:text='%s':x=%s:y=%s:fontsize=%d:fontcolor=%s",
+                          kFont, SafeText(l.text), l.x, l.y, l.size, l.colour);
+  }
+  return filter;
+}
+
+absl::Status WritePng(const Image& image, const std::vector<TextLabel>& labels,
+                      const std::string& path) {
+  std::vector<std::string> args = {"ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo",
+                                   "-pix_fmt", "rgb24", "-s",
+                                   absl::StrCat(image.width(), "x", image.height()), "-i", "-",
+                                   "-vf", "format=rgb24" + DrawTextFilter(labels), "-frames:v",
+                                   "1", "-update", "1", path};
+  return RunFfmpeg(args, 1, [&image](int) { return image; });
+}
+
 
 struct VideoScene::Panel {
   std::string title;
@@ -208,22 +274,16 @@ absl::Status RenderVideo(const std::vector<VideoPanel>& panels, const VideoOptio
   const int out_frames =
       std::max(1, static_cast<int>(std::floor((scene->num_frames() - 1) * fps / clip_fps)) + 1);
   // drawtext: the panel titles and the caption.
-  std::string filter = "format=rgb24";
-  if (std::filesystem::exists(kFont)) {
-    const int panel_w = options.width / static_cast<int>(panels.size());
-    const int size = std::max(10, options.height / 22);
-    for (size_t i = 0; i < panels.size(); ++i) {
-      absl::StrAppendFormat(&filter,
-                            ",drawtext=fontfile=%s:text='%s':x=%d:y=%d:fontsize=%d:fontcolor=0x333333",
-                            kFont, SafeText(panels[i].title), static_cast<int>(i) * panel_w + 10,
-                            8, size);
-    }
-    if (!options.caption.empty()) {
-      absl::StrAppendFormat(&filter,
-                            ",drawtext=fontfile=%s:text='%s':x=10:y=h-th-8:fontsize=%d:fontcolor=0x555555",
-                            kFont, SafeText(options.caption), size * 4 / 5);
-    }
+  std::vector<TextLabel> labels;
+  const int panel_w = options.width / static_cast<int>(panels.size());
+  const int size = std::max(10, options.height / 22);
+  for (size_t i = 0; i < panels.size(); ++i) {
+    labels.push_back({panels[i].title, absl::StrCat(static_cast<int>(i) * panel_w + 10), "8", size});
   }
+  if (!options.caption.empty()) {
+    labels.push_back({options.caption, "10", "h-th-8", size * 4 / 5, "0x555555"});
+  }
+  const std::string filter = "format=rgb24" + DrawTextFilter(labels);
   std::vector<std::string> args = {"ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo",
                                    "-pix_fmt", "rgb24", "-s",
                                    absl::StrCat(options.width, "x", options.height), "-r",
@@ -239,47 +299,12 @@ absl::Status RenderVideo(const std::vector<VideoPanel>& panels, const VideoOptio
     if (ec) return absl::PermissionDeniedError(options.png_dir + ": " + ec.message());
     args.insert(args.end(), {"-map", "0", "-vf", filter, options.png_dir + "/frame_%04d.png"});
   }
-  int pipe_fd[2];
-  if (pipe(pipe_fd) != 0) return absl::InternalError("pipe failed");
-  const pid_t pid = fork();
-  if (pid < 0) return absl::InternalError("fork failed");
-  if (pid == 0) {
-    dup2(pipe_fd[0], 0);
-    close(pipe_fd[0]);
-    close(pipe_fd[1]);
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execvp("ffmpeg", argv.data());
-    std::fprintf(stderr, "cannot run ffmpeg: install Debian's ffmpeg (apt-get install ffmpeg)\n");
-    _exit(127);
-  }
-  close(pipe_fd[0]);
-  std::signal(SIGPIPE, SIG_IGN);
-  bool write_failed = false;
-  for (int k = 0; k < out_frames && !write_failed; ++k) {
+  absl::Status run = RunFfmpeg(args, out_frames, [&](int k) {
     const int f = std::min(scene->num_frames() - 1,
                            static_cast<int>(std::lround(k * clip_fps / fps)));
-    const Image image = scene->Draw(f);
-    const std::vector<uint8_t>& bytes = image.bytes();
-    size_t done = 0;
-    while (done < bytes.size()) {
-      const ssize_t n = write(pipe_fd[1], bytes.data() + done, bytes.size() - done);
-      if (n <= 0) {
-        write_failed = true;
-        break;
-      }
-      done += static_cast<size_t>(n);
-    }
-  }
-  close(pipe_fd[1]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || write_failed) {
-    return absl::FailedPreconditionError(absl::StrCat(
-        "ffmpeg failed (exit ", WIFEXITED(status) ? WEXITSTATUS(status) : -1,
-        WIFEXITED(status) && WEXITSTATUS(status) == 127 ? ": not installed" : "", ")"));
-  }
+    return scene->Draw(f);
+  });
+  if (!run.ok()) return run;
   *frames_written = out_frames;
   return absl::OkStatus();
 }

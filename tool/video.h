@@ -8,6 +8,8 @@
 #ifndef STYLUS_TOOL_VIDEO_H_
 #define STYLUS_TOOL_VIDEO_H_
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,23 @@ struct VideoOptions {
 // MP4 and/or PNGs. FAILED_PRECONDITION when ffmpeg is missing or fails.
 absl::Status RenderVideo(const std::vector<VideoPanel>& panels, const VideoOptions& options,
                          int* frames_written);
+
+// Text ffmpeg's drawtext puts on a picture (positions are its expressions,
+// e.g. "10", "h-th-8"); letters, digits and " ._/,()=+-" only.
+struct TextLabel {
+  std::string text, x, y;
+  int size = 16;
+  std::string colour = "0x333333";
+};
+// The drawtext filters for `labels` (",drawtext=..."; empty without the font).
+std::string DrawTextFilter(const std::vector<TextLabel>& labels);
+// Pipes `frames` RGB images (frame(k)) to ffmpeg run with `args`.
+// FAILED_PRECONDITION when ffmpeg is missing or fails.
+absl::Status RunFfmpeg(std::vector<std::string> args, int frames,
+                       const std::function<Image(int)>& frame);
+// One picture as PNG, with text.
+absl::Status WritePng(const Image& image, const std::vector<TextLabel>& labels,
+                      const std::string& path);
 
 // One frame of the picture, for tests and for RenderVideo.
 class VideoScene {

@@ -276,5 +276,19 @@ fi
 check "rig-info on a non-humanoid" 1 "not a humanoid rig that can be mapped: found no joint for" -- \
   "$tool" rig-info --model "$model" "$good"
 
+# eval on real held-out pairs writes its charts next to the report.
+bandai=${STYLUS_DATA:-$src/../shared/data/bandai}
+if [ -d "$bandai/dataset-2" ]; then
+  check "eval writes charts" 0 "!\[report_accuracy.png\]\(report_accuracy.png\)" -- "$tool" eval \
+    --model "$model" --judges "$judges" --data "$bandai/dataset-2" --pairs-per-content 1 \
+    --out "$work/eval/report.md" --threads 2
+  check "the accuracy chart is a PNG" 0 "^png,[0-9]+,370$" -- ffprobe -v error -select_streams v:0 \
+    -show_entries stream=codec_name,width,height -of csv=p=0 "$work/eval/report_accuracy.png"
+  check "the per-style chart is a PNG" 0 "^png," -- ffprobe -v error -select_streams v:0 \
+    -show_entries stream=codec_name,width,height -of csv=p=0 "$work/eval/report_styles.png"
+elif [ "${CI:-}" = true ]; then
+  echo "FAIL: $bandai missing (required under CI)"; failed=$((failed + 1))
+fi
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

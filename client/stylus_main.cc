@@ -186,9 +186,9 @@ int Interpolate(stylus::Client& client, const Args& a) {
   }
   std::vector<stylus::Style> styles;
   for (const auto& c : clips) {
-    styles.push_back(
-        {&c, "", c.skeleton.SameTopology(content->skeleton) ? opts->joint_map
-                                                             : stylus::motion::JointMap{}});
+    styles.push_back({&c, "",
+                      c.skeleton.SameTopology(content->skeleton) ? opts->joint_map
+                                                                 : stylus::motion::JointMap{}});
   }
   const std::string prefix = a.Get("out");
   if (prefix.empty())
@@ -273,9 +273,9 @@ int Stream(stylus::Client& client, const Args& a) {
     }
     changes.push_back(std::move(c));
   }
-  const stylus::motion::JointMap style_map =
-      style->skeleton.SameTopology(content->skeleton) ? opts->joint_map
-                                                      : stylus::motion::JointMap{};
+  const stylus::motion::JointMap style_map = style->skeleton.SameTopology(content->skeleton)
+                                                 ? opts->joint_map
+                                                 : stylus::motion::JointMap{};
   auto result = client.Stream(*content, {&*style, "", style_map}, *rate, *opts, changes);
   if (!result.ok()) return Fail("stream", result.status());
   if (!a.Get("out").empty()) {

@@ -31,8 +31,8 @@ absl::StatusOr<motion::Motion> RetargetingStreamer::In(const motion::Motion& fra
 }
 
 motion::Motion RetargetingStreamer::Out(const motion::Motion& model_frames) {
-  motion::Motion out = motion::RestMotion(rig_empty_.skeleton, model_frames.num_frames,
-                                          rig_empty_.frame_time);
+  motion::Motion out =
+      motion::RestMotion(rig_empty_.skeleton, model_frames.num_frames, rig_empty_.frame_time);
   for (int f = 0; f < model_frames.num_frames && !pending_.empty(); ++f) {
     retargeter_->FromModel(model_frames.frame(f), pending_.front().data(), out.frame(f));
     pending_.pop_front();

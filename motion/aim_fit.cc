@@ -13,8 +13,7 @@ constexpr double kTiny = 1e-9;
 
 }  // namespace
 
-AimPlan::AimPlan(const Skeleton& skeleton, const RigRoles& roles,
-                 const std::vector<char>& targeted)
+AimPlan::AimPlan(const Skeleton& skeleton, const RigRoles& roles, const std::vector<char>& targeted)
     : skeleton_(skeleton), pelvis_(roles[Role::kPelvis]) {
   const int n = skeleton.num_joints();
   above_pelvis_.assign(n, false);
@@ -57,8 +56,7 @@ AimPlan::AimPlan(const Skeleton& skeleton, const RigRoles& roles,
   const Role legs[2][3] = {{Role::kLeftThigh, Role::kLeftShin, Role::kLeftFoot},
                            {Role::kRightThigh, Role::kRightShin, Role::kRightFoot}};
   if (roles.has(Role::kLeftThigh) && roles.has(Role::kRightThigh) &&
-      targeted[roles[Role::kLeftThigh]] && targeted[roles[Role::kRightThigh]] &&
-      mover_ >= 0) {
+      targeted[roles[Role::kLeftThigh]] && targeted[roles[Role::kRightThigh]] && mover_ >= 0) {
     hips_ = {roles[Role::kLeftThigh], roles[Role::kRightThigh]};
   }
   for (const auto& leg : legs) {
@@ -152,8 +150,7 @@ void AimPlan::Fit(const AimTargets& targets, LocalPose* pose) const {
                                        Norm(t_perp) / std::max(Norm(t), kTiny));
           const double weight = std::clamp((bend - 0.05) / 0.15, 0.0, 1.0);
           if (weight <= 0) continue;
-          const double angle =
-              std::atan2(Dot(Cross(u_perp, t_perp), axis), Dot(u_perp, t_perp));
+          const double angle = std::atan2(Dot(Cross(u_perp, t_perp), axis), Dot(u_perp, t_perp));
           q = AxisAngle(axis, angle * weight) * q;
           break;
         }
@@ -166,7 +163,8 @@ void AimPlan::Fit(const AimTargets& targets, LocalPose* pose) const {
       std::vector<std::pair<Vec3, Vec3>> diffs;
       for (size_t a = 0; a < used.size(); ++a) {
         for (size_t b = a + 1; b < used.size(); ++b) {
-          const Vec3 v = Rotate(wr[j], OffsetFrom(j, used[a], *pose) - OffsetFrom(j, used[b], *pose));
+          const Vec3 v =
+              Rotate(wr[j], OffsetFrom(j, used[a], *pose) - OffsetFrom(j, used[b], *pose));
           const Vec3 w = targets.position[used[a]] - targets.position[used[b]];
           if (Norm(v) > kTiny && Norm(w) > kTiny) diffs.push_back({v, Normalized(w)});
         }
@@ -187,8 +185,7 @@ void AimPlan::Fit(const AimTargets& targets, LocalPose* pose) const {
               pf = skeleton_.joint(foot).parent;
     const Quat parent_thigh = pt < 0 ? Quat{} : wr[pt];
     pose->rotations[thigh] = Normalized(Conjugate(parent_thigh) * ik.hip_delta * wr[thigh]);
-    pose->rotations[shin] =
-        Normalized(Conjugate(ik.hip_delta * wr[ps]) * ik.knee_delta * wr[shin]);
+    pose->rotations[shin] = Normalized(Conjugate(ik.hip_delta * wr[ps]) * ik.knee_delta * wr[shin]);
     pose->rotations[foot] = Normalized(Conjugate(ik.knee_delta * wr[pf]) * wr[foot]);
   }
 }

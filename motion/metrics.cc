@@ -95,8 +95,7 @@ double Jitter(const Motion& clip) {
   int n = 0;
   for (size_t f = 3; f < pos.size(); ++f) {
     for (size_t j = 0; j < pos[f].size(); ++j) {
-      const Vec3 jerk =
-          pos[f][j] - pos[f - 1][j] * 3.0 + pos[f - 2][j] * 3.0 - pos[f - 3][j];
+      const Vec3 jerk = pos[f][j] - pos[f - 1][j] * 3.0 + pos[f - 2][j] * 3.0 - pos[f - 3][j];
       sum += Length(jerk) * fps3;
       ++n;
     }
@@ -160,9 +159,9 @@ absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const Motion& clip,
   if (!roles.ok()) return roles.status();
   if (reference != nullptr) {
     if (!reference->skeleton.SameTopology(clip.skeleton)) {
-      return absl::InvalidArgumentError(absl::StrCat("the reference clip is on another skeleton: ",
-                                                     clip.skeleton.DescribeMismatch(
-                                                         reference->skeleton)));
+      return absl::InvalidArgumentError(
+          absl::StrCat("the reference clip is on another skeleton: ",
+                       clip.skeleton.DescribeMismatch(reference->skeleton)));
     }
     if (reference->num_frames <= 0) {
       return absl::InvalidArgumentError("the reference clip has no frames");

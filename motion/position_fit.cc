@@ -144,8 +144,8 @@ void FitRotationsToPositions(const Skeleton& skeleton, const HumanoidRoles& role
         const int k = children[0], e = skeleton.children(k)[0];
         const Vec3& axis = hinge[k].axis;
         const Quat k_local = Get4(row + layout.rotation(k));
-        const double current = 2 * std::atan2(Dot(Vec3{k_local.x, k_local.y, k_local.z}, axis),
-                                              k_local.w);
+        const double current =
+            2 * std::atan2(Dot(Vec3{k_local.x, k_local.y, k_local.z}, axis), k_local.w);
         const Vec3 to_k = Get3(row + layout.position(k)) - position[j];
         const Vec3 to_e = Get3(row + layout.position(e)) - position[j];
         const Vec3& o_k = skeleton.joint(k).offset;

@@ -92,9 +92,9 @@ std::vector<Quat> MeanFeatureRotations(const std::vector<float>& feature_mean,
 absl::StatusOr<std::shared_ptr<const ModelRig>> MakeModelRig(
     const Skeleton& skeleton, const std::vector<Quat>& reference_rotations) {
   if (static_cast<int>(reference_rotations.size()) != skeleton.num_joints()) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("reference pose has ", reference_rotations.size(), " rotations for ",
-                     skeleton.num_joints(), " joints"));
+    return absl::InvalidArgumentError(absl::StrCat("reference pose has ",
+                                                   reference_rotations.size(), " rotations for ",
+                                                   skeleton.num_joints(), " joints"));
   }
   auto rig = std::make_shared<ModelRig>();
   rig->skeleton = skeleton;
@@ -111,8 +111,8 @@ absl::StatusOr<std::shared_ptr<const ModelRig>> MakeModelRig(
   for (Role r : {Role::kSpine, Role::kNeck, Role::kLeftClavicle, Role::kRightClavicle,
                  Role::kLeftToe, Role::kRightToe}) {
     if (!roles->has(r)) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "the model's own skeleton has no ", RoleName(r), " joint; retargeting needs one"));
+      return absl::InvalidArgumentError(absl::StrCat("the model's own skeleton has no ",
+                                                     RoleName(r), " joint; retargeting needs one"));
     }
   }
   rig->roles = *roles;

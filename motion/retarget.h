@@ -56,9 +56,10 @@ class Retargeter {
   // `first_frame`: the clip's (or stream's) first frame on `rig`, which gives
   // the up axis and, when names do not tell, the sides. INVALID_ARGUMENT
   // names the roles the rig lacks.
-  static absl::StatusOr<std::unique_ptr<Retargeter>> Create(
-      std::shared_ptr<const ModelRig> model, const Skeleton& rig, const double* first_frame,
-      const JointMap& joint_map = {});
+  static absl::StatusOr<std::unique_ptr<Retargeter>> Create(std::shared_ptr<const ModelRig> model,
+                                                            const Skeleton& rig,
+                                                            const double* first_frame,
+                                                            const JointMap& joint_map = {});
 
   const RigRoles& roles() const { return roles_; }
   const Skeleton& rig() const { return rig_; }

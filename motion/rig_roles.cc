@@ -17,11 +17,10 @@ namespace stylus::motion {
 namespace {
 
 constexpr const char* kRoleNames[kRoleCount] = {
-    "pelvis",         "spine",           "chest",           "neck",
-    "head",           "left_clavicle",   "left_upper_arm",  "left_forearm",
-    "left_hand",      "right_clavicle",  "right_upper_arm", "right_forearm",
-    "right_hand",     "left_thigh",      "left_shin",       "left_foot",
-    "left_toe",       "right_thigh",     "right_shin",      "right_foot",
+    "pelvis",          "spine",          "chest",        "neck",       "head",
+    "left_clavicle",   "left_upper_arm", "left_forearm", "left_hand",  "right_clavicle",
+    "right_upper_arm", "right_forearm",  "right_hand",   "left_thigh", "left_shin",
+    "left_foot",       "left_toe",       "right_thigh",  "right_shin", "right_foot",
     "right_toe"};
 
 enum class Side { kNone, kLeft, kRight };
@@ -80,8 +79,8 @@ class Finder {
     for (const auto& [role, name] : map) {
       const std::optional<int> j = sk_.Find(name);
       if (!j) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "joint map: ", RoleName(role), " = '", name, "': the skeleton has no such joint"));
+        return absl::InvalidArgumentError(absl::StrCat("joint map: ", RoleName(role), " = '", name,
+                                                       "': the skeleton has no such joint"));
       }
       r_.joint[static_cast<int>(role)] = *j;
       r_.how[static_cast<int>(role)] = "joint map";
@@ -91,10 +90,11 @@ class Finder {
 
   // Feet and hands by name; the rest of each limb by the hierarchy.
   void ByName() {
-    const std::vector<const char*> not_hand = {"thumb", "index", "middle", "ring", "pinky",
-                                               "finger", "end", "nub", "site", "twist", "roll"};
-    const std::vector<const char*> not_foot = {"toe", "ball", "end", "nub", "heel", "twist",
-                                               "roll"};
+    const std::vector<const char*> not_hand = {"thumb", "index",  "middle", "ring",
+                                               "pinky", "finger", "end",    "nub",
+                                               "site",  "twist",  "roll"};
+    const std::vector<const char*> not_foot = {"toe",  "ball",  "end", "nub",
+                                               "heel", "twist", "roll"};
     for (int j = 0; j < sk_.num_joints(); ++j) {
       const std::string& name = sk_.joint(j).name;
       const Side side = SideOf(name);
@@ -140,7 +140,8 @@ class Finder {
       Limb l;
       double best = -1;
       for (size_t i = 0; i + 2 < chain.size(); ++i) {
-        const double len = Norm(sk_.joint(chain[i + 1]).offset) + Norm(sk_.joint(chain[i + 2]).offset);
+        const double len =
+            Norm(sk_.joint(chain[i + 1]).offset) + Norm(sk_.joint(chain[i + 2]).offset);
         if (len > best + 1e-9) {
           best = len;
           l.upper = chain[i];
@@ -158,7 +159,8 @@ class Finder {
     // Sides: the toes point forward; left = up x forward.
     const Vec3 up = UpFrom(chest, leg_a.end, leg_b.end);
     Vec3 forward;
-    for (const Limb& leg : {leg_a, leg_b}) forward = forward + (ToePoint(leg.end, leg.extra) - P(leg.end));
+    for (const Limb& leg : {leg_a, leg_b})
+      forward = forward + (ToePoint(leg.end, leg.extra) - P(leg.end));
     forward = forward - Dot(forward, up) * up;
     if (Norm(forward) < 1e-9) return;
     const Vec3 left = Cross(up, Normalized(forward));
@@ -454,20 +456,26 @@ absl::StatusOr<RigRoles> FindRigRoles(const Skeleton& skeleton, const GlobalPose
     }
     return false;
   };
-  const std::pair<Role, Role> chains[] = {
-      {Role::kPelvis, Role::kChest},         {Role::kChest, Role::kHead},
-      {Role::kPelvis, Role::kLeftThigh},     {Role::kLeftThigh, Role::kLeftShin},
-      {Role::kLeftShin, Role::kLeftFoot},    {Role::kPelvis, Role::kRightThigh},
-      {Role::kRightThigh, Role::kRightShin}, {Role::kRightShin, Role::kRightFoot},
-      {Role::kChest, Role::kLeftUpperArm},   {Role::kLeftUpperArm, Role::kLeftForearm},
-      {Role::kLeftForearm, Role::kLeftHand}, {Role::kChest, Role::kRightUpperArm},
-      {Role::kRightUpperArm, Role::kRightForearm}, {Role::kRightForearm, Role::kRightHand}};
+  const std::pair<Role, Role> chains[] = {{Role::kPelvis, Role::kChest},
+                                          {Role::kChest, Role::kHead},
+                                          {Role::kPelvis, Role::kLeftThigh},
+                                          {Role::kLeftThigh, Role::kLeftShin},
+                                          {Role::kLeftShin, Role::kLeftFoot},
+                                          {Role::kPelvis, Role::kRightThigh},
+                                          {Role::kRightThigh, Role::kRightShin},
+                                          {Role::kRightShin, Role::kRightFoot},
+                                          {Role::kChest, Role::kLeftUpperArm},
+                                          {Role::kLeftUpperArm, Role::kLeftForearm},
+                                          {Role::kLeftForearm, Role::kLeftHand},
+                                          {Role::kChest, Role::kRightUpperArm},
+                                          {Role::kRightUpperArm, Role::kRightForearm},
+                                          {Role::kRightForearm, Role::kRightHand}};
   for (const auto& [top, low] : chains) {
     if (!below(r[low], r[top])) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "not a humanoid rig that can be mapped: ", RoleName(low), " '",
-          skeleton.joint(r[low]).name, "' is not below ", RoleName(top), " '",
-          skeleton.joint(r[top]).name, "' (fix the roles with --joint-map FILE)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("not a humanoid rig that can be mapped: ", RoleName(low), " '",
+                       skeleton.joint(r[low]).name, "' is not below ", RoleName(top), " '",
+                       skeleton.joint(r[top]).name, "' (fix the roles with --joint-map FILE)"));
     }
   }
   r.up = finder.UpFrom(r[Role::kChest], r[Role::kLeftFoot], r[Role::kRightFoot]);
@@ -507,9 +515,8 @@ std::string DescribeRigRoles(const Skeleton& skeleton, const RigRoles& roles) {
     const int j = roles.joint[i];
     std::string joint = j >= 0 ? skeleton.joint(j).name : "-";
     if (j < 0 && !roles.how[i].empty()) {
-      const int foot = roles.joint[static_cast<int>(i == static_cast<int>(Role::kLeftToe)
-                                                        ? Role::kLeftFoot
-                                                        : Role::kRightFoot)];
+      const int foot = roles.joint[static_cast<int>(
+          i == static_cast<int>(Role::kLeftToe) ? Role::kLeftFoot : Role::kRightFoot)];
       joint = absl::StrCat("(End Site of ", skeleton.joint(foot).name, ")");
     }
     absl::StrAppend(&out, absl::StrFormat("%-16s %-32s %s\n", kRoleNames[i], joint,

@@ -299,8 +299,8 @@ Quat BestRotation(const std::vector<std::pair<Vec3, Vec3>>& pairs) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) s[i][j] += av[i] * bv[j];
   }
-  const double xx = s[0][0], xy = s[0][1], xz = s[0][2], yx = s[1][0], yy = s[1][1],
-               yz = s[1][2], zx = s[2][0], zy = s[2][1], zz = s[2][2];
+  const double xx = s[0][0], xy = s[0][1], xz = s[0][2], yx = s[1][0], yy = s[1][1], yz = s[1][2],
+               zx = s[2][0], zy = s[2][1], zz = s[2][2];
   const std::array<std::array<double, 4>, 4> n = {{
       {xx + yy + zz, yz - zy, zx - xz, xy - yx},
       {yz - zy, xx - yy - zz, xy + yx, zx + xz},

@@ -38,7 +38,8 @@ absl::StatusOr<ContentCall> StartContentCall(const ServiceContext& service,
   absl::StatusOr<motion::Motion> clip = ReadClip(service, content, "content clip");
   if (!clip.ok()) return clip.status();
   call.content = *std::move(clip);
-  absl::StatusOr<motion::JointMap> map = wire::JointMapFromProto(content.skeleton(), "content clip");
+  absl::StatusOr<motion::JointMap> map =
+      wire::JointMapFromProto(content.skeleton(), "content clip");
   if (!map.ok()) return map.status();
   call.joint_map = *std::move(map);
   return call;

@@ -21,8 +21,8 @@ absl::Status WriteBarChart(const std::string& title, const std::vector<std::stri
   for (int q = 0; q <= 4; ++q) {
     const double y = y_of(q / 4.0);
     image.Line(left, y, image.width() - right, y, 1, {225, 225, 225});
-    labels.push_back({absl::StrFormat("%.2f", q / 4.0), "8", absl::StrCat(static_cast<int>(y) - 7), 12,
-                      "0x666666"});
+    labels.push_back({absl::StrFormat("%.2f", q / 4.0), "8", absl::StrCat(static_cast<int>(y) - 7),
+                      12, "0x666666"});
   }
   for (size_t g = 0; g < groups.size(); ++g) {
     const int x0 = left + static_cast<int>(g) * group_w + 15;

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "train/clip_sources.h"
 #include "absl/status/status.h"
 #include "cli/args.h"
 #include "tool/commands.h"
+#include "train/clip_sources.h"
 
 namespace stylus::tool {
 

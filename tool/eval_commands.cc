@@ -1,10 +1,10 @@
 // train-judges and eval.
 #include <algorithm>
-#include <cstdio>
-#include <optional>
-#include <map>
-#include <filesystem>
 #include <array>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -299,12 +299,14 @@ int Eval(const Argv& argv) {
   std::vector<std::string> targets;
   std::vector<BarSeries> per_style;
   for (int row = 0; row < std::min<int>(2, report->rows.size()); ++row) {
-    per_style.push_back({report->rows[row].name, row == 0 ? Rgb{200, 70, 60} : Rgb{240, 160, 60}, {}});
+    per_style.push_back(
+        {report->rows[row].name, row == 0 ? Rgb{200, 70, 60} : Rgb{240, 160, 60}, {}});
   }
   std::map<std::string, std::array<std::array<int, 2>, 2>> hits;  // style -> row -> (hit, n)
   for (const model::EvalVerdict& v : report->verdicts) {
     if (v.row >= 2) continue;
-    const std::optional<motion::ClipLabel> want = motion::ParseClipName((*pairs)[v.pair].style_path);
+    const std::optional<motion::ClipLabel> want =
+        motion::ParseClipName((*pairs)[v.pair].style_path);
     if (!want) continue;
     auto& h = hits[want->style][v.row];
     h[0] += v.style == want->style;
@@ -319,13 +321,12 @@ int Eval(const Argv& argv) {
   std::string charts;
   for (const auto& [file, status] :
        {std::pair<std::string, absl::Status>{
-            stem + "_accuracy.png",
-            WriteBarChart("Style and content accuracy", row_names, {style, content},
-                          stem + "_accuracy.png")},
-        {stem + "_styles.png",
-         targets.empty() ? absl::NotFoundError("no labelled styles")
-                         : WriteBarChart("Style accuracy per target style", targets, per_style,
-                                         stem + "_styles.png")}}) {
+            stem + "_accuracy.png", WriteBarChart("Style and content accuracy", row_names,
+                                                  {style, content}, stem + "_accuracy.png")},
+        {stem + "_styles.png", targets.empty()
+                                   ? absl::NotFoundError("no labelled styles")
+                                   : WriteBarChart("Style accuracy per target style", targets,
+                                                   per_style, stem + "_styles.png")}}) {
     if (status.ok()) {
       const std::string name = std::filesystem::path(file).filename().string();
       absl::StrAppend(&charts, "![", name, "](", name, ")\n");

@@ -24,8 +24,8 @@ namespace {
 // render -o OUT.mp4 and/or --png-dir: the video (tool/video.h).
 int RenderVideoCommand(const Args& args) {
   std::vector<VideoPanel> panels;
-  for (const auto& [flag, title] : {std::pair<std::string, std::string>{"content", "content"},
-                                    {"style", "style"}}) {
+  for (const auto& [flag, title] :
+       {std::pair<std::string, std::string>{"content", "content"}, {"style", "style"}}) {
     if (!args.Has(flag)) continue;
     absl::StatusOr<motion::Motion> m = motion::ReadBvhFile(args.Get(flag));
     if (!m.ok()) return Fail("render", m.status());
@@ -51,7 +51,8 @@ int RenderVideoCommand(const Args& args) {
   int written = 0;
   if (absl::Status s = RenderVideo(panels, o, &written); !s.ok()) return Fail("render", s);
   std::string what = o.mp4;
-  if (!o.png_dir.empty()) absl::StrAppend(&what, what.empty() ? "" : " and ", o.png_dir, "/frame_*.png");
+  if (!o.png_dir.empty())
+    absl::StrAppend(&what, what.empty() ? "" : " and ", o.png_dir, "/frame_*.png");
   absl::PrintF("wrote %s (%d frames, %.2f s, %dx%d", what, written, written / o.fps, o.width,
                o.height);
   if (!o.mp4.empty()) {

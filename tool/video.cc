@@ -32,7 +32,8 @@ constexpr Rgb kBackground{250, 250, 247}, kGrid{214, 214, 208}, kLeft{200, 50, 5
 std::string SafeText(const std::string& s) {
   std::string out;
   for (char c : s) {
-    const bool ok = std::isalnum(static_cast<unsigned char>(c)) || std::string(" ._/,()=+-").find(c) != std::string::npos;
+    const bool ok = std::isalnum(static_cast<unsigned char>(c)) ||
+                    std::string(" ._/,()=+-").find(c) != std::string::npos;
     out += ok ? c : ' ';
   }
   return out;
@@ -88,7 +89,8 @@ std::string DrawTextFilter(const std::vector<TextLabel>& labels) {
   std::string filter;
   if (!std::filesystem::exists(kFont)) return filter;
   for (const TextLabel& l : labels) {
-    absl::StrAppendFormat(&filter, ",drawtext=fontfile=%s:text='%s':x=%s:y=%s:fontsize=%d:fontcolor=%s",
+    absl::StrAppendFormat(&filter,
+                          ",drawtext=fontfile=%s:text='%s':x=%s:y=%s:fontsize=%d:fontcolor=%s",
                           kFont, SafeText(l.text), l.x, l.y, l.size, l.colour);
   }
   return filter;
@@ -96,14 +98,18 @@ std::string DrawTextFilter(const std::vector<TextLabel>& labels) {
 
 absl::Status WritePng(const Image& image, const std::vector<TextLabel>& labels,
                       const std::string& path) {
-  std::vector<std::string> args = {"ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo",
-                                   "-pix_fmt", "rgb24", "-s",
-                                   absl::StrCat(image.width(), "x", image.height()), "-i", "-",
-                                   "-vf", "format=rgb24" + DrawTextFilter(labels), "-frames:v",
-                                   "1", "-update", "1", path};
+  std::vector<std::string> args = {"ffmpeg",    "-loglevel",
+                                   "error",     "-y",
+                                   "-f",        "rawvideo",
+                                   "-pix_fmt",  "rgb24",
+                                   "-s",        absl::StrCat(image.width(), "x", image.height()),
+                                   "-i",        "-",
+                                   "-vf",       "format=rgb24" + DrawTextFilter(labels),
+                                   "-frames:v", "1",
+                                   "-update",   "1",
+                                   path};
   return RunFfmpeg(args, 1, [&image](int) { return image; });
 }
-
 
 struct VideoScene::Panel {
   std::string title;
@@ -170,8 +176,8 @@ absl::StatusOr<VideoScene> VideoScene::Create(const std::vector<VideoPanel>& pan
     for (int j = sk.joint(pelvis).parent; j >= 0; j = sk.joint(j).parent) p->hidden[j] = true;
     p->colour.assign(n, kCentre);
     const std::pair<motion::Role, Rgb> sides[] = {
-        {motion::Role::kLeftThigh, kLeft}, {motion::Role::kLeftUpperArm, kLeft},
-        {motion::Role::kLeftClavicle, kLeft}, {motion::Role::kRightThigh, kRight},
+        {motion::Role::kLeftThigh, kLeft},      {motion::Role::kLeftUpperArm, kLeft},
+        {motion::Role::kLeftClavicle, kLeft},   {motion::Role::kRightThigh, kRight},
         {motion::Role::kRightUpperArm, kRight}, {motion::Role::kRightClavicle, kRight}};
     for (int j = 0; j < n; ++j) {
       p->parent[j] = sk.joint(j).parent;
@@ -247,7 +253,8 @@ Image VideoScene::Draw(int frame) const {
       double x, y;
       project(pos[p.feet[k]], &x, &y);
       const bool down = p.planted[f][k];
-      cell.Disc(x, y, (down ? 1.0 : 0.6) * std::max(3.0, height_ / 80.0), down ? kPlanted : kLifted);
+      cell.Disc(x, y, (down ? 1.0 : 0.6) * std::max(3.0, height_ / 80.0),
+                down ? kPlanted : kLifted);
     }
     // Into the picture, with a thin separator.
     const int x_off = i * panel_w;
@@ -278,16 +285,20 @@ absl::Status RenderVideo(const std::vector<VideoPanel>& panels, const VideoOptio
   const int panel_w = options.width / static_cast<int>(panels.size());
   const int size = std::max(10, options.height / 22);
   for (size_t i = 0; i < panels.size(); ++i) {
-    labels.push_back({panels[i].title, absl::StrCat(static_cast<int>(i) * panel_w + 10), "8", size});
+    labels.push_back(
+        {panels[i].title, absl::StrCat(static_cast<int>(i) * panel_w + 10), "8", size});
   }
   if (!options.caption.empty()) {
     labels.push_back({options.caption, "10", "h-th-8", size * 4 / 5, "0x555555"});
   }
   const std::string filter = "format=rgb24" + DrawTextFilter(labels);
-  std::vector<std::string> args = {"ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo",
-                                   "-pix_fmt", "rgb24", "-s",
-                                   absl::StrCat(options.width, "x", options.height), "-r",
-                                   absl::StrFormat("%.6g", fps), "-i", "-"};
+  std::vector<std::string> args = {"ffmpeg",   "-loglevel",
+                                   "error",    "-y",
+                                   "-f",       "rawvideo",
+                                   "-pix_fmt", "rgb24",
+                                   "-s",       absl::StrCat(options.width, "x", options.height),
+                                   "-r",       absl::StrFormat("%.6g", fps),
+                                   "-i",       "-"};
   if (!options.mp4.empty()) {
     for (const char* a : {"-map", "0"}) args.push_back(a);
     args.insert(args.end(), {"-vf", filter + ",format=yuv420p", "-c:v", "libx264", "-preset",
@@ -300,8 +311,8 @@ absl::Status RenderVideo(const std::vector<VideoPanel>& panels, const VideoOptio
     args.insert(args.end(), {"-map", "0", "-vf", filter, options.png_dir + "/frame_%04d.png"});
   }
   absl::Status run = RunFfmpeg(args, out_frames, [&](int k) {
-    const int f = std::min(scene->num_frames() - 1,
-                           static_cast<int>(std::lround(k * clip_fps / fps)));
+    const int f =
+        std::min(scene->num_frames() - 1, static_cast<int>(std::lround(k * clip_fps / fps)));
     return scene->Draw(f);
   });
   if (!run.ok()) return run;

@@ -44,8 +44,9 @@ absl::StatusOr<ClipClasses> ClipClasses::FromLabels(
         i < clip_labels.size() ? clip_labels[i] : std::nullopt;
     if (!label) {
       return absl::InvalidArgumentError(
-          paths[i] + ": this clip has no labels: name it dataset-N_{content}_{style}_{take}.bvh "
-                     "(stylus-tool train also reads them from --labels FILE.csv)");
+          paths[i] +
+          ": this clip has no labels: name it dataset-N_{content}_{style}_{take}.bvh "
+          "(stylus-tool train also reads them from --labels FILE.csv)");
     }
     labels.push_back(*label);
     c.styles.push_back(label->style);

@@ -3,8 +3,8 @@
 #ifndef STYLUS_TRAIN_CLIP_CLASSES_H_
 #define STYLUS_TRAIN_CLIP_CLASSES_H_
 
-#include <random>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -27,8 +27,7 @@ struct ClipClasses {
   // the clips in errors.
   static absl::StatusOr<ClipClasses> FromLabels(
       const std::vector<std::string>& paths,
-      const std::vector<std::optional<motion::ClipLabel>>& labels,
-      const std::vector<bool>& usable);
+      const std::vector<std::optional<motion::ClipLabel>>& labels, const std::vector<bool>& usable);
 
   // The classes of a training set's clips for windows of `window` frames
   // (shorter clips are never drawn); logs the class counts through `log`.

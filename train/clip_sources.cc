@@ -232,9 +232,8 @@ absl::StatusOr<ClipSources> ReadClipSources(const std::vector<std::string>& sour
   }
   out.other_rigs = static_cast<int>(rigs_seen.size());
   if (out.motions.empty()) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(test ? "no held-out clip" : "no training clip", " could be used; ",
-                     out.Report()));
+    return absl::InvalidArgumentError(absl::StrCat(test ? "no held-out clip" : "no training clip",
+                                                   " could be used; ", out.Report()));
   }
   return out;
 }

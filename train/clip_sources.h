@@ -25,12 +25,12 @@ struct TrainingDataOptions {
 };
 
 struct ClipSources {
-  motion::Skeleton skeleton;  // Every clip is on it...
+  motion::Skeleton skeleton;     // Every clip is on it...
   double frame_time = 1.0 / 30;  // ...at this rate.
   std::vector<motion::Motion> motions;
   std::vector<std::string> paths;
   std::vector<std::optional<motion::ClipLabel>> labels;  // From the name or the CSV.
-  std::vector<std::string> skipped;  // "path: reason".
+  std::vector<std::string> skipped;                      // "path: reason".
   int retargeted = 0, resampled = 0, other_rigs = 0;
   // "read 12 clips (4 retargeted from 2 other rigs, 3 resampled to 30 Hz; 9
   // labelled); skipped 2" and one line per skipped clip.

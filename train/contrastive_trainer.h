@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "train/clip_sources.h"
 #include "absl/status/status.h"
 #include "model/contrastive/contrastive_config.h"
+#include "train/clip_sources.h"
 
 namespace stylus::model {
 
@@ -23,11 +23,11 @@ struct LossRecord {
 };
 
 struct ContrastiveTrainOptions {
-  std::vector<std::string> data;  // Directories (training split) or .bvh files.
+  std::vector<std::string> data;     // Directories (training split) or .bvh files.
   TrainingDataOptions data_options;  // Labels CSV, the package's skeleton.
-  std::string out;                // Package directory, e.g. models/contrastive/v5.
-  ContrastiveConfig config;       // dim is filled from the data.
-  bool resume = false;            // Continue from out/checkpoint if present.
+  std::string out;                   // Package directory, e.g. models/contrastive/v5.
+  ContrastiveConfig config;          // dim is filled from the data.
+  bool resume = false;               // Continue from out/checkpoint if present.
   // A package whose weights.pt starts the networks (fine-tuning); its shapes
   // must fit `config`. Ignored when resuming (the checkpoint has them).
   std::string init_from;

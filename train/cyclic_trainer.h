@@ -10,18 +10,18 @@
 #include <string>
 #include <vector>
 
-#include "train/clip_sources.h"
 #include "absl/status/status.h"
 #include "model/cyclic/cyclic_config.h"
+#include "train/clip_sources.h"
 #include "train/training_run.h"
 
 namespace stylus::model {
 
 struct CyclicTrainOptions {
-  std::vector<std::string> data;  // Directories (training split) or .bvh files.
+  std::vector<std::string> data;     // Directories (training split) or .bvh files.
   TrainingDataOptions data_options;  // Labels CSV, the package's skeleton.
-  std::string out;                // Package directory, e.g. models/cyclic/v1.
-  CyclicConfig config;            // dim is filled from the data.
+  std::string out;                   // Package directory, e.g. models/cyclic/v1.
+  CyclicConfig config;               // dim is filled from the data.
   bool resume = false;
   // Start from this package's weights (same architecture), e.g. to train the
   // generator stage again on an autoencoder already trained (set

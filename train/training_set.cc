@@ -100,8 +100,7 @@ absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sour
   set.frame_time = read->frame_time;
   absl::StatusOr<motion::HumanoidRoles> roles = motion::HumanoidRolesOf(read->motions[0]);
   if (!roles.ok()) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(read->paths[0], ": ", roles.status().message()));
+    return absl::InvalidArgumentError(absl::StrCat(read->paths[0], ": ", roles.status().message()));
   }
   set.roles = *roles;
   std::vector<const motion::FeatureClip*> raw;
@@ -197,9 +196,9 @@ absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sou
                                              const TrainingDataOptions& data_options) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<motion::Motion> motions;
-  absl::StatusOr<TrainingSet> loaded =
-      LoadTrainingSet(sources, windows, {}, false, nullptr, mirror ? &motions : nullptr, contacts,
-                      data_options, [&log](const ClipSources& read) { LogLine(log, read.Report()); });
+  absl::StatusOr<TrainingSet> loaded = LoadTrainingSet(
+      sources, windows, {}, false, nullptr, mirror ? &motions : nullptr, contacts, data_options,
+      [&log](const ClipSources& read) { LogLine(log, read.Report()); });
   if (!loaded.ok()) return loaded.status();
   if (mirror) {
     if (absl::Status s = AddMirroredClips(motions, windows, contacts, &*loaded); !s.ok()) return s;

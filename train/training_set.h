@@ -66,15 +66,12 @@ struct TrainingSet {
 // `progress` (may be empty) is told how many clips are loaded; `report`
 // (may be empty) gets what was read and skipped.
 // `motions` (if not null) gets the loaded clips as read.
-absl::StatusOr<TrainingSet> LoadTrainingSet(const std::vector<std::string>& sources,
-                                            const motion::WindowSpec& windows,
-                                            const std::function<void(int, int)>& progress = {},
-                                            bool test = false,
-                                            const motion::NormStats* norm = nullptr,
-                                            std::vector<motion::Motion>* motions = nullptr,
-                                            const motion::ContactParams& contacts = {},
-                                            const TrainingDataOptions& data_options = {},
-                                            const std::function<void(const ClipSources&)>& report = {});
+absl::StatusOr<TrainingSet> LoadTrainingSet(
+    const std::vector<std::string>& sources, const motion::WindowSpec& windows,
+    const std::function<void(int, int)>& progress = {}, bool test = false,
+    const motion::NormStats* norm = nullptr, std::vector<motion::Motion>* motions = nullptr,
+    const motion::ContactParams& contacts = {}, const TrainingDataOptions& data_options = {},
+    const std::function<void(const ClipSources&)>& report = {});
 
 // LoadTrainingSet of the training split for a trainer: logs "loaded N clips,
 // W windows of T frames, D channels in S s" through `log` (stderr when
@@ -98,9 +95,9 @@ absl::StatusOr<TrainingSet> LoadTrainingData(const std::vector<std::string>& sou
 // and the provenance it fills into `config` (dim, data, commit).
 template <typename Options, typename Config>
 absl::StatusOr<TrainingSet> LoadRunData(const Options& options, Config* config) {
-  absl::StatusOr<TrainingSet> data = LoadTrainingData(
-      options.data, {config->window, config->hop}, options.log, config->mirror, config->Contacts(),
-      options.data_options);
+  absl::StatusOr<TrainingSet> data =
+      LoadTrainingData(options.data, {config->window, config->hop}, options.log, config->mirror,
+                       config->Contacts(), options.data_options);
   if (!data.ok()) return data.status();
   data->random_starts = config->random_starts;
   config->dim = data->dim();

@@ -2,8 +2,8 @@
 // format and parse back to the same shape, and goes through the humanoid
 // role finder and, when it is a humanoid, retargeting onto its own first
 // pose and back (scripts/fuzz bvh SECONDS).
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <vector>

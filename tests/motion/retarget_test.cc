@@ -5,14 +5,14 @@
 #include <filesystem>
 #include <iostream>
 
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
 #include "motion/bvh.h"
 #include "motion/humanoid.h"
 #include "motion/kinematics.h"
 #include "motion/normalization.h"
 #include "motion/resample.h"
-#include "absl/strings/match.h"
-#include "absl/strings/str_cat.h"
 #include "tests/support/test_rigs.h"
 #include "tests/test_support.h"
 
@@ -122,8 +122,7 @@ TEST_F(RetargetTest, AnyRigOntoTheModelGivesTheOriginalPositions) {
     SCOPED_TRACE(testing::TestRigName(rig));
     absl::StatusOr<Motion> clip = testing::BuildTestRig(bandai_, rig);
     ASSERT_TRUE(clip.ok());
-    std::unique_ptr<Retargeter> r =
-        *Retargeter::Create(model_, clip->skeleton, clip->frame(0));
+    std::unique_ptr<Retargeter> r = *Retargeter::Create(model_, clip->skeleton, clip->frame(0));
     const Motion on_model = r->ToModel(*clip);
     ASSERT_EQ(on_model.num_frames, clip->num_frames);
     ASSERT_TRUE(on_model.skeleton.SameTopology(model_->skeleton));
@@ -134,8 +133,9 @@ TEST_F(RetargetTest, AnyRigOntoTheModelGivesTheOriginalPositions) {
     for (int f = 0; f < clip->num_frames; ++f) {
       for (int i = 0; i < kRoleCount; ++i) {
         const int j = model_->roles.joint[i];
-        const double e = Norm(want[f][j] - got[f][j] - (want[f][model_->roles[Role::kPelvis]] -
-                                                      got[f][model_->roles[Role::kPelvis]]));
+        const double e =
+            Norm(want[f][j] - got[f][j] -
+                 (want[f][model_->roles[Role::kPelvis]] - got[f][model_->roles[Role::kPelvis]]));
         all = std::max(all, e);
         const Role role = static_cast<Role>(i);
         if (role >= Role::kLeftThigh) limbs = std::max(limbs, e);
@@ -143,8 +143,8 @@ TEST_F(RetargetTest, AnyRigOntoTheModelGivesTheOriginalPositions) {
     }
     // Legs are exact up to the IK's tolerance; arms and head follow the
     // chest, whose position depends on how the rig splits the spine.
-    std::cout << testing::TestRigName(rig) << " onto the model: limbs " << limbs / leg
-              << ", all " << all / leg << " of the leg's length\n";
+    std::cout << testing::TestRigName(rig) << " onto the model: limbs " << limbs / leg << ", all "
+              << all / leg << " of the leg's length\n";
     EXPECT_LT(limbs / leg, 0.01);
     EXPECT_LT(all / leg, 0.15);
     // The feet land where the rig's are (scaled), to the IK's precision.
@@ -165,16 +165,15 @@ TEST_F(RetargetTest, RoundTripThroughTheModelKeepsPositions) {
     SCOPED_TRACE(testing::TestRigName(rig));
     absl::StatusOr<Motion> clip = testing::BuildTestRig(bandai_, rig);
     ASSERT_TRUE(clip.ok());
-    std::unique_ptr<Retargeter> r =
-        *Retargeter::Create(model_, clip->skeleton, clip->frame(0));
+    std::unique_ptr<Retargeter> r = *Retargeter::Create(model_, clip->skeleton, clip->frame(0));
     const Motion on_model = r->ToModel(*clip);
     absl::StatusOr<Motion> back = r->FromModel(on_model, *clip);
     ASSERT_TRUE(back.ok()) << back.status();
     EXPECT_TRUE(back->skeleton.SameTopology(clip->skeleton));
     const double leg = LegLength(clip->skeleton, r->roles());
     const RoleError e = RoleErrors(*back, *clip, r->roles());
-    std::cout << "round trip " << testing::TestRigName(rig) << ": max " << e.max / leg
-              << ", mean " << e.mean / leg << " of the leg's length\n";
+    std::cout << "round trip " << testing::TestRigName(rig) << ": max " << e.max / leg << ", mean "
+              << e.mean / leg << " of the leg's length\n";
     EXPECT_LT(e.max / leg, 0.01);
     // Offsets are the input's, so bones keep their lengths.
     for (int j = 0; j < clip->skeleton.num_joints(); ++j) {
@@ -271,11 +270,12 @@ TEST_F(RetargetTest, JointMapOverridesAndNamesItsErrors) {
   const Motion clip = *testing::BuildTestRig(bandai_, TestRig::kAnonymous);
   // The limb ends given by hand: the geometry fallback is then not needed.
   auto name = [&](Role r) { return clip.skeleton.joint(model_->roles[r]).name; };
-  absl::StatusOr<JointMap> map = ParseJointMap(
-      absl::StrCat("# hands and feet\nleft_hand = ", name(Role::kLeftHand),
-                   "\nright-hand=", name(Role::kRightHand), "\n LEFT_FOOT = ",
-                   name(Role::kLeftFoot), "\nright_foot = ", name(Role::kRightFoot), "\n"),
-      "map.txt");
+  absl::StatusOr<JointMap> map =
+      ParseJointMap(absl::StrCat("# hands and feet\nleft_hand = ", name(Role::kLeftHand),
+                                 "\nright-hand=", name(Role::kRightHand),
+                                 "\n LEFT_FOOT = ", name(Role::kLeftFoot),
+                                 "\nright_foot = ", name(Role::kRightFoot), "\n"),
+                    "map.txt");
   ASSERT_TRUE(map.ok()) << map.status();
   absl::StatusOr<std::unique_ptr<Retargeter>> r =
       Retargeter::Create(model_, clip.skeleton, clip.frame(0), *map);
@@ -295,8 +295,7 @@ TEST_F(RetargetTest, JointMapOverridesAndNamesItsErrors) {
       ParseJointMap("pelvis = A\npelvis = B\n", "m.txt").status().message(), "given twice"));
   absl::StatusOr<std::unique_ptr<Retargeter>> bad =
       Retargeter::Create(model_, clip.skeleton, clip.frame(0), {{Role::kPelvis, "nope"}});
-  EXPECT_EQ(bad.status().message(),
-            "joint map: pelvis = 'nope': the skeleton has no such joint");
+  EXPECT_EQ(bad.status().message(), "joint map: pelvis = 'nope': the skeleton has no such joint");
 }
 
 // A skeleton without legs is no biped: the error names what is missing.

@@ -81,8 +81,8 @@ TEST_F(OtherRigServerTest, TransferOnCmuAndMixamoRigsComesBackOnTheirRig) {
     const double units = rig == TestRig::kCmu ? 2.54 : 1;  // CMU's rig is in inches.
     EXPECT_GT(units * MeanDisplacement(*out, clip), 1.0);
     // ...but not the joints without a role (fingers, twist bones, props).
-    for (const char* extra : {"LeftFingerBase", "mixamorig:LeftHandIndex1", "upperarm_twist_01_l",
-                              "weapon_r"}) {
+    for (const char* extra :
+         {"LeftFingerBase", "mixamorig:LeftHandIndex1", "upperarm_twist_01_l", "weapon_r"}) {
       const std::optional<int> j = clip.skeleton.Find(extra);
       if (!j) continue;
       const int at = clip.skeleton.channel_start(*j);
@@ -129,13 +129,12 @@ TEST_F(OtherRigServerTest, InterpolateAndStreamsOnAnotherRig) {
   const motion::Motion clip = *testing::BuildTestRig(content_, TestRig::kMixamo);
   const motion::Motion style2 = *testing::BuildTestRig(style_, TestRig::kMixamo);
   // Two styles, one of them on the content's rig.
-  absl::StatusOr<motion::Motion> blend = server_->client->Interpolate(
-      clip, {{&style_, ""}, {&style2, ""}}, {0.5, 0.5}, {}, Full());
+  absl::StatusOr<motion::Motion> blend =
+      server_->client->Interpolate(clip, {{&style_, ""}, {&style2, ""}}, {0.5, 0.5}, {}, Full());
   ASSERT_TRUE(blend.ok()) << blend.status();
   ExpectSameRig(*blend, clip);
   // A live stream: frames back one to one, in order, on the rig.
-  absl::StatusOr<StreamResult> live =
-      server_->client->Stream(clip, {&style_, ""}, 0, Full("live"));
+  absl::StatusOr<StreamResult> live = server_->client->Stream(clip, {&style_, ""}, 0, Full("live"));
   ASSERT_TRUE(live.ok()) << live.status();
   ExpectSameRig(live->output, clip);
   for (size_t i = 0; i < live->indices.size(); ++i) {

@@ -24,8 +24,8 @@ enum class Kind { kFollow, kBetween, kExtra, kFloor };
 struct Spec {
   std::string name, parent;  // parent "" for the root.
   Kind kind = Kind::kFollow;
-  std::string source;  // Bandai joint followed (kFollow, kBetween, kFloor).
-  double t = 0;        // kBetween: fraction from the source's parent to it.
+  std::string source;          // Bandai joint followed (kFollow, kBetween, kFloor).
+  double t = 0;                // kBetween: fraction from the source's parent to it.
   double along = 0, side = 0;  // kExtra: offset along the parent's bone, and up.
   bool positions = false;      // Position channels (besides the root's).
 };
@@ -218,13 +218,20 @@ RigPlan PlanFromBandai(const motion::Skeleton& sk, TestRig rig) {
 
 std::string TestRigName(TestRig rig) {
   switch (rig) {
-    case TestRig::kCmu: return "cmu";
-    case TestRig::kMixamo: return "mixamo";
-    case TestRig::kMixamoMetres: return "mixamo_metres";
-    case TestRig::kRigify: return "rigify";
-    case TestRig::kUnreal: return "unreal";
-    case TestRig::kAnonymous: return "anonymous";
-    case TestRig::kReoriented: return "reoriented";
+    case TestRig::kCmu:
+      return "cmu";
+    case TestRig::kMixamo:
+      return "mixamo";
+    case TestRig::kMixamoMetres:
+      return "mixamo_metres";
+    case TestRig::kRigify:
+      return "rigify";
+    case TestRig::kUnreal:
+      return "unreal";
+    case TestRig::kAnonymous:
+      return "anonymous";
+    case TestRig::kReoriented:
+      return "reoriented";
   }
   return "?";
 }
@@ -248,9 +255,8 @@ absl::StatusOr<Motion> BuildTestRig(const Motion& bandai_clip, TestRig rig) {
   RigPlan plan = (rig == TestRig::kAnonymous || rig == TestRig::kReoriented)
                      ? PlanFromBandai(bandai_clip.skeleton, rig)
                      : Plan(rig);
-  const Motion clip = plan.fps != bandai_clip.fps()
-                          ? motion::Resample(bandai_clip, 1.0 / plan.fps)
-                          : bandai_clip;
+  const Motion clip =
+      plan.fps != bandai_clip.fps() ? motion::Resample(bandai_clip, 1.0 / plan.fps) : bandai_clip;
   const motion::Skeleton& src = clip.skeleton;
   const int n = static_cast<int>(plan.joints.size());
   std::map<std::string, int> index;
@@ -267,9 +273,9 @@ absl::StatusOr<Motion> BuildTestRig(const Motion& bandai_clip, TestRig rig) {
   std::normal_distribution<double> normal;
   std::vector<Quat> frame0(n);  // Wanted world rotation at frame 0.
   for (int i = 0; i < n; ++i) {
-    frame0[i] = plan.random_frames ? motion::Normalized(Quat{normal(rng), normal(rng), normal(rng),
-                                                             normal(rng)})
-                                   : Quat{};
+    frame0[i] = plan.random_frames
+                    ? motion::Normalized(Quat{normal(rng), normal(rng), normal(rng), normal(rng)})
+                    : Quat{};
   }
   std::vector<std::vector<Vec3>> P(clip.num_frames, std::vector<Vec3>(n));
   std::vector<std::vector<Quat>> R(clip.num_frames, std::vector<Quat>(n));
@@ -301,7 +307,8 @@ absl::StatusOr<Motion> BuildTestRig(const Motion& bandai_clip, TestRig rig) {
           if (f == 0) {
             // Along the parent's bone (from its parent), lifted by `side`.
             const int pp = parent[p];
-            const Vec3 dir = motion::Normalized(P[0][p] - (pp >= 0 ? P[0][pp] : P[0][p] - Vec3{0, 1, 0}));
+            const Vec3 dir =
+                motion::Normalized(P[0][p] - (pp >= 0 ? P[0][pp] : P[0][p] - Vec3{0, 1, 0}));
             Vec3 up = motion::Normalized(motion::Cross(dir, {0, 0, 1}), {0, 1, 0});
             const Vec3 world = s.along * dir + s.side * up;
             extra_local[i] = motion::Rotate(motion::Conjugate(R[0][p]), world);

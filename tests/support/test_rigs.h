@@ -14,14 +14,14 @@
 namespace stylus::testing {
 
 enum class TestRig {
-  kCmu,        // CMU names, zero-length hip and back joints, two neck joints, fingers, 120 Hz.
-  kMixamo,     // "mixamorig:" names, three spine joints, fingers, end joints, ZYX Euler.
+  kCmu,           // CMU names, zero-length hip and back joints, two neck joints, fingers, 120 Hz.
+  kMixamo,        // "mixamorig:" names, three spine joints, fingers, end joints, ZYX Euler.
   kMixamoMetres,  // kMixamo in metres.
-  kRigify,     // Blender Rigify names (thigh.L, spine.003), Z-up, metres, XYZ Euler.
-  kUnreal,     // Unreal names (thigh_l, calf_l, ball_l), Z-up, a floor root, twist bones,
-               // a prop, legs listed before the spine, YZX Euler.
-  kAnonymous,  // Joints named j00, j01...: only hierarchy and geometry tell the roles.
-  kReoriented, // Bandai's names, every joint frame turned by a fixed random rotation.
+  kRigify,        // Blender Rigify names (thigh.L, spine.003), Z-up, metres, XYZ Euler.
+  kUnreal,        // Unreal names (thigh_l, calf_l, ball_l), Z-up, a floor root, twist bones,
+                  // a prop, legs listed before the spine, YZX Euler.
+  kAnonymous,     // Joints named j00, j01...: only hierarchy and geometry tell the roles.
+  kReoriented,    // Bandai's names, every joint frame turned by a fixed random rotation.
 };
 
 std::string TestRigName(TestRig rig);

@@ -33,9 +33,11 @@ TEST(ClipSourcesTest, MixedRigsAreRetargetedLabelledAndReported) {
   // a file that is no BVH and a rig that is no humanoid.
   ASSERT_TRUE(motion::WriteBvhFile(walk, dir + "/dataset-2_walk_normal_001.bvh").ok());
   ASSERT_TRUE(motion::WriteBvhFile(*testing::BuildTestRig(old, TestRig::kMixamo),
-                                   dir + "/studio/take_a.bvh").ok());
-  ASSERT_TRUE(motion::WriteBvhFile(*testing::BuildTestRig(walk, TestRig::kCmu),
-                                   dir + "/studio/take_b.bvh").ok());
+                                   dir + "/studio/take_a.bvh")
+                  .ok());
+  ASSERT_TRUE(
+      motion::WriteBvhFile(*testing::BuildTestRig(walk, TestRig::kCmu), dir + "/studio/take_b.bvh")
+          .ok());
   std::ofstream(dir + "/studio/broken.bvh") << "HIERARCHY\nROOT x\n";
   fs::copy_file(testing::SourceDir() + "/tests/fixtures/bvh/good/three_joint.bvh",
                 dir + "/studio/three_joint.bvh");
@@ -70,7 +72,8 @@ TEST(ClipSourcesTest, MixedRigsAreRetargetedLabelledAndReported) {
     const auto got = motion::GlobalPositions(read->motions[i]);
     const int foot = *walk.skeleton.Find("Foot_L");
     double worst = 0;
-    for (size_t f = 0; f < got.size(); ++f) worst = std::max(worst, motion::Norm(got[f][foot] - want[f][foot]));
+    for (size_t f = 0; f < got.size(); ++f)
+      worst = std::max(worst, motion::Norm(got[f][foot] - want[f][foot]));
     EXPECT_LT(worst, 0.01);  // Centimetres: the BVH text's precision.
   }
   // Without labels, the unnamed takes are simply unlabelled.
@@ -78,8 +81,8 @@ TEST(ClipSourcesTest, MixedRigsAreRetargetedLabelledAndReported) {
   ASSERT_TRUE(bare.ok());
   EXPECT_FALSE(ClipClasses::FromLabels(bare->paths, bare->labels, {}).ok());
   // A training set (features, windows) from it.
-  absl::StatusOr<TrainingSet> set = LoadTrainingSet({dir}, {32, 16}, {}, false, nullptr, nullptr,
-                                                    {}, options);
+  absl::StatusOr<TrainingSet> set =
+      LoadTrainingSet({dir}, {32, 16}, {}, false, nullptr, nullptr, {}, options);
   ASSERT_TRUE(set.ok()) << set.status();
   EXPECT_EQ(set->clips.size(), 3u);
   EXPECT_GT(set->windows.size(), 10u);
@@ -99,7 +102,8 @@ TEST(ClipSourcesTest, NothingUsableIsAClearError) {
   std::ofstream(dir + "/labels.csv") << "a.bvh,walk\n";
   read = ReadClipSources({dir}, false, bad);
   ASSERT_FALSE(read.ok());
-  EXPECT_TRUE(absl::StrContains(read.status().message(), "labels.csv:1: expected clip,content,style"))
+  EXPECT_TRUE(
+      absl::StrContains(read.status().message(), "labels.csv:1: expected clip,content,style"))
       << read.status();
 }
 

@@ -277,9 +277,10 @@ absl::Status RenderVideo(const std::vector<VideoPanel>& panels, const VideoOptio
   }
   // Sample the last clip at the video's rate.
   const double clip_fps = panels.back().clip.fps();
-  const double fps = std::min(options.fps, clip_fps);
+  // A clip at (nearly) the video's rate keeps every frame.
+  const double fps = options.fps >= clip_fps * (1 - 1e-3) ? clip_fps : options.fps;
   const int out_frames =
-      std::max(1, static_cast<int>(std::floor((scene->num_frames() - 1) * fps / clip_fps)) + 1);
+      std::max(1, static_cast<int>(std::floor((scene->num_frames() - 1) * fps / clip_fps + 1e-6)) + 1);
   // drawtext: the panel titles and the caption.
   std::vector<TextLabel> labels;
   const int panel_w = options.width / static_cast<int>(panels.size());

@@ -178,6 +178,14 @@ def inside(port, cli, src, work):
            "nan_value.bvh:25")
     raises("a bad postprocess is a ValueError", ValueError,
            lambda: stylus.transfer(walk, old, postprocess="wobbly"))
+    example = subprocess.run(
+        [sys.executable, os.path.join(src, "client", "python", "examples", "transfer.py"),
+         os.path.join(samples, "walk_normal.bvh"), os.path.join(samples, "walk_old.bvh"),
+         os.path.join(work, "example_out.bvh"), "--server", address, "--token", "secret-token-1",
+         "--tls-ca", os.path.join(certs, "ca.pem")], capture_output=True, text=True)
+    check("the example script runs", example.returncode == 0
+          and "streamed 120 frames on the live model" in example.stdout,
+          example.stdout + example.stderr)
     stylus.close()
     print("%d failed" % len(failures))
     return 1 if failures else 0

@@ -2,6 +2,7 @@
 """Restyle a BVH clip through a Stylus server, then stream it on the live model.
 
     python3 examples/transfer.py CONTENT.bvh STYLE.bvh OUT.bvh [--server HOST:PORT]
+        [--token TOKEN] [--tls-ca CA.pem|system]
 
 Writes OUT.bvh (the transfer, on CONTENT's own rig) and prints the live
 stream's latency.
@@ -20,10 +21,11 @@ def main() -> int:
     parser.add_argument("out")
     parser.add_argument("--server", default="localhost:50051")
     parser.add_argument("--token", default=None)
+    parser.add_argument("--tls-ca", default=None, help="a CA file, or 'system'; turns TLS on")
     args = parser.parse_args()
     content, style = read_bvh(args.content), read_bvh(args.style)
     try:
-        with Client(args.server, token=args.token) as stylus:
+        with Client(args.server, token=args.token, tls_ca=args.tls_ca) as stylus:
             print("server:", "SERVING" if stylus.health() else "NOT SERVING")
             print("models:", ", ".join(m.id for m in stylus.models()))
             out = stylus.transfer(content, style, postprocess="full")

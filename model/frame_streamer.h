@@ -4,6 +4,8 @@
 #define STYLUS_MODEL_FRAME_STREAMER_H_
 
 #include <cstdint>
+#include <memory>
+#include <utility>
 
 #include "absl/status/statusor.h"
 #include "motion/motion.h"
@@ -51,6 +53,23 @@ class FrameStreamer {
   // The streamer whose steps StyleModel::StepStreams runs: this one, or the
   // one a wrapper (a resampler) feeds.
   virtual FrameStreamer* step_core() { return this; }
+};
+
+// A streamer that converts frames on their way to and from another one
+// (resampling, retargeting): batched stepping and style changes go to the
+// streamer it wraps.
+class WrappingStreamer : public FrameStreamer {
+ public:
+  bool batchable() const override { return inner_->batchable(); }
+  bool has_steps() const override { return inner_->has_steps(); }
+  FrameStreamer* step_core() override { return inner_->step_core(); }
+  absl::Status ChangeStyle(const StyleChange& change) override {
+    return inner_->ChangeStyle(change);
+  }
+
+ protected:
+  explicit WrappingStreamer(std::unique_ptr<FrameStreamer> inner) : inner_(std::move(inner)) {}
+  std::unique_ptr<FrameStreamer> inner_;
 };
 
 }  // namespace stylus::model

@@ -38,7 +38,7 @@ void AppendPose(motion::Motion* m, const motion::LocalPose& pose,
 
 ResamplingStreamer::ResamplingStreamer(std::unique_ptr<FrameStreamer> inner,
                                        const motion::Motion& empty, double model_frame_time)
-    : inner_(std::move(inner)),
+    : WrappingStreamer(std::move(inner)),
       in_ft_(empty.frame_time),
       model_ft_(model_frame_time),
       input_(Empty(empty, empty.frame_time)),

@@ -23,7 +23,7 @@
 
 namespace stylus::model {
 
-class ResamplingStreamer : public FrameStreamer {
+class ResamplingStreamer : public WrappingStreamer {
  public:
   // `inner` streams at `model_frame_time`; frames come in on `empty`'s
   // skeleton at its frame time.
@@ -34,12 +34,8 @@ class ResamplingStreamer : public FrameStreamer {
   absl::StatusOr<motion::Motion> Finish() override;
   int64_t received() const override { return received_; }
   int64_t emitted() const override { return emitted_; }
-  // Batched stepping passes through to the streamer wrapped.
-  bool batchable() const override { return inner_->batchable(); }
   absl::Status Feed(const motion::Motion& frames, bool end = false) override;
-  bool has_steps() const override { return inner_->has_steps(); }
   absl::StatusOr<motion::Motion> Collect() override;
-  FrameStreamer* step_core() override { return inner_->step_core(); }
   // The change's frames converted to the model's rate.
   absl::Status ChangeStyle(const StyleChange& change) override;
 
@@ -52,7 +48,6 @@ class ResamplingStreamer : public FrameStreamer {
   // The output frames ready (all of them once `finished`).
   motion::Motion EmitReady(bool finished);
 
-  std::unique_ptr<FrameStreamer> inner_;
   const double in_ft_, model_ft_;
   motion::Motion input_;  // The last input frames held (from in_base_).
   int64_t in_base_ = 0, received_ = 0;

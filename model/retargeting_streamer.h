@@ -18,7 +18,7 @@
 
 namespace stylus::model {
 
-class RetargetingStreamer : public FrameStreamer {
+class RetargetingStreamer : public WrappingStreamer {
  public:
   // `inner` streams on `model`'s skeleton at the rig's frame time; frames
   // come in on `rig`.
@@ -30,24 +30,17 @@ class RetargetingStreamer : public FrameStreamer {
   absl::StatusOr<motion::Motion> Finish() override;
   int64_t received() const override { return received_; }
   int64_t emitted() const override { return emitted_; }
-  bool batchable() const override { return inner_->batchable(); }
   absl::Status Feed(const motion::Motion& frames, bool end = false) override;
-  bool has_steps() const override { return inner_->has_steps(); }
   absl::StatusOr<motion::Motion> Collect() override;
-  FrameStreamer* step_core() override { return inner_->step_core(); }
-  absl::Status ChangeStyle(const StyleChange& change) override {
-    return inner_->ChangeStyle(change);
-  }
 
  private:
   // The frames on the model's skeleton (finding the rig's roles first).
-  absl::StatusOr<motion::Motion> In(const motion::Motion& frames);
+  absl::StatusOr<const motion::Motion*> In(const motion::Motion& frames);
   // The model's output frames back on the rig.
   motion::Motion Out(const motion::Motion& model_frames);
 
-  std::unique_ptr<FrameStreamer> inner_;
   std::shared_ptr<const motion::ModelRig> model_;
-  motion::Motion rig_empty_;
+  motion::Motion rig_out_, model_in_;  // Scratch, reused from call to call.
   motion::JointMap joint_map_;
   std::unique_ptr<motion::Retargeter> retargeter_;
   std::deque<std::vector<double>> pending_;  // Input frames whose output has not left.

@@ -53,6 +53,8 @@ class AimPlan {
 
   // Joints whose rotation Fit may change.
   const std::vector<bool>& fitted() const { return fitted_; }
+  // The joint whose translation Fit changes (-1: none).
+  int mover() const { return mover_; }
 
  private:
   void PlaceHips(const AimTargets& targets, int pelvis, const std::vector<Quat>& wr,

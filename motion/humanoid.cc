@@ -40,14 +40,13 @@ int FindJoint(const Skeleton& sk, Side side, const std::vector<std::string>& key
   return -1;
 }
 
-// Sum of offset lengths from `from` down to its descendant `to`.
+}  // namespace
+
 double ChainLength(const Skeleton& sk, int from, int to) {
   double len = 0;
   for (int j = to; j != from && j >= 0; j = sk.joint(j).parent) len += Norm(sk.joint(j).offset);
   return len;
 }
-
-}  // namespace
 
 absl::StatusOr<HumanoidRoles> FindHumanoidRoles(const Skeleton& sk) {
   HumanoidRoles r;

@@ -25,6 +25,10 @@ struct HumanoidRoles {
 // Finds the roles by name; INVALID_ARGUMENT names the role it could not find.
 absl::StatusOr<HumanoidRoles> FindHumanoidRoles(const Skeleton& skeleton);
 
+// Sum of the offsets from joint `from` down to its descendant `to` (the
+// rest length of the chain between them).
+double ChainLength(const Skeleton& skeleton, int from, int to);
+
 // Per joint of `skeleton`: whether it is one of the hips or below one (the
 // legs, down to the toes).
 std::vector<bool> LegJoints(const Skeleton& skeleton, const HumanoidRoles& roles);

@@ -10,18 +10,6 @@
 namespace stylus::motion {
 namespace {
 
-// Sum of the offsets from `from` down to its descendant `to`.
-double ChainLength(const Skeleton& sk, int from, int to) {
-  double len = 0;
-  for (int j = to; j != from && j >= 0; j = sk.joint(j).parent) len += Norm(sk.joint(j).offset);
-  return len;
-}
-
-double LegLength(const Skeleton& sk, const RigRoles& r) {
-  return 0.5 * (ChainLength(sk, r[Role::kLeftThigh], r[Role::kLeftFoot]) +
-                ChainLength(sk, r[Role::kRightThigh], r[Role::kRightFoot]));
-}
-
 Vec3 Lerp(const Vec3& a, const Vec3& b, double t) { return a + t * (b - a); }
 
 // Where `middle` sits between `from` and `to` in `pose`, as a fraction of
@@ -117,6 +105,13 @@ absl::StatusOr<std::shared_ptr<const ModelRig>> MakeModelRig(
   }
   rig->roles = *roles;
   rig->leg_length = LegLength(skeleton, rig->roles);
+  const GlobalPose ref = ForwardKinematics(skeleton, rig->reference);
+  const RigRoles& m = rig->roles;
+  rig->spine_at = Fraction(ref, m[Role::kPelvis], m[Role::kSpine], m[Role::kChest]);
+  rig->neck_at = Fraction(ref, m[Role::kChest], m[Role::kNeck], m[Role::kHead]);
+  for (int s = 0; s < 2; ++s) {
+    rig->clavicle_at[s] = Fraction(ref, m[Role::kChest], m[kClavicles[s]], m[kUpperArms[s]]);
+  }
   return std::shared_ptr<const ModelRig>(std::move(rig));
 }
 
@@ -131,13 +126,6 @@ Retargeter::Retargeter(std::shared_ptr<const ModelRig> model, const Skeleton& ri
       model_one_(RestMotion(model_->skeleton, 1, 1.0 / 30)) {
   scale_ = model_->leg_length / std::max(LegLength(rig_, roles_), 1e-9);
   up_turn_ = RotationBetween(roles_.up, model_->roles.up);
-  const GlobalPose ref = ForwardKinematics(model_->skeleton, model_->reference);
-  const RigRoles& m = model_->roles;
-  spine_at_ = {Fraction(ref, m[Role::kPelvis], m[Role::kSpine], m[Role::kChest])};
-  neck_at_ = {Fraction(ref, m[Role::kChest], m[Role::kNeck], m[Role::kHead])};
-  for (int s = 0; s < 2; ++s) {
-    clavicle_at_.push_back(Fraction(ref, m[Role::kChest], m[kClavicles[s]], m[kUpperArms[s]]));
-  }
   Reset();
 }
 
@@ -188,9 +176,11 @@ void Retargeter::ToModel(const double* rig_frame, double* model_frame) {
     at[i] = Lerp(at[static_cast<int>(from)], at[static_cast<int>(to)], t);
     has[i] = true;
   };
-  fill(Role::kSpine, Role::kPelvis, Role::kChest, spine_at_[0]);
-  fill(Role::kNeck, Role::kChest, Role::kHead, neck_at_[0]);
-  for (int s = 0; s < 2; ++s) fill(kClavicles[s], Role::kChest, kUpperArms[s], clavicle_at_[s]);
+  fill(Role::kSpine, Role::kPelvis, Role::kChest, model_->spine_at);
+  fill(Role::kNeck, Role::kChest, Role::kHead, model_->neck_at);
+  for (int s = 0; s < 2; ++s) {
+    fill(kClavicles[s], Role::kChest, kUpperArms[s], model_->clavicle_at[s]);
+  }
 
   const Skeleton& msk = model_->skeleton;
   AimTargets targets(msk.num_joints());
@@ -228,12 +218,11 @@ void Retargeter::FromModel(const double* model_frame, const double* rig_frame, d
   SetPose(&rig_one_, 0, pose, &rig_euler_);
   std::copy(rig_one_.values.begin(), rig_one_.values.end(), out_frame);
   // What the fit left alone keeps its input values exactly.
-  const int pelvis = roles_[Role::kPelvis];
   for (int j = 0; j < rig_.num_joints(); ++j) {
     const Joint& joint = rig_.joint(j);
-    const bool moved_here = j == pelvis || (j < pelvis && HasPositionChannel(joint));
     for (size_t c = 0; c < joint.channels.size(); ++c) {
-      const bool keep = IsPosition(joint.channels[c]) ? !moved_here : !rig_plan_.fitted()[j];
+      const bool keep =
+          IsPosition(joint.channels[c]) ? j != rig_plan_.mover() : !rig_plan_.fitted()[j];
       const int at = rig_.channel_start(j) + static_cast<int>(c);
       if (keep) out_frame[at] = rig_frame[at];
     }

@@ -21,6 +21,7 @@
 #ifndef STYLUS_MOTION_RETARGET_H_
 #define STYLUS_MOTION_RETARGET_H_
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -38,6 +39,10 @@ struct ModelRig {
   RigRoles roles;
   LocalPose reference;
   double leg_length = 0;
+  // Where the reference pose puts the spine, neck and clavicles between
+  // their neighbours (0..1): positions for roles a rig lacks.
+  double spine_at = 0.5, neck_at = 0.5;
+  std::array<double, 2> clavicle_at{{0.5, 0.5}};  // Left, right.
 };
 
 // `reference_rotations`: one local rotation per joint (e.g. the mean pose of
@@ -91,8 +96,7 @@ class Retargeter {
   double scale_ = 1;
   Quat up_turn_;  // Rig space -> model space, before scaling.
   AimPlan model_plan_, rig_plan_;
-  std::vector<double> spine_at_, neck_at_, clavicle_at_;  // Fractions for missing roles.
-  Motion rig_one_, model_one_;                            // One-frame scratch.
+  Motion rig_one_, model_one_;  // One-frame scratch.
   std::vector<Vec3> model_euler_, rig_euler_;
 };
 

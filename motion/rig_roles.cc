@@ -502,11 +502,14 @@ absl::StatusOr<HumanoidRoles> HumanoidRolesOf(const Motion& clip) {
   h.right_ankle = (*r)[Role::kRightFoot];
   h.left_toe = r->has(Role::kLeftToe) ? (*r)[Role::kLeftToe] : h.left_ankle;
   h.right_toe = r->has(Role::kRightToe) ? (*r)[Role::kRightToe] : h.right_ankle;
-  for (int j = h.left_toe; j != h.left_hip && j >= 0; j = sk.joint(j).parent) {
-    h.leg_length += Norm(sk.joint(j).offset);
-  }
+  h.leg_length = ChainLength(sk, h.left_hip, h.left_toe);
   h.up_axis = r->up.x != 0 ? 0 : (r->up.y != 0 ? 1 : 2);
   return h;
+}
+
+double LegLength(const Skeleton& skeleton, const RigRoles& r) {
+  return 0.5 * (ChainLength(skeleton, r[Role::kLeftThigh], r[Role::kLeftFoot]) +
+                ChainLength(skeleton, r[Role::kRightThigh], r[Role::kRightFoot]));
 }
 
 std::string DescribeRigRoles(const Skeleton& skeleton, const RigRoles& roles) {

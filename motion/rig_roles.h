@@ -99,6 +99,9 @@ absl::StatusOr<RigRoles> FindRigRoles(const Skeleton& skeleton, const GlobalPose
 // its foot). INVALID_ARGUMENT as FindRigRoles.
 absl::StatusOr<HumanoidRoles> HumanoidRolesOf(const Motion& clip);
 
+// The mean rest length of the two legs, thigh to foot.
+double LegLength(const Skeleton& skeleton, const RigRoles& roles);
+
 // A table of role, joint and how it was found, one line per role.
 std::string DescribeRigRoles(const Skeleton& skeleton, const RigRoles& roles);
 

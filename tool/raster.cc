@@ -10,14 +10,20 @@ Image::Image(int width, int height, Rgb fill)
   Fill(0, 0, width, height, fill);
 }
 
-Rgb Image::at(int x, int y) const {
-  const size_t i = (static_cast<size_t>(y) * width_ + x) * 3;
-  return {rgb_[i], rgb_[i + 1], rgb_[i + 2]};
-}
-
 void Image::Fill(int x0, int y0, int x1, int y1, Rgb c) {
   for (int y = std::max(0, y0); y < std::min(height_, y1); ++y) {
     for (int x = std::max(0, x0); x < std::min(width_, x1); ++x) Blend(x, y, c, 1);
+  }
+}
+
+void Image::Paste(const Image& src, int x, int y) {
+  for (int row = 0; row < src.height_; ++row) {
+    const int ty = y + row;
+    if (ty < 0 || ty >= height_) continue;
+    const int x0 = std::max(0, x), x1 = std::min(width_, x + src.width_);
+    if (x0 >= x1) continue;
+    std::copy_n(&src.rgb_[(static_cast<size_t>(row) * src.width_ + (x0 - x)) * 3], (x1 - x0) * 3,
+                &rgb_[(static_cast<size_t>(ty) * width_ + x0) * 3]);
   }
 }
 

@@ -18,11 +18,12 @@ class Image {
   int width() const { return width_; }
   int height() const { return height_; }
   const std::vector<uint8_t>& bytes() const { return rgb_; }  // Row-major RGB.
-  Rgb at(int x, int y) const;
 
   // A segment `width` pixels wide with round ends, edges anti-aliased.
   void Line(double x0, double y0, double x1, double y1, double width, Rgb colour);
   void Disc(double x, double y, double radius, Rgb colour);
+  // Copies `src` with its top-left corner at (x, y), clipped to this image.
+  void Paste(const Image& src, int x, int y);
   // Fills the rectangle [x0, x1) x [y0, y1).
   void Fill(int x0, int y0, int x1, int y1, Rgb colour);
 

@@ -148,12 +148,7 @@ absl::StatusOr<VideoScene> VideoScene::Create(const std::vector<VideoPanel>& pan
     p->title = vp.title;
     p->frames = m.num_frames;
     const motion::Quat up_turn = motion::RotationBetween(roles->up, {0, 1, 0});
-    double leg = 0;
-    for (int j = (*roles)[motion::Role::kLeftFoot]; j != (*roles)[motion::Role::kLeftThigh];
-         j = sk.joint(j).parent) {
-      leg += motion::Norm(sk.joint(j).offset);
-    }
-    leg = std::max(leg, 1e-9);
+    const double leg = std::max(motion::LegLength(sk, *roles), 1e-9);
     std::vector<std::vector<motion::Vec3>> y_up = motion::GlobalPositions(m);
     for (auto& frame : y_up) {
       for (auto& v : frame) v = motion::Rotate(up_turn, v);
@@ -257,13 +252,8 @@ Image VideoScene::Draw(int frame) const {
                 down ? kPlanted : kLifted);
     }
     // Into the picture, with a thin separator.
-    const int x_off = i * panel_w;
-    for (int y = 0; y < height_; ++y) {
-      for (int x = 0; x < panel_w; ++x) {
-        const Rgb c = x == 0 && i > 0 ? kGrid : cell.at(x, y);
-        image.Fill(x_off + x, y, x_off + x + 1, y + 1, c);
-      }
-    }
+    image.Paste(cell, i * panel_w, 0);
+    if (i > 0) image.Fill(i * panel_w, 0, i * panel_w + 1, height_, kGrid);
   }
   return image;
 }
@@ -279,8 +269,8 @@ absl::Status RenderVideo(const std::vector<VideoPanel>& panels, const VideoOptio
   const double clip_fps = panels.back().clip.fps();
   // A clip at (nearly) the video's rate keeps every frame.
   const double fps = options.fps >= clip_fps * (1 - 1e-3) ? clip_fps : options.fps;
-  const int out_frames =
-      std::max(1, static_cast<int>(std::floor((scene->num_frames() - 1) * fps / clip_fps + 1e-6)) + 1);
+  const int out_frames = std::max(
+      1, static_cast<int>(std::floor((scene->num_frames() - 1) * fps / clip_fps + 1e-6)) + 1);
   // drawtext: the panel titles and the caption.
   std::vector<TextLabel> labels;
   const int panel_w = options.width / static_cast<int>(panels.size());

@@ -1,6 +1,7 @@
 """Build step of the stylus-client package: protoc writes the API's Python
 modules (stylus/v1/*_pb2.py) from the repository's proto/ into the build,
 so the installed package always matches the .proto files it was built from."""
+import os
 import pathlib
 import shutil
 import subprocess
@@ -9,7 +10,8 @@ from setuptools import setup
 from setuptools.command.build_py import build_py
 
 HERE = pathlib.Path(__file__).resolve().parent
-PROTO_DIR = HERE.parent.parent / "proto"
+# The repository's proto/; $STYLUS_PROTO_DIR when the package is built from a copy.
+PROTO_DIR = pathlib.Path(os.environ.get("STYLUS_PROTO_DIR", HERE.parent.parent / "proto"))
 PROTOS = ["stylus/v1/motion.proto", "stylus/v1/stylus.proto"]
 
 

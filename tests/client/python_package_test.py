@@ -24,9 +24,13 @@ def setup_and_rerun(server_bin, cli, src, work):
     venv = os.path.join(work, "venv")
     subprocess.check_call(["/usr/bin/python3", "-m", "venv", "--system-site-packages", venv])
     py = os.path.join(venv, "bin", "python")
+    # Built from a copy, so the build leaves nothing in the source tree.
+    package = os.path.join(work, "package")
+    shutil.copytree(os.path.join(src, "client", "python"), package,
+                    ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
     install = subprocess.run([py, "-m", "pip", "install", "--no-build-isolation", "--no-index",
-                              "--quiet", os.path.join(src, "client", "python")],
-                             capture_output=True, text=True)
+                              "--quiet", package], capture_output=True, text=True,
+                             env=dict(os.environ, STYLUS_PROTO_DIR=os.path.join(src, "proto")))
     if install.returncode != 0:
         print("FAIL pip install:", install.stdout, install.stderr)
         return 1

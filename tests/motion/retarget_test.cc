@@ -37,15 +37,6 @@ std::shared_ptr<const ModelRig> DefaultModelRig() {
 
 std::string SharedRigs() { return testing::SourceDir() + "/../shared/data/rigs"; }
 
-double LegLength(const Skeleton& sk, const RigRoles& r) {
-  double len = 0;
-  for (Role end : {Role::kLeftFoot, Role::kRightFoot}) {
-    const int thigh = r[end == Role::kLeftFoot ? Role::kLeftThigh : Role::kRightThigh];
-    for (int j = r[end]; j != thigh; j = sk.joint(j).parent) len += Norm(sk.joint(j).offset);
-  }
-  return len / 2;
-}
-
 // Distances between the role joints of two clips on one rig: largest and mean.
 struct RoleError {
   double max = 0, mean = 0;
@@ -300,26 +291,9 @@ TEST_F(RetargetTest, JointMapOverridesAndNamesItsErrors) {
 
 // A skeleton without legs is no biped: the error names what is missing.
 TEST_F(RetargetTest, RigWithoutLegsIsRefusedNamingTheRoles) {
-  std::vector<Joint> joints;
-  std::vector<int> keep;
-  const Skeleton& sk = bandai_.skeleton;
-  std::vector<int> new_index(sk.num_joints(), -1);
-  for (int j = 0; j < sk.num_joints(); ++j) {
-    const std::string& n = sk.joint(j).name;
-    if (absl::StrContains(n, "Leg") || absl::StrContains(n, "Foot") ||
-        absl::StrContains(n, "Toes")) {
-      continue;
-    }
-    Joint copy = sk.joint(j);
-    copy.parent = copy.parent < 0 ? -1 : new_index[copy.parent];
-    new_index[j] = static_cast<int>(joints.size());
-    joints.push_back(copy);
-  }
-  absl::StatusOr<Skeleton> legless = Skeleton::Create(joints);
-  ASSERT_TRUE(legless.ok()) << legless.status();
-  Motion rest = RestMotion(*legless, 1, 1.0 / 30);
+  const Motion legless = testing::WithoutLegs(bandai_);
   absl::StatusOr<std::unique_ptr<Retargeter>> r =
-      Retargeter::Create(model_, *legless, rest.frame(0));
+      Retargeter::Create(model_, legless.skeleton, legless.frame(0));
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_TRUE(absl::StrContains(r.status().message(), "left_thigh, left_shin, left_foot"))

@@ -167,33 +167,7 @@ TEST_F(OtherRigServerTest, JointMapsTravelWithTheSkeleton) {
 }
 
 TEST_F(OtherRigServerTest, ARigWithoutLegsIsRefusedNamingTheRoles) {
-  // The Bandai clip with its legs cut off.
-  std::vector<motion::Joint> joints;
-  std::vector<int> index(content_.skeleton.num_joints(), -1), kept;
-  for (int j = 0; j < content_.skeleton.num_joints(); ++j) {
-    const std::string& n = content_.skeleton.joint(j).name;
-    if (absl::StrContains(n, "Leg") || absl::StrContains(n, "Foot") ||
-        absl::StrContains(n, "Toes")) {
-      continue;
-    }
-    motion::Joint copy = content_.skeleton.joint(j);
-    copy.parent = copy.parent < 0 ? -1 : index[copy.parent];
-    index[j] = static_cast<int>(joints.size());
-    joints.push_back(copy);
-    kept.push_back(j);
-  }
-  motion::Motion legless =
-      motion::RestMotion(*motion::Skeleton::Create(joints), content_.num_frames, 1.0 / 30);
-  for (int f = 0; f < content_.num_frames; ++f) {
-    int at = 0;
-    for (int j : kept) {
-      const int n = static_cast<int>(content_.skeleton.joint(j).channels.size());
-      for (int c = 0; c < n; ++c) {
-        legless.frame(f)[at + c] = content_.frame(f)[content_.skeleton.channel_start(j) + c];
-      }
-      at += n;
-    }
-  }
+  const motion::Motion legless = testing::WithoutLegs(content_);
   absl::StatusOr<motion::Motion> out = server_->client->Transfer(legless, {&style_, ""}, Full());
   ASSERT_FALSE(out.ok());
   EXPECT_EQ(out.status().code(), absl::StatusCode::kInvalidArgument);

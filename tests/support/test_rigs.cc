@@ -3,6 +3,7 @@
 #include <map>
 #include <random>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "motion/kinematics.h"
@@ -249,6 +250,35 @@ std::string TestRigJoint(TestRig rig, const std::string& bandai_name) {
     if (s.kind == Kind::kFollow && s.source == bandai_name) return s.name;
   }
   return "";
+}
+
+Motion WithoutLegs(const Motion& bandai) {
+  const motion::Skeleton& sk = bandai.skeleton;
+  std::vector<Joint> joints;
+  std::vector<int> index(sk.num_joints(), -1), kept;
+  for (int j = 0; j < sk.num_joints(); ++j) {
+    const std::string& n = sk.joint(j).name;
+    if (absl::StrContains(n, "Leg") || absl::StrContains(n, "Foot") ||
+        absl::StrContains(n, "Toes")) {
+      continue;
+    }
+    Joint copy = sk.joint(j);
+    copy.parent = copy.parent < 0 ? -1 : index[copy.parent];
+    index[j] = static_cast<int>(joints.size());
+    joints.push_back(copy);
+    kept.push_back(j);
+  }
+  Motion out =
+      motion::RestMotion(*motion::Skeleton::Create(joints), bandai.num_frames, bandai.frame_time);
+  for (int f = 0; f < bandai.num_frames; ++f) {
+    int at = 0;
+    for (int j : kept) {
+      const int n = static_cast<int>(sk.joint(j).channels.size());
+      for (int c = 0; c < n; ++c) out.frame(f)[at + c] = bandai.frame(f)[sk.channel_start(j) + c];
+      at += n;
+    }
+  }
+  return out;
 }
 
 absl::StatusOr<Motion> BuildTestRig(const Motion& bandai_clip, TestRig rig) {

@@ -30,6 +30,10 @@ std::vector<TestRig> AllTestRigs();
 // The world motion of `bandai` (a clip on the Bandai skeleton) on `rig`.
 absl::StatusOr<motion::Motion> BuildTestRig(const motion::Motion& bandai, TestRig rig);
 
+// `bandai` with its legs cut off (no UpperLeg, LowerLeg, Foot, Toes joints):
+// a rig that is no biped, which retargeting must refuse.
+motion::Motion WithoutLegs(const motion::Motion& bandai);
+
 // The name of the joint of `rig` that stands for Bandai joint `bandai_name`
 // ("" when none does).
 std::string TestRigJoint(TestRig rig, const std::string& bandai_name);

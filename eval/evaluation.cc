@@ -1,6 +1,8 @@
 #include "eval/evaluation.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -58,10 +60,13 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
                                     const std::vector<motion::Motion>& reference,
                                     const std::vector<EvalPair>& pairs,
                                     const std::function<void(int, int)>& progress,
-                                    const Judges* second_judges) {
+                                    const Judges* second_judges,
+                                    const MotionJudge* motion_judge) {
   if (models.empty()) return absl::InvalidArgumentError("no model to evaluate");
   EvalReport report;
   report.second_judges = second_judges != nullptr;
+  report.motion_judge = motion_judge != nullptr;
+  if (motion_judge) report.motion_judge_trained = motion_judge->trained_accuracy();
   for (const EvalModel& m : models) {
     report.rows.push_back({m.name + ", no post-processing"});
     if (m.postprocess) report.rows.push_back({m.name + ", post-processing full"});
@@ -129,10 +134,18 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       absl::StatusOr<Verdict> v = verdict(judges, out);
       if (!v.ok()) return v.status();
       EvalRow& row = report.rows[r];
-      report.verdicts.push_back(
-          {static_cast<int>(pair), static_cast<int>(r), v->style, v->content});
+      EvalVerdict judged{static_cast<int>(pair), static_cast<int>(r), v->style, v->content, ""};
       row.style_accuracy += v->style_right;
       row.content_accuracy += v->content_right;
+      row.source_style += v->style == content_label->style;
+      if (motion_judge) {
+        absl::StatusOr<int> m = motion_judge->ClassifyStyle(out);
+        if (!m.ok()) return m.status();
+        judged.motion_style = motion_judge->styles()[*m];
+        row.motion_style_accuracy += judged.motion_style == style_label->style;
+        row.motion_source_style += judged.motion_style == content_label->style;
+      }
+      report.verdicts.push_back(std::move(judged));
       if (second_judges) {
         absl::StatusOr<Verdict> w = verdict(*second_judges, out);
         if (!w.ok()) return w.status();
@@ -181,6 +194,9 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     row.second_style_accuracy /= row.pairs;
     row.second_content_accuracy /= row.pairs;
     row.content_by_both /= row.pairs;
+    row.source_style /= row.pairs;
+    row.motion_style_accuracy /= row.pairs;
+    row.motion_source_style /= row.pairs;
     row.foot_skating /= row.pairs;
     row.foot_height_error /= row.pairs;
     row.bone_length_error /= row.pairs;
@@ -283,6 +299,40 @@ std::string EvalReport::ByDatasetMarkdown(const std::vector<EvalPair>& pairs) co
   return s;
 }
 
+std::string EvalReport::ByStyleMarkdown(const std::vector<EvalPair>& pairs) const {
+  // style -> row -> (pose hits, motion hits, pairs)
+  std::map<std::string, std::vector<std::array<int, 3>>> hits;
+  for (const EvalVerdict& v : verdicts) {
+    const std::optional<motion::ClipLabel> want = motion::ParseClipName(pairs[v.pair].style_path);
+    if (!want) continue;
+    auto& per_row = hits[want->style];
+    per_row.resize(rows.size(), {0, 0, 0});
+    per_row[v.row][0] += v.style == want->style;
+    per_row[v.row][1] += v.motion_style == want->style;
+    per_row[v.row][2] += 1;
+  }
+  std::string s = "| output |";
+  for (const auto& [style, unused] : hits) absl::StrAppend(&s, " ", style, " |");
+  s += "\n| --- |";
+  for (size_t i = 0; i < hits.size(); ++i) s += " --- |";
+  s += "\n";
+  for (size_t r = 0; r < rows.size(); ++r) {
+    absl::StrAppend(&s, "| ", rows[r].name, " |");
+    for (const auto& [style, per_row] : hits) {
+      const auto& h = per_row[r];
+      if (h[2] == 0) {
+        s += " - |";
+      } else if (motion_judge) {
+        absl::StrAppendFormat(&s, " %.2f / %.2f |", double(h[0]) / h[2], double(h[1]) / h[2]);
+      } else {
+        absl::StrAppendFormat(&s, " %.2f |", double(h[0]) / h[2]);
+      }
+    }
+    s += "\n";
+  }
+  return s;
+}
+
 std::string EvalReport::Markdown() const {
   std::string s =
       "| output | pairs | style accuracy | content accuracy | FMD | KID | diversity | content "
@@ -328,6 +378,22 @@ std::string EvalReport::Markdown() const {
       absl::StrAppendFormat(&s, "| %s | %.3f | %.3f | %.3f | %.3f |\n", r.name,
                             r.second_style_accuracy, r.second_content_accuracy, r.content_by_both,
                             r.ContentByEither());
+    }
+  }
+  if (motion_judge) {
+    absl::StrAppendFormat(
+        &s,
+        "\nStyle in the motion: the motion-only judge reads joint velocities, no pose "
+        "(held-out real clips: %.3f; the same clips frozen on one frame: %.3f, chance "
+        "%.3f). 'As the content's style': the output still reads as the style the "
+        "content clip was performed in.\n\n"
+        "| output | pose judge: style | pose judge: as the content's style | motion judge: "
+        "style | motion judge: as the content's style |\n"
+        "| --- | --- | --- | --- | --- |\n",
+        motion_judge_trained.held_out, motion_judge_trained.frozen, motion_judge_trained.chance);
+    for (const EvalRow& r : rows) {
+      absl::StrAppendFormat(&s, "| %s | %.3f | %.3f | %.3f | %.3f |\n", r.name, r.style_accuracy,
+                            r.source_style, r.motion_style_accuracy, r.motion_source_style);
     }
   }
   s += "\nKinematics (means over pairs; feet measured where the content clip's feet are "

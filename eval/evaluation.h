@@ -12,6 +12,7 @@
 #include "absl/status/statusor.h"
 #include "eval/feature_judge.h"
 #include "eval/judges.h"
+#include "eval/motion_judge.h"
 #include "model/style_model.h"
 
 namespace stylus::model {
@@ -51,6 +52,12 @@ struct EvalRow {
   // With second judges: their accuracies, and the share of pairs whose
   // content both sets recognized (either set: the two accuracies minus it).
   double second_style_accuracy = 0, second_content_accuracy = 0, content_by_both = 0;
+  // Style verdicts on what the content clip was: the pose judge's and the
+  // motion-only judge's (eval/motion_judge.h) share of pairs judged as the
+  // content clip's own style, and the motion judge's share judged as the
+  // style clip's.
+  double source_style = 0;
+  double motion_style_accuracy = 0, motion_source_style = 0;
   double ContentByEither() const {
     return content_accuracy + second_content_accuracy - content_by_both;
   }
@@ -78,6 +85,7 @@ struct EvalVerdict {
   int pair = 0;                // Index into the evaluated pairs.
   int row = 0;                 // Index into EvalReport::rows.
   std::string style, content;  // Judged labels.
+  std::string motion_style = {};  // By the motion-only judge (when there is one).
 };
 
 struct EvalReport {
@@ -88,6 +96,8 @@ struct EvalReport {
   double real_diversity = 0;  // Of the reference clips (with a feature judge).
   int reference_clips = 0;
   bool second_judges = false;         // The rows' second_* and content_by_* are set.
+  bool motion_judge = false;          // The rows' motion_* are set.
+  MotionJudgeAccuracy motion_judge_trained;  // What the motion judge scored when trained.
   std::vector<EvalVerdict> verdicts;  // Every row's verdict on every pair (first judges).
   std::string Markdown() const;
   // One line per pair and row: content_bvh, style_bvh, output, wanted and
@@ -99,6 +109,9 @@ struct EvalReport {
   // Bandai's two datasets share few labels, so where a model loses content
   // depends on which (docs/notes/contrastive.md).
   std::string ByDatasetMarkdown(const std::vector<EvalPair>& pairs) const;
+  // Every row's style accuracy per target style: the pose judge's, and the
+  // motion-only judge's when there is one (Markdown).
+  std::string ByStyleMarkdown(const std::vector<EvalPair>& pairs) const;
 };
 
 // Runs every model over every pair. With `features` (may be null), FMD and KID
@@ -107,12 +120,15 @@ struct EvalReport {
 // (may be null), every output is also judged by them: on transfers, judges
 // trained alike disagree far more often than on real clips, so a verdict
 // near their boundary is worth a second opinion (docs/notes/contrastive.md).
+// With `motion_judge` (may be null), every output's style is also read by the
+// motion-only judge.
 absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const Judges& judges,
                                     const FeatureJudge* features,
                                     const std::vector<motion::Motion>& reference,
                                     const std::vector<EvalPair>& pairs,
                                     const std::function<void(int, int)>& progress = {},
-                                    const Judges* second_judges = nullptr);
+                                    const Judges* second_judges = nullptr,
+                                    const MotionJudge* motion_judge = nullptr);
 
 }  // namespace stylus::model
 

@@ -13,42 +13,17 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "eval/classifier_net.h"
 #include "model/package.h"
-#include "model/window_tensor.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
 #include "motion/features.h"
 #include "motion/files.h"
 #include "motion/splice.h"
-#include "motion/windowing.h"
 #include "train/training_set.h"
 
 namespace stylus::model {
 namespace {
-
-namespace nn = torch::nn;
-constexpr int kWindow = 32, kHop = 24, kWidth = 128;
-
-// Conv1d x3 (one stride 2), temporal mean, linear: logits per class.
-struct ClassifierImpl : nn::Module {
-  ClassifierImpl(int dim, int classes) {
-    conv1 = register_module("conv1", nn::Conv1d(nn::Conv1dOptions(dim, kWidth, 5).padding(2)));
-    conv2 = register_module("conv2",
-                            nn::Conv1d(nn::Conv1dOptions(kWidth, kWidth, 4).stride(2).padding(1)));
-    conv3 = register_module("conv3", nn::Conv1d(nn::Conv1dOptions(kWidth, kWidth, 5).padding(2)));
-    fc = register_module("fc", nn::Linear(kWidth, classes));
-  }
-  torch::Tensor forward(torch::Tensor x) {
-    const auto lrelu = [](const torch::Tensor& t) { return torch::leaky_relu(t, 0.2); };
-    x = lrelu(conv1->forward(x));
-    x = lrelu(conv2->forward(x));
-    x = lrelu(conv3->forward(x));
-    return fc->forward(x.mean(2));
-  }
-  nn::Conv1d conv1{nullptr}, conv2{nullptr}, conv3{nullptr};
-  nn::Linear fc{nullptr};
-};
-TORCH_MODULE(Classifier);
 
 std::vector<std::string> SortedLabels(const TrainingSet& set, bool style) {
   std::map<std::string, int> seen;
@@ -75,13 +50,6 @@ std::vector<std::vector<int64_t>> BodyPartChannels(const TrainingSet& set) {
     parts.push_back(std::move(channels));
   }
   return parts;
-}
-
-// Clip-level logits: the mean over the clip's windows.
-torch::Tensor ClipLogits(Classifier& net, motion::FeatureClip f) {
-  PadToLength(&f, kWindow);
-  const std::vector<int> starts = *motion::WindowStarts(f.frames, {kWindow, kHop}, true);
-  return net->forward(WindowTensor(f, starts, kWindow)).mean(0);
 }
 
 }  // namespace
@@ -125,10 +93,10 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
       std::fprintf(stderr, "%s\n", s.c_str());
     }
   };
-  absl::StatusOr<TrainingSet> train = LoadTrainingSet(o.data, {kWindow, kHop});
+  absl::StatusOr<TrainingSet> train = LoadTrainingSet(o.data, {kJudgeWindow, kJudgeHop});
   if (!train.ok()) return train.status();
   absl::StatusOr<TrainingSet> test =
-      LoadTrainingSet(o.data, {kWindow, kHop}, {}, /*test=*/true, &train->norm);
+      LoadTrainingSet(o.data, {kJudgeWindow, kJudgeHop}, {}, /*test=*/true, &train->norm);
   if (!test.ok()) return test.status();
   const std::vector<std::string> styles = SortedLabels(*train, true),
                                  contents = SortedLabels(*train, false);
@@ -140,68 +108,34 @@ absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
   };
   torch::manual_seed(o.seed);
   std::mt19937_64 rng(o.seed);
-  std::uniform_real_distribution<double> uniform(0, 1);
-  std::vector<torch::Tensor> part_channels;
-  for (const std::vector<int64_t>& c : BodyPartChannels(*train)) {
-    part_channels.push_back(torch::tensor(c, torch::kLong));
-  }
   Classifier style_net(train->dim(), static_cast<int>(styles.size()));
   Classifier content_net(train->dim(), static_cast<int>(contents.size()));
   JudgeAccuracy acc;
   try {
     for (bool style : {true, false}) {
+      ClassifierData data;
+      data.clips = &train->clips;
+      for (const TrainingSet::Window& w : train->windows) data.windows.push_back({w.clip, w.start});
+      for (size_t c = 0; c < train->clips.size(); ++c) {
+        data.class_of_clip.push_back(label_of(*train, static_cast<int>(c), style));
+      }
+      data.classes = static_cast<int>((style ? styles : contents).size());
+      ClassifierTraining training;
+      training.iterations = o.iterations;
+      training.batch = o.batch;
+      training.lr = o.lr;
+      training.random_starts = o.random_starts;
+      training.swap_parts = o.swap_parts;
+      training.part_channels = BodyPartChannels(*train);
+      training.name = style ? "style" : "content";
+      training.log = log;
       Classifier& net = style ? style_net : content_net;
-      const int classes = static_cast<int>((style ? styles : contents).size());
-      // Class-balanced batches: a class uniformly, then one of its windows.
-      std::vector<std::vector<int>> windows_of(classes);
-      for (size_t w = 0; w < train->windows.size(); ++w) {
-        windows_of[label_of(*train, train->windows[w].clip, style)].push_back(static_cast<int>(w));
+      TrainClassifier(net, data, training, &rng);
+      std::vector<int> test_classes;
+      for (size_t c = 0; c < test->clips.size(); ++c) {
+        test_classes.push_back(label_of(*test, static_cast<int>(c), style));
       }
-      torch::optim::Adam opt(net->parameters(), torch::optim::AdamOptions(o.lr));
-      const int d = train->dim();
-      for (int it = 1; it <= o.iterations; ++it) {
-        torch::Tensor x = torch::empty({o.batch, d, kWindow});
-        torch::Tensor y = torch::empty({o.batch}, torch::kLong);
-        auto draw_window = [&](int c) -> torch::Tensor {
-          const auto& w = train->windows[windows_of[c][rng() % windows_of[c].size()]];
-          const motion::FeatureClip& clip = train->clips[w.clip];
-          const int start =
-              o.random_starts && clip.frames >= kWindow
-                  ? static_cast<int>(rng() % static_cast<uint64_t>(clip.frames - kWindow + 1))
-                  : w.start;
-          return WindowTensor(clip, {start}, kWindow)[0];
-        };
-        for (int b = 0; b < o.batch; ++b) {
-          int c;
-          do c = static_cast<int>(rng() % classes);
-          while (windows_of[c].empty());
-          x[b] = draw_window(c);
-          y[b] = c;
-          if (o.swap_parts > 0 && uniform(rng) < o.swap_parts) {
-            // One body part from another window of the same label.
-            const torch::Tensor& part = part_channels[rng() % part_channels.size()];
-            x[b].index_copy_(0, part, draw_window(c).index_select(0, part));
-          }
-        }
-        // Small Gaussian noise: the judges must not hinge on exact values.
-        const torch::Tensor loss =
-            torch::nn::functional::cross_entropy(net->forward(x + 0.05 * torch::randn_like(x)), y);
-        opt.zero_grad();
-        loss.backward();
-        opt.step();
-        if (it % 250 == 0 || it == o.iterations) {
-          log(absl::StrFormat("%s judge: iter %d/%d loss %.4f", style ? "style" : "content", it,
-                              o.iterations, loss.item<double>()));
-        }
-      }
-      net->eval();
-      c10::InferenceMode guard;
-      int right = 0;
-      for (size_t i = 0; i < test->clips.size(); ++i) {
-        right += ClipLogits(net, test->clips[i]).argmax().item<int64_t>() ==
-                 label_of(*test, static_cast<int>(i), style);
-      }
-      (style ? acc.style : acc.content) = static_cast<double>(right) / test->clips.size();
+      (style ? acc.style : acc.content) = ClipAccuracy(net, test->clips, test_classes);
     }
     acc.clips = static_cast<int>(test->clips.size());
     std::error_code ec;

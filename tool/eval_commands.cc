@@ -11,6 +11,7 @@
 #include "eval/evaluation.h"
 #include "eval/feature_judge.h"
 #include "eval/judges.h"
+#include "eval/motion_judge.h"
 #include "model/package.h"
 #include "model/runtime.h"
 #include "motion/bvh.h"
@@ -28,13 +29,17 @@ int TrainJudges(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool train-judges --data DIR... --out models/judges/VERSION\n"
       "         [--iters 3000] [--batch 32] [--dae-iters 3000] [--dae-only] [--seed S]\n"
-      "         [--random-starts] [--swap-parts P] [--threads N]\n\n"
+      "         [--random-starts] [--swap-parts P] [--threads N] [--motion-only]\n\n"
       "Trains, on the labelled training split of DIR, a style classifier and a\n"
       "content classifier (class-balanced batches) and reports their clip-level\n"
-      "accuracy on the held-out split; then the feature judge, a denoising\n"
-      "autoencoder (no labels) whose hidden layer `eval` reads for FMD, KID,\n"
-      "diversity and the content and style distances, and reports its held-out\n"
-      "denoising error. --dae-only adds the feature judge to existing judges.\n"
+      "accuracy on the held-out split; then the motion-only style judge, which\n"
+      "sees joint velocities and no pose, and reports its accuracy on held-out\n"
+      "clips and on the same clips frozen on one frame (near chance: it reads no\n"
+      "pose); then the feature judge, a denoising autoencoder (no labels) whose\n"
+      "hidden layer `eval` reads for FMD, KID, diversity and the content and\n"
+      "style distances, and reports its held-out denoising error.\n"
+      "--dae-only adds the feature judge to existing judges, --motion-only the\n"
+      "motion-only style judge.\n"
       "--random-starts draws the classifiers' training windows anywhere in their\n"
       "clips instead of on the hop grid (the grid never reaches a clip's last\n"
       "frames, which evaluation shows them).\n"
@@ -46,7 +51,7 @@ int TrainJudges(const Argv& argv) {
   auto args =
       ParseOrExit("train-judges", argv,
                   {{"data", "out", "iters", "batch", "seed", "threads", "dae-iters", "swap-parts"},
-                   {"dae-only", "random-starts"}},
+                   {"dae-only", "random-starts", "motion-only"}},
                   kHelp, &code);
   if (!args) return code;
   model::JudgeTrainOptions o;
@@ -73,11 +78,29 @@ int TrainJudges(const Argv& argv) {
   }
   o.swap_parts = *swap;
   model::SetComputeThreads(*threads);
-  if (!args->switches.count("dae-only")) {
+  const bool dae_only = args->switches.count("dae-only") > 0,
+             motion_only = args->switches.count("motion-only") > 0;
+  if (dae_only && motion_only) {
+    return Fail("train-judges",
+                absl::InvalidArgumentError("--dae-only and --motion-only exclude each other"));
+  }
+  if (!dae_only && !motion_only) {
     absl::StatusOr<model::JudgeAccuracy> acc = model::TrainJudges(o);
     if (!acc.ok()) return Fail("train-judges", acc.status());
     absl::PrintF("held-out clips: %d\nstyle accuracy: %.3f\ncontent accuracy: %.3f\n", acc->clips,
                  acc->style, acc->content);
+  }
+  if (!dae_only) {
+    absl::StatusOr<model::MotionJudgeAccuracy> motion = model::TrainMotionJudge(o);
+    if (!motion.ok()) return Fail("train-judges", motion.status());
+    absl::PrintF(
+        "motion-only style judge: held-out accuracy %.3f; the same clips frozen %.3f (chance "
+        "%.3f)\n",
+        motion->held_out, motion->frozen, motion->chance);
+    if (motion_only) {
+      absl::PrintF("motion-only judge written to %s\n", o.out);
+      return 0;
+    }
   }
   absl::StatusOr<model::DaeTrainResult> dae = model::TrainFeatureJudge(
       o.data, o.out, *dae_iters, o.seed,
@@ -143,7 +166,8 @@ int Judge(const Argv& argv) {
       "most likely styles and contents with their probabilities (the softmax of\n"
       "the clip's mean logits), best first, one line per clip. The verdicts are\n"
       "the ones eval counts; the runners-up show how close a call was (a raised\n"
-      "hand read as a wave).\n"
+      "hand read as a wave). When DIR has a motion-only style judge, its verdict\n"
+      "follows.\n"
       "--swap-test checks whether the content judge reads an action from the body\n"
       "part that performs it: each held-out clip of DIR gets the legs, the torso\n"
       "or an arm of another real clip (the same action in another style, then\n"
@@ -164,6 +188,11 @@ int Judge(const Argv& argv) {
   if (*top < 1) return Fail("judge", absl::InvalidArgumentError("--top must be at least 1"));
   absl::StatusOr<std::unique_ptr<model::Judges>> judges = model::Judges::Load(args->Get("judges"));
   if (!judges.ok()) return Fail("judge", judges.status());
+  absl::StatusOr<std::unique_ptr<model::MotionJudge>> motion_judge =
+      model::MotionJudge::Load(args->Get("judges"));
+  if (!motion_judge.ok() && motion_judge.status().code() != absl::StatusCode::kNotFound) {
+    return Fail("judge", motion_judge.status());
+  }
   for (const std::string& path : args->positional) {
     absl::StatusOr<motion::Motion> clip = motion::ReadBvhFile(path);
     if (!clip.ok()) return Fail("judge", clip.status());
@@ -174,8 +203,15 @@ int Judge(const Argv& argv) {
         return Fail("judge", absl::Status(p->status().code(),
                                           absl::StrCat(path, ": ", p->status().message())));
     }
-    absl::PrintF("%s\tstyle: %s\tcontent: %s\n", path, TopLabels((*judges)->styles(), *style, *top),
-                 TopLabels((*judges)->contents(), *content, *top));
+    std::string motion_style;
+    if (motion_judge.ok()) {
+      absl::StatusOr<std::vector<double>> p = (*motion_judge)->StyleProbabilities(*clip);
+      if (!p.ok()) return Fail("judge", p.status());
+      motion_style = "\tmotion-only style: " + TopLabels((*motion_judge)->styles(), *p, *top);
+    }
+    absl::PrintF("%s\tstyle: %s\tcontent: %s%s\n", path,
+                 TopLabels((*judges)->styles(), *style, *top),
+                 TopLabels((*judges)->contents(), *content, *top), motion_style);
   }
   return 0;
 }
@@ -264,6 +300,15 @@ int Eval(const Argv& argv) {
                  "distances are left at 0\n",
                  std::string(f.status().message()).c_str());
   }
+  std::unique_ptr<model::MotionJudge> motion_judge;
+  if (auto j = model::MotionJudge::Load(args->Get("judges")); j.ok()) {
+    motion_judge = *std::move(j);
+  } else if (j.status().code() == absl::StatusCode::kNotFound) {
+    std::fprintf(stderr, "stylus-tool eval: no motion-only judge (%s)\n",
+                 std::string(j.status().message()).c_str());
+  } else {
+    return Fail("eval", j.status());
+  }
   auto pairs = model::MakeEvalPairs(args->All("data"), *per);
   if (!pairs.ok()) return Fail("eval", pairs.status());
   auto report = model::Evaluate(
@@ -272,16 +317,18 @@ int Eval(const Argv& argv) {
         if (done % 20 == 0 || done == total)
           std::fprintf(stderr, "\revaluated %d/%d pairs", done, total);
       },
-      second.get());
+      second.get(), motion_judge.get());
   std::fprintf(stderr, "\n");
   if (!report.ok()) return Fail("eval", report.status());
   const std::string second_name =
       second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
   std::string text = absl::StrFormat(
       "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d.\n\n%s\nStyle / content "
-      "accuracy by dataset (the labels in the clips' names):\n\n%s",
+      "accuracy by dataset (the labels in the clips' names):\n\n%s\nStyle accuracy per "
+      "target style%s:\n\n%s",
       args->Get("model"), args->Get("judges"), second_name, pairs->size(), report->Markdown(),
-      report->ByDatasetMarkdown(*pairs));
+      report->ByDatasetMarkdown(*pairs),
+      motion_judge ? " (pose judge / motion-only judge)" : "", report->ByStyleMarkdown(*pairs));
   // Charts next to the report: accuracies of every row, and the model's
   // style accuracy per target style.
   const std::string stem = std::filesystem::path(args->Get("out")).replace_extension().string();

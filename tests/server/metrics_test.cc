@@ -33,6 +33,9 @@ TEST(MetricsTest, AScrapeAfterRealCallsCountsThem) {
   absl::StatusOr<StreamResult> streamed = s->client->Stream(content, {&style, ""}, 0, {"live"});
   ASSERT_TRUE(streamed.ok()) << streamed.status();
   ASSERT_EQ(streamed->output.num_frames, content.num_frames);
+  // The client has the stream's status before the server has counted the
+  // stream out (its reactor's OnDone).
+  ASSERT_TRUE(testing::WaitFor([&] { return s->server->load().open_streams == 0; }));
 
   const std::string text = bench::HttpGet(s->server->metrics_port(), "/metrics");
   ASSERT_FALSE(text.empty());

@@ -32,8 +32,7 @@ torch::Tensor ClassifierImpl::forward(torch::Tensor x) {
 
 torch::Tensor ClipLogits(Classifier& net, motion::FeatureClip f) {
   PadToLength(&f, kJudgeWindow);
-  const std::vector<int> starts =
-      *motion::WindowStarts(f.frames, {kJudgeWindow, kJudgeHop}, true);
+  const std::vector<int> starts = *motion::WindowStarts(f.frames, {kJudgeWindow, kJudgeHop}, true);
   return net->forward(WindowTensor(f, starts, kJudgeWindow)).mean(0);
 }
 

@@ -53,7 +53,7 @@ struct ClassifierTraining {
   // of `part_channels` from another window of the same class.
   double swap_parts = 0;
   std::vector<std::vector<int64_t>> part_channels;
-  std::string name;                               // For the progress lines.
+  std::string name;                             // For the progress lines.
   std::function<void(const std::string&)> log;  // Progress lines.
 };
 

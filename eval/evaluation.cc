@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <tuple>
 
@@ -60,8 +60,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
                                     const std::vector<motion::Motion>& reference,
                                     const std::vector<EvalPair>& pairs,
                                     const std::function<void(int, int)>& progress,
-                                    const Judges* second_judges,
-                                    const MotionJudge* motion_judge) {
+                                    const Judges* second_judges, const MotionJudge* motion_judge) {
   if (models.empty()) return absl::InvalidArgumentError("no model to evaluate");
   EvalReport report;
   report.second_judges = second_judges != nullptr;
@@ -384,8 +383,9 @@ std::string EvalReport::Markdown() const {
     absl::StrAppendFormat(
         &s,
         "\nStyle in the motion: the motion-only judge reads joint velocities, no pose "
-        "(held-out real clips: %.3f; the same clips frozen on one frame: %.3f, chance "
-        "%.3f). 'As the content's style': the output still reads as the style the "
+        "(held-out real clips: %.3f; the same clips frozen on one frame: %.3f; a constant "
+        "verdict would score %.3f). 'As the content's style': the output still reads as the style "
+        "the "
         "content clip was performed in.\n\n"
         "| output | pose judge: style | pose judge: as the content's style | motion judge: "
         "style | motion judge: as the content's style |\n"

@@ -82,9 +82,9 @@ struct EvalModel {
 
 // What the judges said about one output of one pair.
 struct EvalVerdict {
-  int pair = 0;                // Index into the evaluated pairs.
-  int row = 0;                 // Index into EvalReport::rows.
-  std::string style, content;  // Judged labels.
+  int pair = 0;                   // Index into the evaluated pairs.
+  int row = 0;                    // Index into EvalReport::rows.
+  std::string style, content;     // Judged labels.
   std::string motion_style = {};  // By the motion-only judge (when there is one).
 };
 
@@ -95,10 +95,10 @@ struct EvalReport {
   int identity_row = -1;
   double real_diversity = 0;  // Of the reference clips (with a feature judge).
   int reference_clips = 0;
-  bool second_judges = false;         // The rows' second_* and content_by_* are set.
-  bool motion_judge = false;          // The rows' motion_* are set.
+  bool second_judges = false;                // The rows' second_* and content_by_* are set.
+  bool motion_judge = false;                 // The rows' motion_* are set.
   MotionJudgeAccuracy motion_judge_trained;  // What the motion judge scored when trained.
-  std::vector<EvalVerdict> verdicts;  // Every row's verdict on every pair (first judges).
+  std::vector<EvalVerdict> verdicts;         // Every row's verdict on every pair (first judges).
   std::string Markdown() const;
   // One line per pair and row: content_bvh, style_bvh, output, wanted and
   // judged style and content (where a transfer goes wrong, and into what).

@@ -44,7 +44,7 @@ absl::StatusOr<std::vector<motion::FeatureClip>> ChannelsOf(const TrainingSet& s
   for (const motion::FeatureClip& clip : set.clips) {
     motion::FeatureClip raw = clip;
     set.norm.Denormalize(&raw);
-    out.push_back(MotionChannels(raw, set.skeleton.num_joints(), set.frame_time));
+    out.push_back(MotionChannels(raw, set.skeleton, set.roles, set.frame_time));
   }
   if (compute_norm) {
     std::vector<const motion::FeatureClip*> ptrs;
@@ -75,9 +75,14 @@ absl::StatusOr<std::vector<int>> StyleClasses(const TrainingSet& set,
 
 }  // namespace
 
-motion::FeatureClip MotionChannels(const motion::FeatureClip& f, int num_joints,
-                                   double frame_time) {
+motion::FeatureClip MotionChannels(const motion::FeatureClip& f, const motion::Skeleton& skeleton,
+                                   const motion::HumanoidRoles& roles, double frame_time) {
+  const int num_joints = skeleton.num_joints();
   const motion::FeatureLayout layout(num_joints);
+  std::vector<bool> moves(num_joints, true);  // Below the pelvis, or the pelvis.
+  for (int j = skeleton.joint(roles.pelvis).parent; j >= 0; j = skeleton.joint(j).parent) {
+    moves[j] = false;
+  }
   motion::FeatureClip out;
   out.frames = f.frames;
   out.dim = 3 * num_joints + 4;
@@ -88,7 +93,10 @@ motion::FeatureClip MotionChannels(const motion::FeatureClip& f, int num_joints,
     if (f.frames >= 2) {
       const int a = std::min(t, f.frames - 2);
       const float *p = f.row(a), *q = f.row(a + 1);
-      for (int c = 0; c < 3 * num_joints; ++c) o[c] = (q[c] - p[c]) * per_second;
+      for (int j = 0; j < num_joints; ++j) {
+        if (!moves[j]) continue;
+        for (int c = 3 * j; c < 3 * j + 3; ++c) o[c] = (q[c] - p[c]) * per_second;
+      }
     }
     for (int c = 0; c < 4; ++c) o[3 * num_joints + c] = f.row(t)[layout.trajectory() + c];
   }
@@ -145,12 +153,15 @@ absl::StatusOr<MotionJudgeAccuracy> TrainMotionJudge(const JudgeTrainOptions& o)
   for (const motion::Motion& m : test_motions) {
     absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(Frozen(m), train->roles);
     if (!f.ok()) return f.status();
-    frozen.push_back(MotionChannels(*f, train->skeleton.num_joints(), train->frame_time));
+    frozen.push_back(MotionChannels(*f, train->skeleton, train->roles, train->frame_time));
     norm.Normalize(&frozen.back());
   }
   MotionJudgeAccuracy acc;
   acc.clips = static_cast<int>(test->clips.size());
-  acc.chance = 1.0 / styles.size();
+  std::vector<int> per_style(styles.size(), 0);
+  for (int c : *test_classes) {
+    if (c >= 0) acc.chance = std::max(acc.chance, double(++per_style[c]) / test_classes->size());
+  }
   torch::manual_seed(o.seed);
   std::mt19937_64 rng(o.seed);
   Classifier net(norm.dim(), static_cast<int>(styles.size()));
@@ -184,9 +195,9 @@ absl::StatusOr<MotionJudgeAccuracy> TrainMotionJudge(const JudgeTrainOptions& o)
   }
   if (absl::Status s = norm.Save(o.out + "/" + kNorm); !s.ok()) return s;
   const std::string info = absl::StrFormat(
-      "styles = %s\nheld_out_accuracy = %.4f\nfrozen_accuracy = %.4f\nheld_out_clips = %d\n"
-      "iterations = %d\nrandom_starts = %d\n",
-      absl::StrJoin(styles, ","), acc.held_out, acc.frozen, acc.clips, o.iterations,
+      "styles = %s\nheld_out_accuracy = %.4f\nfrozen_accuracy = %.4f\nchance = %.4f\n"
+      "held_out_clips = %d\niterations = %d\nrandom_starts = %d\n",
+      absl::StrJoin(styles, ","), acc.held_out, acc.frozen, acc.chance, acc.clips, o.iterations,
       o.random_starts ? 1 : 0);
   if (absl::Status s = motion::WriteFileAtomically(o.out + "/" + kInfo, info); !s.ok()) return s;
   return acc;
@@ -205,7 +216,7 @@ struct MotionJudge::Impl {
     absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, shape.roles);
     if (!f.ok()) return f.status();
     motion::FeatureClip channels =
-        MotionChannels(*f, shape.skeleton.num_joints(), shape.frame_time);
+        MotionChannels(*f, shape.skeleton, shape.roles, shape.frame_time);
     norm.Normalize(&channels);
     try {
       c10::InferenceMode guard;
@@ -256,6 +267,7 @@ absl::StatusOr<std::unique_ptr<MotionJudge>> MotionJudge::Load(const std::string
     if (kv[0] == "styles") impl->styles = absl::StrSplit(kv[1], ',');
     if (kv[0] == "held_out_accuracy") s = number(&impl->trained.held_out);
     if (kv[0] == "frozen_accuracy") s = number(&impl->trained.frozen);
+    if (kv[0] == "chance") s = number(&impl->trained.chance);
     if (kv[0] == "held_out_clips") {
       double clips = 0;
       s = number(&clips);
@@ -266,7 +278,6 @@ absl::StatusOr<std::unique_ptr<MotionJudge>> MotionJudge::Load(const std::string
   if (impl->styles.size() < 2) {
     return absl::InvalidArgumentError(info_path + ": no 'styles' line of two or more styles");
   }
-  impl->trained.chance = 1.0 / impl->styles.size();
   absl::StatusOr<DataFiles> data = ReadDataFiles(dir);
   if (!data.ok()) return data.status();
   impl->shape = *std::move(data);
@@ -274,8 +285,8 @@ absl::StatusOr<std::unique_ptr<MotionJudge>> MotionJudge::Load(const std::string
   if (!norm.ok()) return norm.status();
   const int want = 3 * impl->shape.skeleton.num_joints() + 4;
   if (norm->dim() != want) {
-    return absl::InvalidArgumentError(absl::StrCat(dir, "/", kNorm, ": ", norm->dim(),
-                                                   " channels, the skeleton needs ", want));
+    return absl::InvalidArgumentError(
+        absl::StrCat(dir, "/", kNorm, ": ", norm->dim(), " channels, the skeleton needs ", want));
   }
   impl->norm = *std::move(norm);
   try {
@@ -284,8 +295,8 @@ absl::StatusOr<std::unique_ptr<MotionJudge>> MotionJudge::Load(const std::string
     impl->net->eval();
   } catch (const std::exception& e) {
     std::string what = e.what();
-    return absl::InvalidArgumentError(absl::StrCat(dir, "/", kWeights, ": cannot load: ",
-                                                   what.substr(0, what.find('\n'))));
+    return absl::InvalidArgumentError(
+        absl::StrCat(dir, "/", kWeights, ": cannot load: ", what.substr(0, what.find('\n'))));
   }
   return std::unique_ptr<MotionJudge>(new MotionJudge(std::move(impl)));
 }

@@ -21,11 +21,13 @@
 namespace stylus::model {
 
 // The judge's channels from a clip's features (motion/features.h, not
-// normalized): per second, each joint's change of position from frame t to
-// t + 1 (the last frame repeats the one before), then the root trajectory's
-// four velocities. frames x (3J + 4).
-motion::FeatureClip MotionChannels(const motion::FeatureClip& features, int num_joints,
-                                   double frame_time);
+// normalized): per second, each joint's change of position relative to the
+// root, in its facing frame, from frame t to t + 1 (the last frame repeats
+// the one before; 0 for joints above the pelvis, which the trajectory
+// covers), then the root trajectory's four velocities. frames x (3J + 4).
+motion::FeatureClip MotionChannels(const motion::FeatureClip& features,
+                                   const motion::Skeleton& skeleton,
+                                   const motion::HumanoidRoles& roles, double frame_time);
 
 // `clip` held still: every frame is its middle frame.
 motion::Motion Frozen(const motion::Motion& clip);
@@ -33,7 +35,9 @@ motion::Motion Frozen(const motion::Motion& clip);
 struct MotionJudgeAccuracy {
   double held_out = 0;  // Clip-level style accuracy on real held-out clips.
   double frozen = 0;    // The same on those clips frozen (Frozen): about chance.
-  double chance = 0;    // 1 / number of styles.
+  // What a judge that reads nothing scores at best: the share of the
+  // commonest style among the held-out clips.
+  double chance = 0;
   int clips = 0;
 };
 

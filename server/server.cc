@@ -194,16 +194,15 @@ namespace {
 // connection as soon as its last call is over; closing a socket that still
 // holds part of a large reply can reset the connection and lose the reply
 // (seen on a 3000-frame Transfer answered just before shutdown).
-void WaitForAnswers(const ServiceContext& context,
-                    std::chrono::system_clock::time_point deadline) {
+void WaitForAnswers(const ServiceContext& context, std::chrono::system_clock::time_point deadline) {
   constexpr auto kPoll = std::chrono::milliseconds(5);
   constexpr auto kLinger = std::chrono::milliseconds(300);
   while (std::chrono::system_clock::now() < deadline &&
          (context.unary_calls.load() > 0 || context.open_streams.load() > 0)) {
     std::this_thread::sleep_for(kPoll);
   }
-  const auto last_answer =
-      std::chrono::steady_clock::time_point(std::chrono::nanoseconds(context.last_answer_ns.load()));
+  const auto last_answer = std::chrono::steady_clock::time_point(
+      std::chrono::nanoseconds(context.last_answer_ns.load()));
   const auto linger_until = last_answer + kLinger;
   while (std::chrono::system_clock::now() < deadline &&
          std::chrono::steady_clock::now() < linger_until) {

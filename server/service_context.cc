@@ -29,10 +29,9 @@ void CountUnary(Metrics* metrics, const char* grpc_service, const std::string& r
 }  // namespace
 
 void MarkAnswered(ServiceContext* service) {
-  service->last_answer_ns.store(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(
-          std::chrono::steady_clock::now().time_since_epoch())
-          .count());
+  service->last_answer_ns.store(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                    std::chrono::steady_clock::now().time_since_epoch())
+                                    .count());
 }
 
 absl::Status CheckJoints(const ServiceContext& service, int joints, const std::string& what) {

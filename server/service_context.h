@@ -51,7 +51,7 @@ struct ServiceContext {
   int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
   CallLimits limits;
   std::atomic<int> open_streams{0};
-  OpenStreams streams;  // Drained at shutdown.
+  OpenStreams streams;              // Drained at shutdown.
   std::atomic<int> unary_calls{0};  // Accepted and not yet answered.
   // Set when shutdown begins: new unary calls end UNAVAILABLE unrun.
   std::atomic<bool> refusing_calls{false};

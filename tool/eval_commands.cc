@@ -327,8 +327,8 @@ int Eval(const Argv& argv) {
       "accuracy by dataset (the labels in the clips' names):\n\n%s\nStyle accuracy per "
       "target style%s:\n\n%s",
       args->Get("model"), args->Get("judges"), second_name, pairs->size(), report->Markdown(),
-      report->ByDatasetMarkdown(*pairs),
-      motion_judge ? " (pose judge / motion-only judge)" : "", report->ByStyleMarkdown(*pairs));
+      report->ByDatasetMarkdown(*pairs), motion_judge ? " (pose judge / motion-only judge)" : "",
+      report->ByStyleMarkdown(*pairs));
   // Charts next to the report: accuracies of every row, and the model's
   // style accuracy per target style.
   const std::string stem = std::filesystem::path(args->Get("out")).replace_extension().string();

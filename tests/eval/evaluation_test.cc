@@ -17,6 +17,7 @@
 #include "motion/dataset.h"
 #include "motion/metrics.h"
 #include "motion/synth.h"
+#include "tests/eval/tiny_dataset.h"
 #include "tests/test_support.h"
 #include "train/contrastive_trainer.h"
 
@@ -25,25 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// dataset-9_{walk,run}_{old,proud}_00{1,2}.bvh, synthesized.
-std::string TinyDataset() {
-  const std::string dir = ::testing::TempDir() + "/eval_tiny";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  for (const char* content : {"walk", "run"}) {
-    for (const char* style : {"old", "proud"}) {
-      for (int take = 1; take <= 2; ++take) {
-        std::string spec = std::string(style) + ",frames=48,turn=" + std::to_string(take * 10);
-        if (std::string(content) == "run") spec += ",gait=run,speed=300,stride=240";
-        const std::string path =
-            dir + "/dataset-9_" + content + "_" + style + "_00" + std::to_string(take) + ".bvh";
-        EXPECT_TRUE(
-            motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(spec)), path).ok());
-      }
-    }
-  }
-  return dir;
-}
+std::string TinyDataset() { return testing::TinyLabelledDataset("eval_tiny"); }
 
 TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   const std::string data = TinyDataset();
@@ -174,6 +157,35 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   ASSERT_EQ(checked, static_cast<int>(pairs->size()));
   EXPECT_NEAR(own->rows[1].foot_skating, skating / checked, 1e-6 * skating / checked);
   EXPECT_NE(own->rows[1].foot_skating, own->rows[0].foot_skating);
+
+  // The motion-only judge beside the pose judges: its verdict on every
+  // output, counted against the style clip's style and the content clip's.
+  ASSERT_TRUE(TrainMotionJudge(jo).ok());
+  absl::StatusOr<std::unique_ptr<MotionJudge>> motion_judge = MotionJudge::Load(jo.out);
+  ASSERT_TRUE(motion_judge.ok()) << motion_judge.status();
+  absl::StatusOr<EvalReport> with_motion =
+      Evaluate({{"model", model->get(), false}}, **judges, nullptr, {}, *pairs, {}, nullptr,
+               motion_judge->get());
+  ASSERT_TRUE(with_motion.ok()) << with_motion.status();
+  ASSERT_TRUE(with_motion->motion_judge);
+  const int identity = with_motion->identity_row;
+  int motion_right = 0, motion_source = 0;
+  for (const EvalVerdict& v : with_motion->verdicts) {
+    if (v.row != identity) continue;
+    const motion::Motion content = *motion::ReadBvhFile((*pairs)[v.pair].content_path);
+    const auto& styles = (*motion_judge)->styles();
+    EXPECT_EQ(v.motion_style, styles[*(*motion_judge)->ClassifyStyle(content)]);
+    motion_right += v.motion_style == motion::ParseClipName((*pairs)[v.pair].style_path)->style;
+    motion_source += v.motion_style == motion::ParseClipName((*pairs)[v.pair].content_path)->style;
+  }
+  const EvalRow& id_row = with_motion->rows[identity];
+  EXPECT_NEAR(id_row.motion_style_accuracy, double(motion_right) / pairs->size(), 1e-12);
+  EXPECT_NEAR(id_row.motion_source_style, double(motion_source) / pairs->size(), 1e-12);
+  EXPECT_NE(with_motion->Markdown().find("| motion judge: style |"), std::string::npos);
+  EXPECT_EQ(report->Markdown().find("motion judge"), std::string::npos);
+  const std::string by_style = with_motion->ByStyleMarkdown(*pairs);
+  EXPECT_EQ(by_style.rfind("| output | old | proud |\n", 0), 0u) << by_style;
+  EXPECT_NE(by_style.find(" / "), std::string::npos);
 }
 
 // --random-starts: the same seed draws other windows (so other weights),

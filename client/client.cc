@@ -177,6 +177,7 @@ absl::StatusOr<motion::Motion> Client::Transfer(const motion::Motion& content, c
   v1::TransferRequest request;
   request.set_model(options.model);
   request.set_postprocess(options.postprocess);
+  request.set_timing(options.timing);
   wire::ClipToProto(content, request.mutable_content());
   wire::JointMapToProto(options.joint_map, request.mutable_content()->mutable_skeleton());
   if (absl::Status s = SetStyle(style, request.mutable_style()); !s.ok()) return s;
@@ -184,6 +185,7 @@ absl::StatusOr<motion::Motion> Client::Transfer(const motion::Motion& content, c
   const grpc::Status s = styles_->Transfer(Context().get(), request, &response);
   if (!s.ok()) return FromGrpcStatus(s);
   if (options.content_guard != nullptr) *options.content_guard = response.content_guard();
+  if (options.time_warp != nullptr) *options.time_warp = response.time_warp();
   return wire::ClipFromProto(response.output(), "server's output");
 }
 

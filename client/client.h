@@ -58,6 +58,10 @@ struct CallOptions {
   // Transfer and Interpolate: when set, receives how the model's content
   // guard treated the call (left empty for a model without one).
   v1::ContentGuardNote* content_guard = nullptr;
+  // Transfer: whose timing the output keeps (v1::Timing); with TIMING_STYLE,
+  // `time_warp` (when set) receives what was done.
+  v1::Timing timing = v1::TIMING_CONTENT;
+  v1::TimeWarp* time_warp = nullptr;
   // For a content clip (or stream) on another rig than the model's: roles
   // the server should not guess (motion/rig_roles.h), sent with its skeleton.
   motion::JointMap joint_map = {};

@@ -154,19 +154,36 @@ int Transfer(stylus::Client& client, const Args& a) {
     if (style->skeleton.SameTopology(content->skeleton)) ref.joint_map = opts->joint_map;
   }
   if (a.Get("out").empty()) return Fail("transfer", absl::InvalidArgumentError("-o is required"));
+  const std::string timing = a.Get("timing", "content");
+  if (timing != "content" && timing != "style") {
+    return Fail("transfer", absl::InvalidArgumentError(absl::StrCat(
+                                "--timing must be content or style, not '", timing, "'")));
+  }
+  opts->timing = timing == "style" ? stylus::v1::TIMING_STYLE : stylus::v1::TIMING_CONTENT;
   stylus::v1::ContentGuardNote guard;
   opts->content_guard = &guard;
+  stylus::v1::TimeWarp warp;
+  opts->time_warp = &warp;
   auto out = client.Transfer(*content, ref, *opts);
   if (!out.ok()) return Fail("transfer", out.status());
   if (absl::Status s = stylus::motion::WriteBvhFile(*out, a.Get("out")); !s.ok()) {
     return Fail("transfer", s);
   }
-  absl::PrintF("wrote %s (%d frames)%s\n", a.Get("out"), out->num_frames,
+  std::string warp_note;
+  if (opts->timing == stylus::v1::TIMING_STYLE) {
+    warp_note = warp.applied()
+                    ? absl::StrFormat(
+                          " (style timing: cadence %.2f s -> %.2f s, played %.2fx as long)",
+                          warp.content_period_s(), warp.style_period_s(), warp.ratio())
+                    : absl::StrCat(" (style timing not applied: ", warp.reason(), ")");
+  }
+  absl::PrintF("wrote %s (%d frames)%s%s\n", a.Get("out"), out->num_frames,
                guard.backed_off()
                    ? absl::StrFormat(" (content guard: the configured transfer read as another "
                                      "action; residual form at strength %g)",
                                      guard.residual_strength())
-                   : "");
+                   : "",
+               warp_note);
   return 0;
 }
 
@@ -363,8 +380,11 @@ const std::vector<Command>& Commands() {
       {"unload", "unload a model", "--model NAME/VERSION", {"model"}, false, Unload},
       {"transfer",
        "restyle a clip",
-       "--content C.bvh (--style S.bvh | --style-name N) -o OUT.bvh",
-       {"content", "style", "style-name", "out"},
+       "--content C.bvh (--style S.bvh | --style-name N) -o OUT.bvh [--timing content|style]\n\n"
+       "  --timing style           the output takes the style's cadence by a uniform\n"
+       "                           time warp (0.5-2x; its length changes); a clip whose\n"
+       "                           motion does not repeat keeps the content's timing",
+       {"content", "style", "style-name", "out", "timing"},
        true,
        Transfer},
       {"interpolate",

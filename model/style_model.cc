@@ -1,5 +1,6 @@
 #include "model/style_model.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -7,8 +8,10 @@
 #include "model/content_guard.h"
 #include "model/resampling_streamer.h"
 #include "model/retargeting_streamer.h"
+#include "motion/cadence.h"
 #include "motion/features.h"
 #include "motion/resample.h"
+#include "motion/rig_roles.h"
 
 namespace stylus::model {
 
@@ -59,10 +62,74 @@ absl::StatusOr<TransferResult> StyleModel::Transfer(const motion::Motion& conten
   return Interpolate(content, {style}, StyleWeights{{1.0}, {}}, options);
 }
 
+namespace {
+
+// The warp that gives `content` the cadence of the blend of `styles`.
+TimeWarpNote StyleTiming(const motion::Motion& content, const std::vector<StyleCode>& styles,
+                         const StyleWeights& weights) {
+  TimeWarpNote note;
+  // Each style's share: its fixed weight, or its mean weight over the frames.
+  std::vector<double> share(styles.size(), 0);
+  for (size_t k = 0; k < styles.size(); ++k) {
+    if (weights.per_frame.empty()) {
+      share[k] = k < weights.fixed.size() ? weights.fixed[k] : 0;
+    } else {
+      for (const std::vector<double>& row : weights.per_frame) share[k] += row[k];
+      share[k] /= weights.per_frame.size();
+    }
+  }
+  absl::StatusOr<motion::HumanoidRoles> roles = motion::HumanoidRolesOf(content);
+  if (!roles.ok()) {
+    note.reason = absl::StrCat("the content clip's roles: ", roles.status().message());
+    return note;
+  }
+  absl::StatusOr<motion::Cadence> cadence = motion::FindCadence(content, *roles);
+  if (!cadence.ok()) {
+    note.reason = absl::StrCat("the content clip has no cadence: ", cadence.status().message());
+    return note;
+  }
+  note.content_period_s = cadence->period_s;
+  // Each style's candidate nearest the content's period: like for like (a
+  // step against a step, not against a stride).
+  double period = 0, total = 0;
+  for (size_t k = 0; k < styles.size(); ++k) {
+    if (share[k] <= 0) continue;
+    if (styles[k].periods_s.empty()) {
+      note.reason = styles.size() == 1
+                        ? "the style clip has no cadence (its motion does not repeat)"
+                        : absl::StrCat("style ", k + 1, " has no cadence (its motion does not repeat)");
+      return note;
+    }
+    period += share[k] * motion::NearestPeriod(styles[k].periods_s, cadence->period_s);
+    total += share[k];
+  }
+  if (total <= 0) {
+    note.reason = "no style has a weight above 0";
+    return note;
+  }
+  note.style_period_s = period / total;
+  note.ratio = std::clamp(note.style_period_s / note.content_period_s, kMinTimeWarp, kMaxTimeWarp);
+  note.applied = true;
+  return note;
+}
+
+}  // namespace
+
 absl::StatusOr<TransferResult> StyleModel::Interpolate(const motion::Motion& content,
                                                        const std::vector<StyleCode>& styles,
                                                        const StyleWeights& weights,
                                                        const TransferOptions& options) const {
+  absl::StatusOr<TransferResult> result =
+      InterpolateInContentTime(content, styles, weights, options);
+  if (!result.ok() || options.timing == Timing::kContent) return result;
+  result->warp = StyleTiming(content, styles, weights);
+  if (result->warp.applied) result->motion = motion::TimeWarp(result->motion, result->warp.ratio);
+  return result;
+}
+
+absl::StatusOr<TransferResult> StyleModel::InterpolateInContentTime(
+    const motion::Motion& content, const std::vector<StyleCode>& styles,
+    const StyleWeights& weights, const TransferOptions& options) const {
   if (absl::Status s = CheckStyleMix(styles, weights, content.num_frames, code_size()); !s.ok()) {
     return s;
   }
@@ -71,7 +138,8 @@ absl::StatusOr<TransferResult> StyleModel::Interpolate(const motion::Motion& con
         RetargeterFor(content, options.joint_map, "content clip");
     if (!r.ok()) return r.status();
     const motion::Motion on_model = (*r)->ToModel(content);
-    absl::StatusOr<TransferResult> result = Interpolate(on_model, styles, weights, options);
+    absl::StatusOr<TransferResult> result =
+        InterpolateInContentTime(on_model, styles, weights, options);
     if (!result.ok()) return result.status();
     absl::StatusOr<motion::Motion> back = (*r)->FromModel(result->motion, content);
     if (!back.ok()) return back.status();
@@ -153,11 +221,24 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
 
 absl::StatusOr<StyleCode> StyleModel::EncodeStyle(const motion::Motion& clip,
                                                   const motion::JointMap& joint_map) const {
+  absl::StatusOr<StyleCode> code = EncodeAnyRigStyle(clip, joint_map);
+  if (!code.ok()) return code;
+  // The cadence is the rig's own: any rig, any rate.
+  if (absl::StatusOr<motion::HumanoidRoles> roles = motion::HumanoidRolesOf(clip); roles.ok()) {
+    if (absl::StatusOr<motion::Cadence> c = motion::FindCadence(clip, *roles); c.ok()) {
+      code->periods_s = c->candidates_s;
+    }
+  }
+  return code;
+}
+
+absl::StatusOr<StyleCode> StyleModel::EncodeAnyRigStyle(const motion::Motion& clip,
+                                                        const motion::JointMap& joint_map) const {
   if (clip.num_frames > 0 && !clip.skeleton.SameTopology(data().skeleton)) {
     absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
         RetargeterFor(clip, joint_map, "style clip");
     if (!r.ok()) return r.status();
-    return EncodeStyle((*r)->ToModel(clip));
+    return EncodeAnyRigStyle((*r)->ToModel(clip), {});
   }
   if (motion::SameRate(clip.frame_time, data().frame_time) || clip.num_frames == 0) {
     return EncodeModelRateStyle(clip);

@@ -35,6 +35,9 @@ class ContentGuard;
 // linearly.
 struct StyleCode {
   std::vector<float> values;
+  // The style clip's cadence candidates (motion/cadence.h), seconds per
+  // repeat, strongest first; empty when it has none (EncodeStyle fills them).
+  std::vector<double> periods_s = {};
 };
 
 // How styles mix over a clip: `fixed` (one weight per style) for the whole clip,
@@ -60,9 +63,22 @@ struct TransferNote {
 };
 
 // A transfer's motion and what the content guard did to it.
+// Whose timing a transfer keeps: the content's (frame for frame), or the
+// style clip's cadence, by a uniform time warp of the output.
+enum class Timing { kContent, kStyle };
+
+// What Timing::kStyle did.
+struct TimeWarpNote {
+  bool applied = false;
+  double ratio = 1;  // Output duration / content duration.
+  double content_period_s = 0, style_period_s = 0;
+  std::string reason;  // Why no warp was applied (when not applied).
+};
+
 struct TransferResult {
   motion::Motion motion;
   TransferNote note;
+  TimeWarpNote warp;
 };
 
 class PassBatcher;
@@ -82,7 +98,14 @@ struct TransferOptions {
   // Roles of the content clip's joints the role finder should not guess,
   // for a clip on another rig than the model's (motion/rig_roles.h).
   motion::JointMap joint_map = {};
+  // Timing::kStyle: the output, post-processed, is played slower or faster
+  // by the ratio of the style's cadence to the content's (within
+  // [kMinTimeWarp, kMaxTimeWarp]), so it has another length. When either has
+  // no cadence the output keeps the content's timing and the note says why.
+  Timing timing = Timing::kContent;
 };
+
+inline constexpr double kMinTimeWarp = 0.5, kMaxTimeWarp = 2.0;
 
 // What every package says of itself, whatever its family (config.txt).
 struct ModelSummary {
@@ -141,6 +164,7 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // on another humanoid rig is retargeted onto the model's skeleton, and the
   // output (post-processed there) back onto the content's rig, frame for
   // frame (motion/retarget.h).
+  // With options.timing kStyle, see TransferOptions::timing.
   // INVALID_ARGUMENT for a clip, codes or weights the model cannot take;
   // INTERNAL when LibTorch fails.
   absl::StatusOr<TransferResult> Interpolate(const motion::Motion& content,
@@ -178,6 +202,14 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
       const motion::Motion& clip, const motion::JointMap& joint_map, const std::string& what) const;
 
  protected:
+  // Interpolate with the content's timing.
+  absl::StatusOr<TransferResult> InterpolateInContentTime(const motion::Motion& content,
+                                                          const std::vector<StyleCode>& styles,
+                                                          const StyleWeights& weights,
+                                                          const TransferOptions& options) const;
+  // EncodeStyle without the cadence.
+  absl::StatusOr<StyleCode> EncodeAnyRigStyle(const motion::Motion& clip,
+                                              const motion::JointMap& joint_map) const;
   // Interpolate of `content` at the model's rate; `original` is the clip as
   // it came (the same object when no resampling was needed), whose rate and
   // frame count the output takes and whose contacts post-processing reads.

@@ -93,10 +93,31 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
         model::TransferOptions options(call->post);
         options.batcher = service_->pass_batcher;
         options.joint_map = call->joint_map;
+        switch (request.timing()) {
+          case v1::TIMING_CONTENT:
+            break;
+          case v1::TIMING_STYLE:
+            options.timing = model::Timing::kStyle;
+            break;
+          default:
+            return out.status = absl::InvalidArgumentError(
+                       absl::StrCat("timing: unknown value ", request.timing(),
+                                    " (TIMING_CONTENT or TIMING_STYLE)")),
+                   out;
+        }
         absl::StatusOr<model::TransferResult> result =
             call->model.model->Transfer(call->content, *style, options);
         if (!result.ok()) return out.status = result.status(), out;
         NoteGuard(result->note, response, &out);
+        if (options.timing == model::Timing::kStyle) {
+          const model::TimeWarpNote& warp = result->warp;
+          v1::TimeWarp* w = response->mutable_time_warp();
+          w->set_applied(warp.applied);
+          w->set_ratio(warp.ratio);
+          w->set_content_period_s(warp.content_period_s);
+          w->set_style_period_s(warp.style_period_s);
+          w->set_reason(warp.reason);
+        }
         wire::ClipToProto(result->motion, response->mutable_output());
         response->set_model(call->model.id);
         response->set_compute_ms(MsSince(t0));

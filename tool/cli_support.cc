@@ -41,6 +41,7 @@ model::TrainingDataOptions DataOptions(const Args& args) {
   model::TrainingDataOptions o;
   o.labels_csv = args.Get("labels");
   o.skeleton = args.Get("skeleton");
+  o.leave_out_styles = args.All("leave-out-style");
   return o;
 }
 

@@ -92,7 +92,8 @@ int TrainCyclicModel(const Argv& argv) {
                 "average-from",
                 "average-every",
                 "labels",
-                "skeleton"},
+                "skeleton",
+                "leave-out-style"},
                {"no-cycle", "no-kc", "no-residual", "resume", "guided", "pair-gan", "random-starts",
                 "mirror", "keep-path", "adain-skip", "rotations"}};
   for (const std::string& w : weights) spec.options.insert(w);

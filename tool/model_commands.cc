@@ -30,7 +30,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--seed S] [--resume]\n"
       "         [--random-starts] [--mirror] [--residual] [--channels 144]\n"
-      "         [--content-weight W] [--smooth-sigma S] [--threads N]\n"
+      "         [--content-weight W] [--dynamics-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
@@ -54,6 +54,11 @@ int Train(const Argv& argv) {
       "--content-weight W adds W x the L1 distance between the transfer and its\n"
       "content input over the root trajectory, foot contacts and legs (default 0:\n"
       "off).\n"
+      "--dynamics-weight W adds W x the L1 distance between Gram matrices of the\n"
+      "transfer's joint velocities and accelerations and a real window's of the\n"
+      "target style (with --guided: doing the content's action when the data has\n"
+      "it), so the style shows in how the body moves, not only in its pose\n"
+      "(default 0: off).\n"
       "--guided trains with the clips' style and content labels (from the Bandai\n"
       "file names): the reconstruction takes its style code from a clip of the\n"
       "same style doing something else, the transfer from a clip of another\n"
@@ -95,7 +100,9 @@ int Train(const Argv& argv) {
       "The package's skeleton is the first clip's, or --skeleton PACKAGE_DIR|FILE.bvh.\n"
       "Labels (for --guided; the contrastive method itself needs none) come from\n"
       "Bandai names (dataset-N_{content}_{style}_{take}.bvh) or --labels FILE.csv\n"
-      "(clip,content,style; clip paths relative to the CSV).\n";
+      "(clip,content,style; clip paths relative to the CSV).\n"
+      "--leave-out-style STYLE (repeatable) leaves every clip of that style out of\n"
+      "training, to measure how the package does on a style it has never seen.\n";
   int code = 0;
   auto args =
       ParseOrExit("train", argv,
@@ -114,6 +121,7 @@ int Train(const Argv& argv) {
                     "log-every",
                     "commit",
                     "content-weight",
+                    "dynamics-weight",
                     "smooth-sigma",
                     "class-weight",
                     "cycle-weight",
@@ -128,7 +136,8 @@ int Train(const Argv& argv) {
                     "window",
                     "hop",
                     "labels",
-                    "skeleton"},
+                    "skeleton",
+                    "leave-out-style"},
                    {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
                     "random-starts", "mirror", "residual", "live", "frame-residual"}},
                   kHelp, &code);
@@ -174,6 +183,11 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--content-weight must be a number >= 0"));
   }
   c.content_weight = *content_weight;
+  absl::StatusOr<double> dynamics_weight = args->GetDouble("dynamics-weight", 0);
+  if (!dynamics_weight.ok() || *dynamics_weight < 0) {
+    return Fail("train", absl::InvalidArgumentError("--dynamics-weight must be a number >= 0"));
+  }
+  c.dynamics_weight = *dynamics_weight;
   absl::StatusOr<double> smooth_sigma = args->GetDouble("smooth-sigma", 0);
   if (!smooth_sigma.ok() || *smooth_sigma < 0 || *smooth_sigma > 100) {
     return Fail("train", absl::InvalidArgumentError("--smooth-sigma must be a number in [0, 100]"));
@@ -279,11 +293,21 @@ std::string GuardNote(const model::TransferNote& note) {
       note.residual_strength, note.last_form ? ", the last form" : "");
 }
 
-// Transfers one pair and writes it; `note` gets GuardNote's text.
+// " (style timing: ...)" for a transfer asked for the style's timing.
+std::string WarpNote(const model::TransferOptions& options, const model::TimeWarpNote& warp,
+                     int content_frames, int frames) {
+  if (options.timing != model::Timing::kStyle) return "";
+  if (!warp.applied) return absl::StrCat(" (style timing not applied: ", warp.reason, ")");
+  return absl::StrFormat(
+      " (style timing: cadence %.2f s -> %.2f s, played %.2fx as long: %d frames -> %d)",
+      warp.content_period_s, warp.style_period_s, warp.ratio, content_frames, frames);
+}
+
+// Transfers one pair and writes it; `note` gets GuardNote's and WarpNote's text.
 absl::Status TransferOne(const model::StyleModel& m, const std::string& content_path,
                          const std::string& style_path, const std::string& out_path,
-                         motion::PostProcessMode post, const motion::JointMap& joint_map,
-                         std::string* note) {
+                         const model::TransferOptions& options, std::string* note) {
+  const motion::JointMap& joint_map = options.joint_map;
   absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(content_path);
   if (!content.ok()) return content.status();
   absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(style_path);
@@ -294,13 +318,12 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
   if (!code.ok())
     return absl::Status(code.status().code(),
                         absl::StrCat(style_path, ": ", code.status().message()));
-  model::TransferOptions options(post);
-  options.joint_map = joint_map;
   absl::StatusOr<model::TransferResult> out = m.Transfer(*content, *code, options);
   if (!out.ok())
     return absl::Status(out.status().code(),
                         absl::StrCat(content_path, ": ", out.status().message()));
-  *note = GuardNote(out->note);
+  *note = GuardNote(out->note) +
+          WarpNote(options, out->warp, content->num_frames, out->motion.num_frames);
   return motion::WriteBvhFile(out->motion, out_path);
 }
 
@@ -324,6 +347,11 @@ int Transfer(const Argv& argv) {
       "and channels as the input (stylus-tool rig-info shows the mapping).\n"
       "--joint-map FILE fixes roles the finder gets wrong or cannot find\n"
       "(lines like 'left_foot = MyFootL'; docs/rigs.md).\n\n"
+      "--timing content|style (default content): with style, the output takes the\n"
+      "style clip's cadence (steps per second, swings per second) by a uniform\n"
+      "time warp, so it is longer or shorter than the content; the printed note\n"
+      "gives both cadences and the ratio (0.5-2x). A clip whose motion does not\n"
+      "repeat has no cadence: the content's timing is kept and the note says so.\n\n"
       "--shard-count N [--shard-index I] runs only rows I, I+N, I+2N, ... (rows\n"
       "counted from 0, header excluded), so N workers share a library; I defaults\n"
       "to $JOB_COMPLETION_INDEX, which a Kubernetes Indexed Job sets\n"
@@ -331,7 +359,7 @@ int Transfer(const Argv& argv) {
   int code = 0;
   auto args = ParseOrExit("transfer", argv,
                           {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
-                            "postprocess", "shard-count", "shard-index", "joint-map"},
+                            "postprocess", "shard-count", "shard-index", "joint-map", "timing"},
                            {}},
                           kHelp, &code);
   if (!args) return code;
@@ -354,12 +382,20 @@ int Transfer(const Argv& argv) {
     if (!map.ok()) return Fail("transfer", map.status());
     joint_map = *std::move(map);
   }
+  model::TransferOptions options(*post);
+  options.joint_map = joint_map;
+  const std::string timing = args->Get("timing", "content");
+  if (timing != "content" && timing != "style") {
+    return Fail("transfer", absl::InvalidArgumentError(
+                                absl::StrCat("--timing must be content or style, not '", timing, "'")));
+  }
+  options.timing = timing == "style" ? model::Timing::kStyle : model::Timing::kContent;
   absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {
     std::string note;
     if (absl::Status s = TransferOne(**m, args->Get("content"), args->Get("style"),
-                                     args->Get("out"), *post, joint_map, &note);
+                                     args->Get("out"), options, &note);
         !s.ok()) {
       return Fail("transfer", s);
     }
@@ -400,7 +436,7 @@ int Transfer(const Argv& argv) {
     const std::string out =
         absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
     std::string note;
-    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, *post, joint_map, &note);
+    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, options, &note);
         !s.ok()) {
       std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
                    std::string(s.message()).c_str());

@@ -98,6 +98,14 @@ int ClipClasses::OtherStyle(int clip, std::mt19937_64* rng) const {
       clips_of_style[style], [&](int i) { return content_of[i] != content_of[clip]; }, rng);
 }
 
+int ClipClasses::SameContentInStyle(int clip, int style, std::mt19937_64* rng) const {
+  std::vector<int> found;
+  for (int i : clips_of_style[style]) {
+    if (content_of[i] == content_of[clip]) found.push_back(i);
+  }
+  return found.empty() ? -1 : found[(*rng)() % found.size()];
+}
+
 std::string BalanceContents(const ClipClasses& classes, double power, TrainingSet* data) {
   const std::vector<double> share = data->BalanceWindows(classes.content_of, power);
   const auto [lo, hi] = std::minmax_element(share.begin(), share.end());

@@ -42,6 +42,9 @@ struct ClipClasses {
   // usable clips, then one of its clips, preferring another content); `clip`
   // when there is no other.
   int OtherStyle(int clip, std::mt19937_64* rng) const;
+  // A usable clip of style `style` doing `clip`'s action; -1 when there is
+  // none.
+  int SameContentInStyle(int clip, int style, std::mt19937_64* rng) const;
 };
 
 // Reweights `data`'s window draws so that a content class with n windows

@@ -92,6 +92,7 @@ std::string ClipSources::Report() const {
   }
   notes.push_back(absl::StrFormat("%d labelled", labelled));
   absl::StrAppend(&out, " (", absl::StrJoin(notes, ", "), ")");
+  if (left_out > 0) absl::StrAppendFormat(&out, "; left out %d clips of the styles left out", left_out);
   absl::StrAppendFormat(&out, "; skipped %d", skipped.size());
   for (const std::string& s : skipped) absl::StrAppend(&out, "\n  skipped ", s);
   return out;
@@ -104,9 +105,15 @@ absl::StatusOr<ClipSources> ReadClipSources(const std::vector<std::string>& sour
   // Which files, and the labels of those that have one.
   std::vector<std::string> paths;
   std::vector<std::optional<motion::ClipLabel>> labels;
+  int left_out = 0;
   auto add = [&](const std::string& path, std::optional<motion::ClipLabel> label) {
     auto it = csv->find(Canonical(path));
     if (it != csv->end()) label = it->second;
+    if (label && std::find(options.leave_out_styles.begin(), options.leave_out_styles.end(),
+                           label->style) != options.leave_out_styles.end()) {
+      ++left_out;
+      return;
+    }
     paths.push_back(path);
     labels.push_back(label);
   };
@@ -138,6 +145,7 @@ absl::StatusOr<ClipSources> ReadClipSources(const std::vector<std::string>& sour
     for (const std::string& p : others) add(p, std::nullopt);
   }
   ClipSources out;
+  out.left_out = left_out;
   if (paths.empty()) {
     return absl::InvalidArgumentError(test ? "no held-out clips" : "no training clips");
   }

@@ -22,6 +22,9 @@ struct TrainingDataOptions {
   // The package's skeleton: a package directory (its skeleton.bvh, and its
   // norm.txt for the reference pose) or a BVH file. Empty: the first clip's.
   std::string skeleton;
+  // Styles whose labelled clips are left out entirely (to test how a model
+  // does on a style it has never seen).
+  std::vector<std::string> leave_out_styles;
 };
 
 struct ClipSources {
@@ -32,6 +35,7 @@ struct ClipSources {
   std::vector<std::optional<motion::ClipLabel>> labels;  // From the name or the CSV.
   std::vector<std::string> skipped;                      // "path: reason".
   int retargeted = 0, resampled = 0, other_rigs = 0;
+  int left_out = 0;  // Clips of TrainingDataOptions::leave_out_styles.
   // "read 12 clips (4 retargeted from 2 other rigs, 3 resampled to 30 Hz; 9
   // labelled); skipped 2" and one line per skipped clip.
   std::string Report() const;

@@ -15,6 +15,7 @@
 #include "model/weights_io.h"
 #include "motion/files.h"
 #include "train/clip_classes.h"
+#include "train/dynamics_style.h"
 #include "train/label_critic.h"
 #include "train/pair_discriminator.h"
 #include "train/torch_files.h"
@@ -40,6 +41,7 @@ struct Trainer {
   LabelCritic critic;
   PairGan pair_gan;                // With `pair_gan` only.
   torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
+  DynamicsStyle dynamics;          // With dynamics_weight.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
   void Log(const std::string& s) const { LogLine(opt.log, s); }
@@ -120,6 +122,11 @@ struct Trainer {
     torch::Tensor total = rec;
     if (config.alpha > 0) total = total + config.alpha * Adversarial(x_s, x_g, &r);
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x_t);
+    if (config.dynamics_weight > 0) {
+      const torch::Tensor dyn = dynamics.Loss(x_g, x_s);
+      r.dyn = dyn.item<double>();
+      total = total + config.dynamics_weight * dyn;
+    }
     if (config.use_nce && config.beta > 0) {
       const torch::Tensor nce = NceLoss(net->content(x_g), c_t, net->nce_w, config.temperature);
       r.nce = nce.item<double>();
@@ -179,6 +186,19 @@ struct Trainer {
       total = total + config.alpha * adv;
     }
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x);
+    if (config.dynamics_weight > 0) {
+      // The reference: the content's action in the target style where the
+      // data has it (the same motion done that way), else the style window.
+      std::vector<int> match;
+      for (size_t i = 0; i < clips.size(); ++i) {
+        const int m = classes.SameContentInStyle(clips[i], classes.style_of[other[i]], rng);
+        match.push_back(m >= 0 ? m : other[i]);
+      }
+      data.SampleFromClips(match, config.window, rng, &buf);
+      const torch::Tensor dyn = dynamics.Loss(x_g, ToTensor(&buf));
+      r.dyn = dyn.item<double>();
+      total = total + config.dynamics_weight * dyn;
+    }
     const torch::Tensor cls =
         critic.Verdict(x_g, target_style, x_content, config.content_class_weight);
     r.cls = cls.item<double>();
@@ -233,6 +253,7 @@ struct Trainer {
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
     content_mask = ContentMask();
+    if (config.dynamics_weight > 0) dynamics = DynamicsStyle(data);
     if (config.guided) {
       absl::StatusOr<ClipClasses> c =
           GuidedClasses(&data, config.window, config.content_balance, opt.log);
@@ -279,6 +300,7 @@ struct Trainer {
     spec.out = opt.out;
     spec.loss_names = {"rec", "gan", "nce", "tri", "disc"};
     if (config.guided) spec.loss_names.insert(spec.loss_names.end(), {"cls", "cyc", "critic"});
+    if (config.dynamics_weight > 0) spec.loss_names.push_back("dyn");
     spec.loss_names.push_back("total");
     spec.config_text = config.Serialize();
     spec.iterations = config.iterations;
@@ -289,7 +311,7 @@ struct Trainer {
       spec.on_record = [this](const LossRow& row) {
         LossRecord r{row.iteration,  row.Get("rec"),   row.Get("gan"),   row.Get("nce"),
                      row.Get("tri"), row.Get("disc"),  row.Get("total"), row.Get("cls"),
-                     row.Get("cyc"), row.Get("critic")};
+                     row.Get("cyc"), row.Get("critic"), row.Get("dyn")};
         opt.on_record(r);
       };
     }
@@ -317,6 +339,7 @@ struct Trainer {
       Losses losses = {{"rec", r.rec}, {"gan", r.gan},   {"nce", r.nce},
                        {"tri", r.tri}, {"disc", r.disc}, {"total", r.total}};
       if (config.guided) losses.insert({{"cls", r.cls}, {"cyc", r.cyc}, {"critic", r.critic}});
+      if (config.dynamics_weight > 0) losses.insert({"dyn", r.dyn});
       return losses;
     });
   }

@@ -20,6 +20,8 @@ struct LossRecord {
   // Label-guided training only: the transfers' classification loss, the
   // cycle loss and the critic's own loss on real windows.
   double cls = 0, cyc = 0, critic = 0;
+  // With dynamics_weight: the dynamics style term.
+  double dyn = 0;
 };
 
 struct ContrastiveTrainOptions {

@@ -37,6 +37,7 @@ std::string ContrastiveConfig::Serialize() const {
   if (random_starts) put("random_starts", "1");
   if (mirror) put("mirror", "1");
   if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
+  if (dynamics_weight > 0) put("dynamics_weight", absl::StrCat(dynamics_weight));
   if (guided) {
     put("guided", "1");
     put("class_weight", absl::StrCat(class_weight));
@@ -97,6 +98,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "beta") return e.Double(&c.beta, 0, 1e6);
     if (key == "gamma") return e.Double(&c.gamma, 0, 1e6);
     if (key == "content_weight") return e.Double(&c.content_weight, 0, 1e6);
+    if (key == "dynamics_weight") return e.Double(&c.dynamics_weight, 0, 1e6);
     if (key == "guided") return e.Bool(&c.guided);
     if (key == "keep_path") return e.Bool(&c.keep_path);
     if (key == "pair_gan") return e.Bool(&c.pair_gan);

@@ -93,6 +93,14 @@ struct ContrastiveConfig : GuardKeys {
   // what is being done and where: root trajectory, foot contacts and the
   // legs' positions and rotations (docs/notes/contrastive.md).
   double content_weight = 0;
+  // Weight of a style term on how the transfer moves (0: off): the L1
+  // distance between Gram matrices (paper 004's style statistics) of the
+  // transfer's dynamics and a real window's of the target style, doing the
+  // content's action when the data has it. Dynamics: per frame, each joint's
+  // velocity relative to the root in its facing frame and the root's own
+  // velocities, and their changes (accelerations), each channel scaled to
+  // unit deviation over the training data (docs/notes/motion_style.md).
+  double dynamics_weight = 0;
   // Label-guided training (docs/notes/contrastive.md, "Label-guided training"):
   // style labels choose the style clips (the reconstruction's style code from
   // a clip of the same style doing something else, the transfer's from a clip

@@ -17,6 +17,8 @@
 #include "server/status.h"
 #include "tests/model/transfer_support.h"
 #include "tests/server/server_test_support.h"
+#include "motion/cadence.h"
+#include "motion/rig_roles.h"
 #include "wire/wire.h"
 
 namespace stylus {
@@ -159,6 +161,59 @@ TEST_F(ServerTest, SavedStyleNamesWorkLikeTheirClips) {
   auto missing = client().Transfer(content, {nullptr, "young"});
   EXPECT_EQ(missing.status().code(), absl::StatusCode::kNotFound);
   EXPECT_NE(missing.status().message().find("young"), std::string::npos);
+}
+
+TEST_F(ServerTest, StyleTimingWarpsTheOutputToTheStyleCadence) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  const motion::Motion content = BandaiClip(dir, "walk_normal_001");
+  const motion::Motion style = BandaiClip(dir, "walk_tired_001");
+  const motion::HumanoidRoles roles = *motion::HumanoidRolesOf(content);
+  const double content_period = motion::FindCadence(content, roles)->period_s;
+  const double style_period =
+      motion::NearestPeriod(motion::FindCadence(style, roles)->candidates_s, content_period);
+  ASSERT_GT(std::abs(style_period / content_period - 1), 0.05);  // A warp worth seeing.
+
+  CallOptions content_timed;
+  auto plain = client().Transfer(content, {&style, ""}, content_timed);
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  v1::TimeWarp warp;
+  CallOptions options;
+  options.timing = v1::TIMING_STYLE;
+  options.time_warp = &warp;
+  auto warped = client().Transfer(content, {&style, ""}, options);
+  ASSERT_TRUE(warped.ok()) << warped.status();
+  ASSERT_TRUE(warp.applied()) << warp.reason();
+  EXPECT_NEAR(warp.content_period_s(), content_period, 1e-9);
+  EXPECT_NEAR(warp.style_period_s(), style_period, 1e-9);
+  EXPECT_NEAR(warp.ratio(), style_period / content_period, 1e-9);
+  ASSERT_EQ(warped->num_frames, std::lround((content.num_frames - 1) * warp.ratio()) + 1);
+  EXPECT_DOUBLE_EQ(warped->frame_time, content.frame_time);
+  // The content-timed transfer, played slower: the same poses at the warped
+  // times (up to interpolation), the same last frame, feet still planted.
+  EXPECT_LT(motion::MaxPositionDifference(motion::TimeWarp(*plain, warp.ratio()), *warped), 1e-6);
+  // Its motion repeats that much more slowly.
+  const double plain_period = motion::FindCadence(*plain, roles)->period_s;
+  EXPECT_NEAR(motion::FindCadence(*warped, roles)->period_s, plain_period * warp.ratio(),
+              0.05 * plain_period * warp.ratio());
+
+  // A saved style keeps its cadence.
+  ASSERT_TRUE(client().EncodeStyle(style, "tired").ok());
+  v1::TimeWarp by_name;
+  options.time_warp = &by_name;
+  auto named = client().Transfer(content, {nullptr, "tired"}, options);
+  ASSERT_TRUE(named.ok()) << named.status();
+  EXPECT_NEAR(by_name.ratio(), warp.ratio(), 1e-9);
+  EXPECT_EQ(named->num_frames, warped->num_frames);
+
+  // A content whose motion does not repeat keeps its timing, and says why.
+  const motion::Motion bow = BandaiClip(dir, "bow_normal_001");
+  v1::TimeWarp none;
+  options.time_warp = &none;
+  auto kept = client().Transfer(bow, {&style, ""}, options);
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  EXPECT_FALSE(none.applied());
+  EXPECT_NE(none.reason().find("content clip has no cadence"), std::string::npos) << none.reason();
+  EXPECT_EQ(kept->num_frames, bow.num_frames);
 }
 
 TEST_F(ServerTest, InterpolationEndpointsEqualTransfersAndSchedulesWork) {

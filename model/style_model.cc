@@ -89,26 +89,29 @@ TimeWarpNote StyleTiming(const motion::Motion& content, const std::vector<StyleC
     return note;
   }
   note.content_period_s = cadence->period_s;
-  // Each style's candidate nearest the content's period: like for like (a
-  // step against a step, not against a stride).
-  double period = 0, total = 0;
+  // Each style's tempo against the content's, mixed by the styles' shares.
+  double ratio = 0, total = 0;
   for (size_t k = 0; k < styles.size(); ++k) {
     if (share[k] <= 0) continue;
-    if (styles[k].periods_s.empty()) {
-      note.reason = styles.size() == 1
-                        ? "the style clip has no cadence (its motion does not repeat)"
-                        : absl::StrCat("style ", k + 1, " has no cadence (its motion does not repeat)");
+    const std::string which = styles.size() == 1 ? "the style clip" : absl::StrCat("style ", k + 1);
+    if (!styles[k].cadence) {
+      note.reason = absl::StrCat(which, " has no cadence (it neither steps nor repeats)");
       return note;
     }
-    period += share[k] * motion::NearestPeriod(styles[k].periods_s, cadence->period_s);
+    absl::StatusOr<double> r = motion::TempoRatio(*cadence, *styles[k].cadence);
+    if (!r.ok()) {
+      note.reason = std::string(r.status().message());
+      return note;
+    }
+    ratio += share[k] * *r;
     total += share[k];
   }
   if (total <= 0) {
     note.reason = "no style has a weight above 0";
     return note;
   }
-  note.style_period_s = period / total;
-  note.ratio = std::clamp(note.style_period_s / note.content_period_s, kMinTimeWarp, kMaxTimeWarp);
+  note.style_period_s = note.content_period_s * ratio / total;
+  note.ratio = std::clamp(ratio / total, kMinTimeWarp, kMaxTimeWarp);
   note.applied = true;
   return note;
 }
@@ -226,7 +229,7 @@ absl::StatusOr<StyleCode> StyleModel::EncodeStyle(const motion::Motion& clip,
   // The cadence is the rig's own: any rig, any rate.
   if (absl::StatusOr<motion::HumanoidRoles> roles = motion::HumanoidRolesOf(clip); roles.ok()) {
     if (absl::StatusOr<motion::Cadence> c = motion::FindCadence(clip, *roles); c.ok()) {
-      code->periods_s = c->candidates_s;
+      code->cadence = *std::move(c);
     }
   }
   return code;

@@ -15,6 +15,7 @@
 
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "model/config_text.h"
 #include "model/frame_streamer.h"
 #include "model/package.h"
+#include "motion/cadence.h"
 #include "motion/motion.h"
 #include "motion/postprocess.h"
 #include "motion/retarget.h"
@@ -35,9 +37,9 @@ class ContentGuard;
 // linearly.
 struct StyleCode {
   std::vector<float> values;
-  // The style clip's cadence candidates (motion/cadence.h), seconds per
-  // repeat, strongest first; empty when it has none (EncodeStyle fills them).
-  std::vector<double> periods_s = {};
+  // The style clip's cadence (motion/cadence.h); none when its motion does
+  // not repeat (EncodeStyle fills it in).
+  std::optional<motion::Cadence> cadence = std::nullopt;
 };
 
 // How styles mix over a clip: `fixed` (one weight per style) for the whole clip,
@@ -71,6 +73,8 @@ enum class Timing { kContent, kStyle };
 struct TimeWarpNote {
   bool applied = false;
   double ratio = 1;  // Output duration / content duration.
+  // The content's period (its strongest), and the style's at the same
+  // harmonic (content_period_s x ratio).
   double content_period_s = 0, style_period_s = 0;
   std::string reason;  // Why no warp was applied (when not applied).
 };

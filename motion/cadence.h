@@ -7,7 +7,6 @@
 
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "absl/status/statusor.h"
 #include "motion/humanoid.h"
@@ -16,32 +15,38 @@
 namespace stylus::motion {
 
 struct Cadence {
-  double period_s = 0;  // Seconds per repeat: the strongest candidate.
-  double strength = 0;  // The autocorrelation at that period (0-1).
-  // Every period whose peak is at least half as strong, strongest first. A
-  // walk repeats at its step and at its stride (two steps), and which one is
-  // stronger depends on how even the gait is; two clips are compared by
-  // their candidates nearest each other (NearestPeriod).
-  std::vector<double> candidates_s;
+  // Where the period comes from: the feet's steps (one foot's touchdown to
+  // the other's), or, for a clip that does not step, how the whole body
+  // moves (the autocorrelation of its speed relative to the root).
+  enum class Source { kSteps, kMotion };
+  Source source = Source::kMotion;
+  double period_s = 0;  // Seconds per repeat: per step, or per repeat of the motion.
+  // Steps: the share of step intervals within 15% of the period; motion: the
+  // autocorrelation at the period (0-1).
+  double strength = 0;
 };
-
-// The candidate nearest `period_s` by ratio (the first when equal).
-double NearestPeriod(const std::vector<double>& candidates_s, double period_s);
 
 // Periods searched (seconds), and how strongly the body-speed signal must
 // repeat to count as a cadence.
-inline constexpr double kMinPeriodS = 0.3, kMaxPeriodS = 2.5, kMinCadenceStrength = 0.25;
+inline constexpr double kMinPeriodS = 0.25, kMaxPeriodS = 2.5, kMinCadenceStrength = 0.25;
 
-// The clip's cadence: the signal is the summed speed of every joint
-// relative to the pelvis's floor point, per frame; the period is the lag of
-// the highest peak of its autocorrelation within [kMinPeriodS, kMaxPeriodS]
-// (and half the clip), which must reach kMinCadenceStrength, refined to a
-// fraction of a frame. The estimate is the biased one (each lag's sum over
-// the whole clip's energy), so that a multiple of the period, seen over
-// fewer frames, weighs less than the period itself: a walk's step, not its
-// stride, nor half a step. NOT_FOUND when the clip does not repeat (a single
-// punch, a bow) or is too short to show two periods.
+// The clip's cadence. Steps first: each foot is planted while its ankle or
+// toe is in contact (motion/contacts.h), a touchdown is where a foot becomes
+// planted, and the period is the median time from one foot's touchdown to
+// the other's (at least two such intervals, within [kMinPeriodS,
+// kMaxPeriodS]). Otherwise the motion: the signal is the summed speed of
+// every joint relative to the pelvis's floor point, and the period the lag of
+// the highest peak of its autocorrelation (the biased estimate, so that a
+// multiple of the period, seen over fewer frames, weighs less) within
+// [kMinPeriodS, kMaxPeriodS] and half the clip, which must reach
+// kMinCadenceStrength. NOT_FOUND when the clip neither steps nor repeats (a
+// single punch, a bow) or is too short to show two periods.
 absl::StatusOr<Cadence> FindCadence(const Motion& clip, const HumanoidRoles& roles);
+
+// How many times longer `to` takes per repeat than `from`. INVALID_ARGUMENT
+// when one steps and the other does not (a walk's steps and a wave's swings
+// are not the same kind of repeat).
+absl::StatusOr<double> TempoRatio(const Cadence& from, const Cadence& to);
 
 // `clip` played `ratio` times slower (ratio > 0): frame k of the result is
 // `clip` at time k * frame_time / ratio, translations interpolated linearly

@@ -22,15 +22,28 @@ TEST(CadenceTest, FindsTheStepPeriodOfSynthesizedWalks) {
   for (const auto& [spec, step_s] : std::vector<std::pair<std::string, double>>{
            {"normal,frames=150,speed=130,stride=125", 125.0 / 130 / 2},
            {"normal,frames=150,speed=100,stride=160", 160.0 / 100 / 2},
+           {"old,frames=90,speed=80,stride=110", 110.0 / 80 / 2},
            {"normal,frames=300,fps=60,speed=130,stride=125", 125.0 / 130 / 2}}) {
     const Motion walk = Walk(spec);
     absl::StatusOr<Cadence> c = FindCadence(walk, *HumanoidRolesOf(walk));
     ASSERT_TRUE(c.ok()) << spec << ": " << c.status();
-    // The step is a candidate (the stride may be the stronger one).
-    EXPECT_NEAR(NearestPeriod(c->candidates_s, step_s), step_s, 0.03 * step_s) << spec;
-    EXPECT_EQ(c->candidates_s.front(), c->period_s);
-    EXPECT_GT(c->strength, 0.3) << spec;
+    EXPECT_EQ(c->source, Cadence::Source::kSteps) << spec;
+    EXPECT_NEAR(c->period_s, step_s, 0.05 * step_s) << spec;
+    EXPECT_GT(c->strength, 0.7) << spec;
   }
+}
+
+TEST(CadenceTest, TempoRatiosCompareLikeWithLike) {
+  const Motion quick = Walk("normal,frames=90,speed=130,stride=125");
+  const Motion slow = Walk("old,frames=90,speed=80,stride=110");
+  const HumanoidRoles roles = *HumanoidRolesOf(quick);
+  const Cadence q = *FindCadence(quick, roles), s = *FindCadence(slow, roles);
+  const double want = (110.0 / 80) / (125.0 / 130);
+  EXPECT_NEAR(*TempoRatio(q, s), want, 0.07 * want);
+  EXPECT_NEAR(*TempoRatio(s, q), 1 / want, 0.07 / want);
+  // Steps and a motion that does not step do not compare.
+  Cadence waving{Cadence::Source::kMotion, 0.8, 0.9};
+  EXPECT_EQ(TempoRatio(q, waving).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 TEST(CadenceTest, AClipThatDoesNotRepeatHasNone) {
@@ -51,9 +64,9 @@ TEST(CadenceTest, AClipThatDoesNotRepeatHasNone) {
 
 TEST(CadenceTest, RealWalksStepAboutTwiceASecond) {
   STYLUS_REQUIRE_BANDAI(dir);
-  for (const char* name : {"dataset-1/dataset-1_walk_normal_001.bvh",
-                           "dataset-1/dataset-1_walk_old_001.bvh",
-                           "dataset-2/dataset-2_walk_elderly_001.bvh"}) {
+  for (const char* name :
+       {"dataset-1/dataset-1_walk_normal_001.bvh", "dataset-1/dataset-1_walk_old_001.bvh",
+        "dataset-2/dataset-2_walk_elderly_001.bvh"}) {
     const Motion clip = *ReadBvhFile(dir + "/" + name);
     absl::StatusOr<Cadence> c = FindCadence(clip, *HumanoidRolesOf(clip));
     ASSERT_TRUE(c.ok()) << name << ": " << c.status();
@@ -63,7 +76,8 @@ TEST(CadenceTest, RealWalksStepAboutTwiceASecond) {
     const Motion fast = Resample(clip, 1.0 / 120);
     absl::StatusOr<Cadence> f = FindCadence(fast, *HumanoidRolesOf(fast));
     ASSERT_TRUE(f.ok()) << name << ": " << f.status();
-    EXPECT_NEAR(NearestPeriod(f->candidates_s, c->period_s), c->period_s, 0.02) << name;
+    EXPECT_EQ(c->source, Cadence::Source::kSteps) << name;
+    EXPECT_NEAR(f->period_s, c->period_s, 0.02) << name;
   }
 }
 
@@ -73,15 +87,14 @@ TEST(TimeWarpTest, PlaysTheClipSlowerOrFasterAndKeepsItsEnds) {
     const Motion out = TimeWarp(walk, ratio);
     EXPECT_EQ(out.num_frames, static_cast<int>(std::lround(90 * ratio)) + 1) << ratio;
     EXPECT_DOUBLE_EQ(out.frame_time, walk.frame_time);
-    EXPECT_LT(MaxPositionDifference(Resample(out, out.frame_time, 1),
-                                    Resample(walk, walk.frame_time, 1)),
-              1e-6);
+    EXPECT_LT(
+        MaxPositionDifference(Resample(out, out.frame_time, 1), Resample(walk, walk.frame_time, 1)),
+        1e-6);
     // Same path, so the mean speed scales by 1 / ratio.
     const HumanoidRoles roles = *HumanoidRolesOf(walk);
     absl::StatusOr<Cadence> before = FindCadence(walk, roles), after = FindCadence(out, roles);
     ASSERT_TRUE(before.ok() && after.ok()) << ratio;
-    const double want = before->period_s * ratio;
-    EXPECT_NEAR(NearestPeriod(after->candidates_s, want), want, 0.04 * want) << ratio;
+    EXPECT_NEAR(*TempoRatio(*before, *after), ratio, 0.06 * ratio) << ratio;
     for (int c = 0; c < walk.skeleton.num_channels(); ++c) {
       EXPECT_NEAR(out.frame(out.num_frames - 1)[c], walk.frame(walk.num_frames - 1)[c], 1e-6)
           << "channel " << c << " at ratio " << ratio;

@@ -49,6 +49,10 @@ check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model contrasti
 check "transfer --postprocess none" 0 "wrote" -- "$cli" "${s[@]}" transfer --postprocess none --content "$walk" --style "$old" -o "$work/raw.bvh"
 check "transfer" 0 "wrote .*out.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/out.bvh"
 check "transfer output is BVH" 0 "HIERARCHY" -- head -1 "$work/out.bvh"
+check "transfer --timing style" 0 "wrote .*timed.bvh \(162 frames\) \(style timing: cadence 0\.47 s -> 0\.63 s, played 1\.36x as long\)" -- \
+  "$cli" "${s[@]}" transfer --content "$walk" --style "$old" --timing style -o "$work/timed.bvh"
+check "transfer --timing bad" 1 "--timing must be content or style" -- "$cli" "${s[@]}" transfer \
+  --content "$walk" --style "$old" --timing beat -o "$work/x.bvh"
 check "transfer --model" 0 "wrote" -- "$cli" "${s[@]}" transfer --model contrastive/v5 --content "$walk" --style "$old" -o "$work/out2.bvh"
 check "interpolate" 0 "wrote .*mix_2.bvh \(weights 0:1\)" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,0.5,1 -o "$work/mix"
 check "interpolate files" 0 "mix_0.bvh" -- ls "$work/mix_0.bvh" "$work/mix_1.bvh" "$work/mix_2.bvh"

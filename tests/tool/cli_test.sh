@@ -67,6 +67,18 @@ check "train --channels" 0 "model written to $work/narrow" -- "$tool" train --da
 check "train --channels in the package" 0 "^channels = 24$" -- cat "$work/narrow/config.txt"
 check "the narrow package transfers" 0 "wrote .*narrow_out.bvh" -- "$tool" transfer --model "$work/narrow" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/narrow_out.bvh" --threads 1
+# Style timing: a walk at a step every 0.48 s restyled by one stepping every 0.69 s.
+"$tool" synth --style "normal,frames=90,speed=130,stride=125" -o "$work/quick.bvh" >/dev/null
+"$tool" synth --style "old,frames=90,speed=80,stride=110" -o "$work/slow.bvh" >/dev/null
+check "transfer --timing style" 0 "style timing: cadence 0\\.4[5-9] s -> 0\\.(6[5-9]|7[0-4]) s, played 1\\.[45][0-9]x as long: 90 frames -> 1[2-4][0-9]\\)" -- \
+  "$tool" transfer --model "$work/narrow" --content "$work/quick.bvh" --style "$work/slow.bvh" \
+  -o "$work/timed.bvh" --timing style --threads 1
+check "transfer --timing style output" 0 "frames: 1[2-4][0-9]" -- "$tool" bvh-info "$work/timed.bvh"
+check "transfer --timing bad" 1 "--timing must be content or style" -- "$tool" transfer \
+  --model "$work/narrow" --content "$work/quick.bvh" --style "$work/slow.bvh" -o "$work/x.bvh" --timing beat
+check "train --dynamics-weight" 0 "iter 2/2 .*dyn [0-9.]+" -- "$tool" train --data "$work/quick.bvh" \
+  --data "$work/slow.bvh" --out "$work/dyn" --iters 2 --batch 2 --log-every 1 --threads 1 --dynamics-weight 1
+check "train --dynamics-weight in the package" 0 "^dynamics_weight = 1$" -- cat "$work/dyn/config.txt"
 # The content guard on the narrow package, trained on the two clips under Bandai names.
 cp "$work/old.bvh" "$work/dataset-1_walk_old_1.bvh"
 cp "$work/proud.bvh" "$work/dataset-1_run_proud_1.bvh"
@@ -79,6 +91,9 @@ check "train-guard" 0 "2 guards written to .*narrow" -- "$tool" train-guard \
   --model "$work/narrow" --data "$work/dataset-1_walk_old_1.bvh" \
   --data "$work/dataset-1_run_proud_1.bvh" --iters 3 --guards 2 --threads 1
 check "train-guard files" 0 "^guards = 2$" -- cat "$work/narrow/guard.txt"
+check "train --leave-out-style" 0 "read 1 clips .*left out 1 clips of the styles left out" -- "$tool" train \
+  --data "$work/dataset-1_walk_old_1.bvh" --data "$work/dataset-1_run_proud_1.bvh" --leave-out-style proud \
+  --out "$work/without_proud" --iters 1 --batch 2 --threads 1
 printf 'content_guard = 1\nguard_strengths = 0.5,0\n' >> "$work/narrow/config.txt"
 check "the guarded package transfers" 0 "wrote .*guarded_out.bvh" -- "$tool" transfer \
   --model "$work/narrow" --content "$work/old.bvh" --style "$work/proud.bvh" \
@@ -212,7 +227,7 @@ check "bvh-splice without --part" 2 "expected BASE, DONOR, --part and -o" -- \
 
 # The shipped judges read the sample clips (on the Bandai skeleton).
 judges=$src/models/judges/v1
-check "judge" 0 "walk_normal.bvh	style: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}	content: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}$" -- \
+check "judge" 0 "walk_normal.bvh	style: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}	content: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}	motion-only style: [a-z-]+ [01]\.[0-9]{3}, [a-z-]+ [01]\.[0-9]{3}$" -- \
   "$tool" judge --judges "$judges" --top 2 "$src/samples/walk_normal.bvh"
 check "judge one line per clip" 0 "run.bvh	style: .*content: [a-z-]+ [01]\.[0-9]{3}, " -- \
   "$tool" judge --judges "$judges" "$src/samples/walk_old.bvh" "$src/samples/run.bvh"

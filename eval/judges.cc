@@ -20,6 +20,7 @@
 #include "motion/features.h"
 #include "motion/files.h"
 #include "motion/splice.h"
+#include "train/training_run.h"
 #include "train/training_set.h"
 
 namespace stylus::model {
@@ -86,13 +87,7 @@ struct Judges::Impl {
 };
 
 absl::StatusOr<JudgeAccuracy> TrainJudges(const JudgeTrainOptions& o) {
-  auto log = [&](const std::string& s) {
-    if (o.log) {
-      o.log(s);
-    } else {
-      std::fprintf(stderr, "%s\n", s.c_str());
-    }
-  };
+  auto log = [&](const std::string& s) { LogLine(o.log, s); };
   absl::StatusOr<TrainingSet> train = LoadTrainingSet(o.data, {kJudgeWindow, kJudgeHop});
   if (!train.ok()) return train.status();
   absl::StatusOr<TrainingSet> test =

@@ -17,6 +17,7 @@
 #include "model/package.h"
 #include "motion/files.h"
 #include "motion/normalization.h"
+#include "train/training_run.h"
 #include "train/training_set.h"
 
 namespace stylus::model {
@@ -116,13 +117,7 @@ motion::Motion Frozen(const motion::Motion& clip) {
 }
 
 absl::StatusOr<MotionJudgeAccuracy> TrainMotionJudge(const JudgeTrainOptions& o) {
-  auto log = [&](const std::string& s) {
-    if (o.log) {
-      o.log(s);
-    } else {
-      std::fprintf(stderr, "%s\n", s.c_str());
-    }
-  };
+  auto log = [&](const std::string& s) { LogLine(o.log, s); };
   absl::StatusOr<TrainingSet> train = LoadTrainingSet(o.data, {kJudgeWindow, kJudgeHop});
   if (!train.ok()) return train.status();
   std::vector<motion::Motion> test_motions;

@@ -125,6 +125,10 @@ def inside(port, cli, src, work):
     check("interpolate", len(blend.frames) == len(walk.frames))
     code = stylus.encode_style(old, save_as="old")
     check("encode_style", len(code) > 0)
+    timed = stylus.transfer(walk, old, timing="style")
+    check("style timing warps the output", timed.time_warp["applied"]
+          and len(timed.frames) == round((len(walk.frames) - 1) * timed.time_warp["ratio"]) + 1
+          and len(timed.frames) != len(walk.frames), (len(timed.frames), timed.time_warp))
     named = stylus.transfer(walk, "old")
     check("transfer by saved name", len(named.frames) == len(walk.frames))
 
@@ -169,6 +173,7 @@ def inside(port, cli, src, work):
             check(name, False, "%s: %s" % (type(e).__name__, e))
 
     raises("unknown model is NotFound", NotFound, lambda: stylus.transfer(walk, old, model="nope/v1"))
+    raises("bad timing is a ValueError", ValueError, lambda: stylus.transfer(walk, old, timing="beat"))
     three = read_bvh(os.path.join(src, "tests", "fixtures", "bvh", "good", "three_joint.bvh"))
     raises("a rig that is no humanoid is InvalidArgument", InvalidArgument,
            lambda: stylus.transfer(three, old), "not a humanoid rig")

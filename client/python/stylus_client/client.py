@@ -176,14 +176,32 @@ class Client:
     # -- style -----------------------------------------------------------
 
     def transfer(self, content: Clip, style: StyleLike, *, model: str = "",
-                 postprocess: str = "default", joint_map: Optional[Dict[str, str]] = None) -> Clip:
+                 postprocess: str = "default", joint_map: Optional[Dict[str, str]] = None,
+                 timing: str = "content") -> Clip:
         """``content`` with the style of ``style``, on the content's own skeleton
         (another humanoid rig is retargeted both ways; ``joint_map``:
-        role -> joint name for roles not to guess, e.g. {"left_foot": "LFoot"})."""
-        request = stylus_pb2.TransferRequest(model=model, postprocess=self._postprocess(postprocess))
+        role -> joint name for roles not to guess, e.g. {"left_foot": "LFoot"}).
+
+        ``timing="style"`` gives the output the style clip's cadence by a
+        uniform time warp (its length changes); the returned clip's
+        ``time_warp`` then says what was done: a dict with ``applied``,
+        ``ratio`` (output duration / content duration), ``content_period_s``,
+        ``style_period_s`` and ``reason`` (why not, when not applied)."""
+        if timing not in ("content", "style"):
+            raise ValueError("timing must be 'content' or 'style', got %r" % timing)
+        request = stylus_pb2.TransferRequest(
+            model=model, postprocess=self._postprocess(postprocess),
+            timing=stylus_pb2.TIMING_STYLE if timing == "style" else stylus_pb2.TIMING_CONTENT)
         request.content.CopyFrom(wire.clip_to_proto(content, joint_map))
         self._style_ref(style, request.style, self._same_rig_map(style, content, joint_map))
-        return wire.clip_from_proto(self._call("Transfer", request).output)
+        response = self._call("Transfer", request)
+        out = wire.clip_from_proto(response.output)
+        if timing == "style":
+            w = response.time_warp
+            out.time_warp = {"applied": w.applied, "ratio": w.ratio,
+                             "content_period_s": w.content_period_s,
+                             "style_period_s": w.style_period_s, "reason": w.reason}
+        return out
 
     def interpolate(self, content: Clip, styles: Sequence[StyleLike], *,
                     weights: Optional[Sequence[float]] = None,

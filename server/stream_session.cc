@@ -514,7 +514,6 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
       if (outcome_.frames > 0) m->Frames(outcome_.model, "stream", outcome_.frames);
     }
     // Counted out last: once no stream is open, every stream's line is logged.
-    MarkAnswered(service_);
     service_->open_streams.fetch_sub(1);
     delete this;
   }

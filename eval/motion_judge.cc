@@ -80,10 +80,7 @@ motion::FeatureClip MotionChannels(const motion::FeatureClip& f, const motion::S
                                    const motion::HumanoidRoles& roles, double frame_time) {
   const int num_joints = skeleton.num_joints();
   const motion::FeatureLayout layout(num_joints);
-  std::vector<bool> moves(num_joints, true);  // Below the pelvis, or the pelvis.
-  for (int j = skeleton.joint(roles.pelvis).parent; j >= 0; j = skeleton.joint(j).parent) {
-    moves[j] = false;
-  }
+  const std::vector<bool> above = motion::AbovePelvis(skeleton, roles);
   motion::FeatureClip out;
   out.frames = f.frames;
   out.dim = 3 * num_joints + 4;
@@ -95,7 +92,7 @@ motion::FeatureClip MotionChannels(const motion::FeatureClip& f, const motion::S
       const int a = std::min(t, f.frames - 2);
       const float *p = f.row(a), *q = f.row(a + 1);
       for (int j = 0; j < num_joints; ++j) {
-        if (!moves[j]) continue;
+        if (above[j]) continue;
         for (int c = 3 * j; c < 3 * j + 3; ++c) o[c] = (q[c] - p[c]) * per_second;
       }
     }

@@ -18,13 +18,6 @@ double FacingYaw(const std::vector<Vec3>& p, const HumanoidRoles& r) {
   return std::atan2(forward.x, forward.z);
 }
 
-// Joints strictly above the pelvis: stored parent-relative, not root-relative.
-std::vector<bool> AbovePelvis(const Skeleton& sk, const HumanoidRoles& r) {
-  std::vector<bool> above(sk.num_joints(), false);
-  for (int j = sk.joint(r.pelvis).parent; j >= 0; j = sk.joint(j).parent) above[j] = true;
-  return above;
-}
-
 // Frame pose features into `row` (positions and rotations; the rotation
 // signs continue from `prev_q`, or CanonicalSign when `first`); returns
 // the global positions, with the root and facing yaw.
@@ -59,6 +52,12 @@ void TrajectoryRow(const FeatureLayout& layout, const Vec3& root_a, double yaw_a
 }
 
 }  // namespace
+
+std::vector<bool> AbovePelvis(const Skeleton& sk, const HumanoidRoles& r) {
+  std::vector<bool> above(sk.num_joints(), false);
+  for (int j = sk.joint(r.pelvis).parent; j >= 0; j = sk.joint(j).parent) above[j] = true;
+  return above;
+}
 
 FeatureStream::FeatureStream(const Skeleton& skeleton, const HumanoidRoles& roles,
                              double frame_time, ContactParams contacts)

@@ -62,6 +62,11 @@ struct RootStart {
   double yaw = 0;       // Facing, radians about +Y (0 faces +Z).
 };
 
+// Joints strictly above the pelvis (a root the pelvis hangs from): their
+// position channels hold their parent-relative translation, not a position
+// relative to the character root.
+std::vector<bool> AbovePelvis(const Skeleton& skeleton, const HumanoidRoles& roles);
+
 // Features of every frame. INVALID_ARGUMENT if the motion has no frames.
 // `sign_reference` (one per joint), when given, stands for the feature
 // quaternions of the frame before the motion's first: the first frame's signs

@@ -27,13 +27,10 @@ torch::Tensor GramMatrix(const torch::Tensor& m) {
 DynamicsStyle::DynamicsStyle(const TrainingSet& data) {
   const motion::Skeleton& sk = data.skeleton;
   const motion::FeatureLayout layout(sk.num_joints());
-  std::vector<bool> moves(sk.num_joints(), true);
-  for (int j = sk.joint(data.roles.pelvis).parent; j >= 0; j = sk.joint(j).parent) {
-    moves[j] = false;
-  }
+  const std::vector<bool> above = motion::AbovePelvis(sk, data.roles);
   std::vector<int64_t> channels;
   for (int j = 0; j < sk.num_joints(); ++j) {
-    if (!moves[j]) continue;
+    if (above[j]) continue;
     for (int c = 0; c < 3; ++c) channels.push_back(layout.position(j) + c);
   }
   position_channels_ = torch::tensor(channels, torch::kLong);
@@ -42,11 +39,10 @@ DynamicsStyle::DynamicsStyle(const TrainingSet& data) {
   std::vector<torch::Tensor> vel;
   for (const motion::FeatureClip& clip : data.clips) {
     if (clip.frames < 3) continue;
-    const torch::Tensor x =
-        torch::from_blob(const_cast<float*>(clip.values.data()), {clip.frames, clip.dim},
-                         torch::kFloat32)
-            .t()
-            .unsqueeze(0);
+    const torch::Tensor x = torch::from_blob(const_cast<float*>(clip.values.data()),
+                                             {clip.frames, clip.dim}, torch::kFloat32)
+                                .t()
+                                .unsqueeze(0);
     vel.push_back(Unscaled(x));
   }
   if (vel.empty()) return;

@@ -4,6 +4,9 @@
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 
+#include <chrono>
+#include <thread>
+
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/synchronization/notification.h"
@@ -184,6 +187,33 @@ ServerLoad StylusServer::load() const {
   return load;
 }
 
+namespace {
+
+// Waits, until `deadline` at the latest, for every accepted unary call to be
+// answered, and then for the last answer to be a moment old. gRPC closes a
+// connection as soon as its last call is over; closing a socket that still
+// holds part of a large reply can reset the connection and lose the reply
+// (seen on a 3000-frame Transfer answered just before shutdown). Streams are
+// not waited for here: a drained stream ends when its client has read the
+// last frames, which can take until gRPC's own shutdown.
+void WaitForUnaryAnswers(const ServiceContext& context,
+                         std::chrono::system_clock::time_point deadline) {
+  constexpr auto kPoll = std::chrono::milliseconds(5);
+  constexpr auto kLinger = std::chrono::milliseconds(300);
+  while (std::chrono::system_clock::now() < deadline && context.unary_calls.load() > 0) {
+    std::this_thread::sleep_for(kPoll);
+  }
+  const auto last_answer = std::chrono::steady_clock::time_point(
+      std::chrono::nanoseconds(context.last_answer_ns.load()));
+  const auto linger_until = last_answer + kLinger;
+  while (std::chrono::system_clock::now() < deadline &&
+         std::chrono::steady_clock::now() < linger_until) {
+    std::this_thread::sleep_for(kPoll);
+  }
+}
+
+}  // namespace
+
 void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
   {
     absl::MutexLock lock(&impl_->mu);
@@ -191,11 +221,14 @@ void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
     impl_->shut_down = true;
   }
   impl_->server->GetHealthCheckService()->SetServingStatus(false);
+  ServiceContext& context = impl_->context;
+  context.refusing_calls = true;
   // Streams stop taking frames, return the ones they took and end; unary
   // calls run to their end. Both until `deadline`, then they are cancelled.
-  const int drained = impl_->context.streams.DrainAll();
+  const int drained = context.streams.DrainAll();
   spdlog::info("shutting down: no new calls; {} open stream(s) drained, in-flight calls may finish",
                drained);
+  WaitForUnaryAnswers(context, deadline);
   impl_->server->Shutdown(deadline);
   // Calls are over; the batcher runs the steps it holds, the executor what
   // it accepted; then both stop.

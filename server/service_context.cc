@@ -28,6 +28,12 @@ void CountUnary(Metrics* metrics, const char* grpc_service, const std::string& r
 
 }  // namespace
 
+void MarkAnswered(ServiceContext* service) {
+  service->last_answer_ns.store(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                    std::chrono::steady_clock::now().time_since_epoch())
+                                    .count());
+}
+
 absl::Status CheckJoints(const ServiceContext& service, int joints, const std::string& what) {
   if (joints <= service.limits.max_joints) return absl::OkStatus();
   return absl::ResourceExhaustedError(absl::StrCat(what, ": ", joints,
@@ -77,6 +83,9 @@ grpc::ServerUnaryReactor* RunUnaryCall(ServiceContext* service, grpc::CallbackSe
   }
   absl::Status refused = CheckToken(*service, ctx);
   if (refused.ok()) refused = parsed;
+  if (refused.ok() && service->refusing_calls.load()) {
+    refused = absl::UnavailableError("the server is shutting down");
+  }
   // Counted from here until the call is answered; over the cap, refused.
   const int calls = service->unary_calls.fetch_add(1) + 1;
   if (refused.ok() && calls > service->limits.max_unary_calls) {
@@ -104,6 +113,7 @@ grpc::ServerUnaryReactor* RunUnaryCall(ServiceContext* service, grpc::CallbackSe
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     LogCall(rpc, origin, outcome, ms);
     CountUnary(metrics, grpc_service, rpc, outcome, ms / 1000);
+    MarkAnswered(service);  // Before the count drops, so shutdown's wait sees it.
     service->unary_calls.fetch_sub(1);
     reactor->Finish(ToGrpcStatus(outcome.status));
   };

@@ -53,7 +53,17 @@ struct ServiceContext {
   std::atomic<int> open_streams{0};
   OpenStreams streams;  // Drained at shutdown.
   std::atomic<int> unary_calls{0};  // Accepted and not yet answered.
+  // Set when shutdown begins: new unary calls end UNAVAILABLE unrun.
+  std::atomic<bool> refusing_calls{false};
+  // When a unary call was last answered (steady clock, ns since its epoch): shutdown
+  // keeps the connections open a moment after it, so that a large reply
+  // still in the socket's buffer reaches its client before the connection
+  // closes.
+  std::atomic<int64_t> last_answer_ns{0};
 };
+
+// Records that a call has just been answered (ServiceContext::last_answer_ns).
+void MarkAnswered(ServiceContext* service);
 
 // A clip from a request, within the limits: RESOURCE_EXHAUSTED naming `what`,
 // the size and the flag for one over --max-clip-frames or --max-joints;

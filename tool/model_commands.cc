@@ -28,7 +28,7 @@ int Train(const Argv& argv) {
       "usage: stylus-tool train --family contrastive --data DIR... --out "
       "models/contrastive/VERSION\n"
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
-      "         [--no-nce] [--no-tri] [--same-view] [--seed S] [--resume]\n"
+      "         [--no-nce] [--no-tri] [--same-view] [--style-from-motion] [--seed S] [--resume]\n"
       "         [--random-starts] [--mirror] [--residual] [--channels 144]\n"
       "         [--content-weight W] [--dynamics-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
@@ -45,6 +45,9 @@ int Train(const Argv& argv) {
       "--same-view takes each window's style code from the window itself (the\n"
       "paper); by default it comes from another window of the same clip\n"
       "(docs/families.md).\n"
+      "--style-from-motion feeds the style encoder each feature's change from\n"
+      "frame to frame instead of the features: style codes say how the body\n"
+      "moves, not how it is posed.\n"
       "--smooth-sigma S stores the inference smoothing of generated windows\n"
       "(smooth_sigma in config.txt; the shipped default model uses 3; 0: off).\n"
       "--random-starts starts each content window anywhere in its clip instead\n"
@@ -138,7 +141,7 @@ int Train(const Argv& argv) {
                     "labels",
                     "skeleton",
                     "leave-out-style"},
-                   {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
+                   {"no-nce", "no-tri", "same-view", "style-from-motion", "resume", "guided", "keep-path", "pair-gan",
                     "random-starts", "mirror", "residual", "live", "frame-residual"}},
                   kHelp, &code);
   if (!args) return code;
@@ -175,6 +178,7 @@ int Train(const Argv& argv) {
   c.use_nce = !args->switches.count("no-nce");
   c.use_tri = !args->switches.count("no-tri");
   c.cross_view = !args->switches.count("same-view");
+  c.style_from_motion = args->switches.count("style-from-motion") > 0;
   c.random_starts = args->switches.count("random-starts") > 0;
   c.mirror = args->switches.count("mirror") > 0;
   c.residual = args->switches.count("residual") > 0;

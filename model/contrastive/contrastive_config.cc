@@ -20,6 +20,7 @@ std::string ContrastiveConfig::Serialize() const {
   put("dim", absl::StrCat(dim));
   put("channels", absl::StrCat(channels));
   put("res_kernel", absl::StrCat(res_kernel));
+  if (style_from_motion) put("style_from_motion", "1");
   if (live) {
     put("live", "1");
     put("lookahead", absl::StrCat(lookahead));
@@ -91,6 +92,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
       return s;
     }
     if (key == "live") return e.Bool(&c.live);
+    if (key == "style_from_motion") return e.Bool(&c.style_from_motion);
     if (key == "lookahead") return e.Int(&c.lookahead, 1, 2);
     if (key == "frame_residual") return e.Bool(&c.frame_residual);
     if (key == "dilation_growth") return e.Int(&c.dilation_growth, 1, 4);

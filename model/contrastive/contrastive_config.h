@@ -43,6 +43,11 @@ struct ContrastiveConfig : GuardKeys {
   // back for the same cost per frame (1: no dilation; 2: the generator's
   // three blocks look 2, 4 and 8 frames apart per tap).
   int dilation_growth = 1;
+  // The style encoder reads how each feature changes from frame to frame
+  // (FrameChanges, contrastive_net.h), not the features themselves: a style
+  // code can say how the body moves (gait, rhythm, amplitude) but not how it
+  // is posed. A style clip that does not move has one code whatever its pose.
+  bool style_from_motion = false;
   // Inference keys (InferenceKeys(), with the guard's of GuardKeys; may be
   // set at load time). With `keep_path`, a transfer's root trajectory and
   // foot contacts are the content clip's (the style restyles the body along

@@ -101,8 +101,15 @@ torch::Tensor DiscriminatorImpl::forward(const torch::Tensor& x) {
   return mlp->forward(x).squeeze(1);
 }
 
+torch::Tensor FrameChanges(const torch::Tensor& x) {
+  const int64_t t = x.size(2);
+  const torch::Tensor d = x.slice(2, 1, t) - x.slice(2, 0, t - 1);
+  return torch::cat({d.slice(2, 0, 1), d}, 2) * kFrameChangeScale;
+}
+
 ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c) {
   frame_residual = c.frame_residual;
+  style_from_motion = c.style_from_motion;
   if (c.live) {
     live_content = register_module("live_content", LiveContentEncoder(c));
     style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));

@@ -31,6 +31,13 @@ struct EncoderImpl : torch::nn::Module {
 };
 TORCH_MODULE(Encoder);
 
+// What the style encoder reads with `style_from_motion`: each channel's
+// change from the frame before, times kFrameChangeScale (normalized features
+// move about a tenth of their spread per frame at 30 fps); the first frame
+// takes the second's change. (B, C, T) -> (B, C, T), T >= 2.
+inline constexpr double kFrameChangeScale = 10;
+torch::Tensor FrameChanges(const torch::Tensor& x);
+
 // Residual block whose two normalizations are AdaIN with given scale and bias.
 struct AdaInBlockImpl : torch::nn::Module {
   AdaInBlockImpl(int channels, int kernel);
@@ -71,8 +78,11 @@ struct ContrastiveNetImpl : torch::nn::Module {
   torch::Tensor content(const torch::Tensor& x) {
     return live_content ? live_content->forward(x) : content_encoder->forward(x);
   }
-  // (B, C): temporal mean of the style encoder's output.
-  torch::Tensor style(const torch::Tensor& x) { return style_encoder->forward(x).mean(2); }
+  // (B, C): temporal mean of the style encoder's output, on the windows'
+  // FrameChanges with `style_from_motion`.
+  torch::Tensor style(const torch::Tensor& x) {
+    return style_encoder->forward(style_from_motion ? FrameChanges(x) : x).mean(2);
+  }
   // `s`: (B, C); a live package also takes (B, C, T), a code per frame.
   torch::Tensor decode(const torch::Tensor& c, const torch::Tensor& s) {
     return live_generator ? live_generator->forward(c, s) : generator->forward(c, s);
@@ -86,6 +96,7 @@ struct ContrastiveNetImpl : torch::nn::Module {
   Encoder content_encoder{nullptr}, style_encoder{nullptr};
   Generator generator{nullptr};
   bool frame_residual = false;
+  bool style_from_motion = false;
   LiveContentEncoder live_content{nullptr};  // Live packages only, with...
   LiveGenerator live_generator{nullptr};     // ...this generator.
   torch::Tensor nce_w;

@@ -79,6 +79,14 @@ check "transfer --timing bad" 1 "--timing must be content or style" -- "$tool" t
 check "train --dynamics-weight" 0 "iter 2/2 .*dyn [0-9.]+" -- "$tool" train --data "$work/quick.bvh" \
   --data "$work/slow.bvh" --out "$work/dyn" --iters 2 --batch 2 --log-every 1 --threads 1 --dynamics-weight 1
 check "train --dynamics-weight in the package" 0 "^dynamics_weight = 1$" -- cat "$work/dyn/config.txt"
+check "train --style-from-motion" 0 "model written to $work/motion_style" -- "$tool" train \
+  --data "$work/quick.bvh" --data "$work/slow.bvh" --out "$work/motion_style" --iters 2 --batch 2 \
+  --threads 1 --channels 24 --style-from-motion
+check "train --style-from-motion in the package" 0 "^style_from_motion = 1$" -- \
+  cat "$work/motion_style/config.txt"
+check "the motion-style package transfers" 0 "wrote .*motion_style_out.bvh" -- "$tool" transfer \
+  --model "$work/motion_style" --content "$work/quick.bvh" --style "$work/slow.bvh" \
+  -o "$work/motion_style_out.bvh" --threads 1
 # The content guard on the narrow package, trained on the two clips under Bandai names.
 cp "$work/old.bvh" "$work/dataset-1_walk_old_1.bvh"
 cp "$work/proud.bvh" "$work/dataset-1_run_proud_1.bvh"

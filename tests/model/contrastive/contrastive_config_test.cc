@@ -13,7 +13,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   c.content_weight = 0.5, c.guided = true, c.class_weight = 2, c.cycle_weight = 3;
   c.content_class_weight = 2.5, c.content_balance = 0.5;
   c.pair_gan = true, c.keep_path = true, c.smooth_sigma = 1.5, c.style_strength = 0.7;
-  c.residual = true, c.random_starts = true, c.mirror = true;
+  c.residual = true, c.random_starts = true, c.mirror = true, c.style_from_motion = true;
   c.batch = 8, c.lr = 3e-4, c.iterations = 123, c.seed = 99, c.trained_iterations = 77;
   c.data = "../shared/data/bandai", c.commit = "abc123";
   absl::StatusOr<ContrastiveConfig> back = ContrastiveConfig::Parse(c.Serialize(), "config.txt");
@@ -27,6 +27,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_TRUE(back->residual);
   EXPECT_TRUE(back->random_starts);
   EXPECT_TRUE(back->mirror);
+  EXPECT_TRUE(back->style_from_motion);
   EXPECT_DOUBLE_EQ(back->content_class_weight, 2.5);
   EXPECT_DOUBLE_EQ(back->content_balance, 0.5);
 }

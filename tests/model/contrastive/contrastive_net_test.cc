@@ -91,5 +91,38 @@ TEST(SmoothOverTimeTest, KeepsSlowMotionAndRemovesShake) {
   EXPECT_TRUE(SmoothOverTime(x, 0).equal(x));
 }
 
+TEST(FrameChangesTest, GivesEachChannelsChangeFromTheFrameBefore) {
+  const torch::Tensor x = torch::arange(0, 12, torch::kFloat).pow(2).reshape({1, 2, 6});
+  const torch::Tensor d = FrameChanges(x);
+  ASSERT_EQ(d.sizes(), x.sizes());
+  for (int c = 0; c < 2; ++c) {
+    for (int t = 1; t < 6; ++t) {
+      EXPECT_FLOAT_EQ(d[0][c][t].item<float>(),
+                      kFrameChangeScale * (x[0][c][t] - x[0][c][t - 1]).item<float>());
+    }
+    EXPECT_FLOAT_EQ(d[0][c][0].item<float>(), d[0][c][1].item<float>());
+  }
+}
+
+TEST(ContrastiveNetTest, StyleFromMotionGivesAStillClipOneCodeWhateverItsPose) {
+  torch::manual_seed(2);
+  ContrastiveConfig c = Tiny();
+  c.style_from_motion = true;
+  ContrastiveNet net(c);
+  // Two clips frozen in different poses, and one that moves.
+  const torch::Tensor pose_a = torch::randn({1, 10, 1}), pose_b = torch::randn({1, 10, 1});
+  const torch::Tensor still_a = pose_a.expand({1, 10, 16}).contiguous();
+  const torch::Tensor still_b = pose_b.expand({1, 10, 16}).contiguous();
+  const torch::Tensor moving = still_a + 0.3 * torch::randn({1, 10, 16});
+  const torch::Tensor a = net->style(still_a), b = net->style(still_b), m = net->style(moving);
+  EXPECT_LT((a - b).abs().max().item<float>(), 1e-6);
+  EXPECT_GT((a - m).abs().max().item<float>(), 1e-3);
+  // Without the option the frozen poses differ.
+  c.style_from_motion = false;
+  torch::manual_seed(2);
+  ContrastiveNet pose_net(c);
+  EXPECT_GT((pose_net->style(still_a) - pose_net->style(still_b)).abs().max().item<float>(), 1e-3);
+}
+
 }  // namespace
 }  // namespace stylus::model

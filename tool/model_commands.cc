@@ -31,6 +31,7 @@ int Train(const Argv& argv) {
       "         [--no-nce] [--no-tri] [--same-view] [--style-from-motion] [--seed S] [--resume]\n"
       "         [--random-starts] [--mirror] [--residual] [--channels 144]\n"
       "         [--content-weight W] [--dynamics-weight W] [--smooth-sigma S] [--threads N]\n"
+      "         [--teacher PACKAGE [--teacher-weight 1]]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
@@ -62,6 +63,11 @@ int Train(const Argv& argv) {
       "target style (with --guided: doing the content's action when the data has\n"
       "it), so the style shows in how the body moves, not only in its pose\n"
       "(default 0: off).\n"
+      "--teacher PACKAGE distils an offline contrastive package (trained on the\n"
+      "same data): --teacher-weight W x the L1 distance between each transfer's\n"
+      "pose and the teacher's transfer of the same windows (its content guard,\n"
+      "which reads whole clips, is not applied). For live packages, which then\n"
+      "learn frame by frame what a model that sees whole windows does.\n"
       "--guided trains with the clips' style and content labels (from the Bandai\n"
       "file names): the reconstruction takes its style code from a clip of the\n"
       "same style doing something else, the transfer from a clip of another\n"
@@ -140,9 +146,12 @@ int Train(const Argv& argv) {
                     "hop",
                     "labels",
                     "skeleton",
-                    "leave-out-style"},
-                   {"no-nce", "no-tri", "same-view", "style-from-motion", "resume", "guided", "keep-path", "pair-gan",
-                    "random-starts", "mirror", "residual", "live", "frame-residual"}},
+                    "leave-out-style",
+                    "teacher",
+                    "teacher-weight"},
+                   {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
+                    "random-starts", "mirror", "residual", "live", "frame-residual",
+                    "style-from-motion"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -192,6 +201,17 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--dynamics-weight must be a number >= 0"));
   }
   c.dynamics_weight = *dynamics_weight;
+  c.teacher = args->Get("teacher");
+  absl::StatusOr<double> teacher_weight =
+      args->GetDouble("teacher-weight", c.teacher.empty() ? 0 : 1);
+  if (!teacher_weight.ok() || *teacher_weight < 0) {
+    return Fail("train", absl::InvalidArgumentError("--teacher-weight must be a number >= 0"));
+  }
+  if (args->Has("teacher-weight") && c.teacher.empty()) {
+    return Fail("train", absl::InvalidArgumentError("--teacher-weight needs --teacher"));
+  }
+  c.teacher_weight = c.teacher.empty() ? 0 : *teacher_weight;
+  if (c.teacher_weight == 0) c.teacher.clear();
   absl::StatusOr<double> smooth_sigma = args->GetDouble("smooth-sigma", 0);
   if (!smooth_sigma.ok() || *smooth_sigma < 0 || *smooth_sigma > 100) {
     return Fail("train", absl::InvalidArgumentError("--smooth-sigma must be a number in [0, 100]"));
@@ -390,8 +410,8 @@ int Transfer(const Argv& argv) {
   options.joint_map = joint_map;
   const std::string timing = args->Get("timing", "content");
   if (timing != "content" && timing != "style") {
-    return Fail("transfer", absl::InvalidArgumentError(
-                                absl::StrCat("--timing must be content or style, not '", timing, "'")));
+    return Fail("transfer", absl::InvalidArgumentError(absl::StrCat(
+                                "--timing must be content or style, not '", timing, "'")));
   }
   options.timing = timing == "style" ? model::Timing::kStyle : model::Timing::kContent;
   absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(args->Get("model"));
@@ -440,8 +460,7 @@ int Transfer(const Argv& argv) {
     const std::string out =
         absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
     std::string note;
-    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, options, &note);
-        !s.ok()) {
+    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, options, &note); !s.ok()) {
       std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
                    std::string(s.message()).c_str());
       ++failed;

@@ -18,6 +18,7 @@
 #include "train/dynamics_style.h"
 #include "train/label_critic.h"
 #include "train/pair_discriminator.h"
+#include "train/teacher.h"
 #include "train/torch_files.h"
 #include "train/training_run.h"
 #include "train/training_set.h"
@@ -42,6 +43,7 @@ struct Trainer {
   PairGan pair_gan;                // With `pair_gan` only.
   torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
   DynamicsStyle dynamics;          // With dynamics_weight.
+  Teacher teacher;                 // With teacher_weight.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
   void Log(const std::string& s) const { LogLine(opt.log, s); }
@@ -78,6 +80,15 @@ struct Trainer {
     const torch::Tensor g = net->render(x, c, s);
     if (!config.residual) return g;
     return x + g - net->decode(c, own ? *own : net->style(x));
+  }
+
+  // teacher_weight x the distance of the transfer `x_g` to the teacher's
+  // transfer of content windows `x` to style windows `style` (recorded in `r`).
+  torch::Tensor Distillation(const torch::Tensor& x_g, const torch::Tensor& x,
+                             const torch::Tensor& style, LossRecord* r) const {
+    const torch::Tensor d = Teacher::PoseL1(x_g, teacher.Transfer(x, style));
+    r->teach = d.item<double>();
+    return config.teacher_weight * d;
   }
 
   // One discriminator step on `real` vs the detached `fake`; returns the
@@ -122,6 +133,7 @@ struct Trainer {
     torch::Tensor total = rec;
     if (config.alpha > 0) total = total + config.alpha * Adversarial(x_s, x_g, &r);
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x_t);
+    if (teacher.on()) total = total + Distillation(x_g, x_t, x_s, &r);
     if (config.dynamics_weight > 0) {
       const torch::Tensor dyn = dynamics.Loss(x_g, x_s);
       r.dyn = dyn.item<double>();
@@ -186,6 +198,7 @@ struct Trainer {
       total = total + config.alpha * adv;
     }
     if (config.content_weight > 0) total = total + config.content_weight * ContentKeeping(x_g, x);
+    if (teacher.on()) total = total + Distillation(x_g, x, y_other, &r);
     if (config.dynamics_weight > 0) {
       // The reference: the content's action in the target style where the
       // data has it (the same motion done that way), else the style window.
@@ -254,6 +267,12 @@ struct Trainer {
     data = *std::move(loaded);
     content_mask = ContentMask();
     if (config.dynamics_weight > 0) dynamics = DynamicsStyle(data);
+    if (config.teacher_weight > 0) {
+      absl::StatusOr<Teacher> t = Teacher::Load(config.teacher, config.dim, data.norm);
+      if (!t.ok()) return t.status();
+      teacher = *std::move(t);
+      Log("distilling from " + config.teacher);
+    }
     if (config.guided) {
       absl::StatusOr<ClipClasses> c =
           GuidedClasses(&data, config.window, config.content_balance, opt.log);
@@ -301,6 +320,7 @@ struct Trainer {
     spec.loss_names = {"rec", "gan", "nce", "tri", "disc"};
     if (config.guided) spec.loss_names.insert(spec.loss_names.end(), {"cls", "cyc", "critic"});
     if (config.dynamics_weight > 0) spec.loss_names.push_back("dyn");
+    if (config.teacher_weight > 0) spec.loss_names.push_back("teach");
     spec.loss_names.push_back("total");
     spec.config_text = config.Serialize();
     spec.iterations = config.iterations;
@@ -309,9 +329,9 @@ struct Trainer {
     spec.log = opt.log;
     if (opt.on_record) {
       spec.on_record = [this](const LossRow& row) {
-        LossRecord r{row.iteration,  row.Get("rec"),   row.Get("gan"),   row.Get("nce"),
-                     row.Get("tri"), row.Get("disc"),  row.Get("total"), row.Get("cls"),
-                     row.Get("cyc"), row.Get("critic"), row.Get("dyn")};
+        LossRecord r{row.iteration,  row.Get("rec"),    row.Get("gan"),   row.Get("nce"),
+                     row.Get("tri"), row.Get("disc"),   row.Get("total"), row.Get("cls"),
+                     row.Get("cyc"), row.Get("critic"), row.Get("dyn"),   row.Get("teach")};
         opt.on_record(r);
       };
     }
@@ -340,6 +360,7 @@ struct Trainer {
                        {"tri", r.tri}, {"disc", r.disc}, {"total", r.total}};
       if (config.guided) losses.insert({{"cls", r.cls}, {"cyc", r.cyc}, {"critic", r.critic}});
       if (config.dynamics_weight > 0) losses.insert({"dyn", r.dyn});
+      if (config.teacher_weight > 0) losses.insert({"teach", r.teach});
       return losses;
     });
   }

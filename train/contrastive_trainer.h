@@ -22,6 +22,8 @@ struct LossRecord {
   double cls = 0, cyc = 0, critic = 0;
   // With dynamics_weight: the dynamics style term.
   double dyn = 0;
+  // With teacher_weight: the distance to the teacher's transfer.
+  double teach = 0;
 };
 
 struct ContrastiveTrainOptions {

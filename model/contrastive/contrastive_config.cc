@@ -39,6 +39,10 @@ std::string ContrastiveConfig::Serialize() const {
   if (mirror) put("mirror", "1");
   if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
   if (dynamics_weight > 0) put("dynamics_weight", absl::StrCat(dynamics_weight));
+  if (teacher_weight > 0) {
+    put("teacher_weight", absl::StrCat(teacher_weight));
+    put("teacher", teacher);
+  }
   if (guided) {
     put("guided", "1");
     put("class_weight", absl::StrCat(class_weight));
@@ -101,6 +105,11 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "gamma") return e.Double(&c.gamma, 0, 1e6);
     if (key == "content_weight") return e.Double(&c.content_weight, 0, 1e6);
     if (key == "dynamics_weight") return e.Double(&c.dynamics_weight, 0, 1e6);
+    if (key == "teacher_weight") return e.Double(&c.teacher_weight, 0, 1e6);
+    if (key == "teacher") {
+      c.teacher = e.value;
+      return absl::OkStatus();
+    }
     if (key == "guided") return e.Bool(&c.guided);
     if (key == "keep_path") return e.Bool(&c.keep_path);
     if (key == "pair_gan") return e.Bool(&c.pair_gan);

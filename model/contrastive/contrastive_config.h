@@ -106,6 +106,12 @@ struct ContrastiveConfig : GuardKeys {
   // velocities, and their changes (accelerations), each channel scaled to
   // unit deviation over the training data (docs/notes/motion_style.md).
   double dynamics_weight = 0;
+  // Distillation (train/teacher.h): weight of an L1 term on the pose
+  // channels between the transfer and the `teacher` package's transfer of
+  // the same content window to the same style window (0: off). `teacher` is
+  // the package's directory, as given to training.
+  double teacher_weight = 0;
+  std::string teacher;
   // Label-guided training (docs/notes/contrastive.md, "Label-guided training"):
   // style labels choose the style clips (the reconstruction's style code from
   // a clip of the same style doing something else, the transfer's from a clip

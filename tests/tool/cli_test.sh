@@ -79,6 +79,15 @@ check "transfer --timing bad" 1 "--timing must be content or style" -- "$tool" t
 check "train --dynamics-weight" 0 "iter 2/2 .*dyn [0-9.]+" -- "$tool" train --data "$work/quick.bvh" \
   --data "$work/slow.bvh" --out "$work/dyn" --iters 2 --batch 2 --log-every 1 --threads 1 --dynamics-weight 1
 check "train --dynamics-weight in the package" 0 "^dynamics_weight = 1$" -- cat "$work/dyn/config.txt"
+check "train --teacher-weight without --teacher" 1 "--teacher-weight needs --teacher" -- "$tool" train \
+  --data "$work/quick.bvh" --out "$work/student" --teacher-weight 2
+check "train --teacher" 0 "iter 2/2 .*teach [0-9.]+" -- "$tool" train --data "$work/quick.bvh" \
+  --data "$work/slow.bvh" --out "$work/student" --live --iters 2 --batch 2 --log-every 1 --threads 1 \
+  --channels 24 --teacher "$work/narrow" --teacher-weight 2
+check "train --teacher in the package" 0 "^teacher_weight = 2$" -- cat "$work/student/config.txt"
+check "train --teacher that is live" 1 "--teacher .*student: a live package" -- "$tool" train \
+  --data "$work/quick.bvh" --data "$work/slow.bvh" --out "$work/student2" --iters 2 --batch 2 \
+  --threads 1 --teacher "$work/student"
 check "train --style-from-motion" 0 "model written to $work/motion_style" -- "$tool" train \
   --data "$work/quick.bvh" --data "$work/slow.bvh" --out "$work/motion_style" --iters 2 --batch 2 \
   --threads 1 --channels 24 --style-from-motion

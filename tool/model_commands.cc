@@ -31,7 +31,7 @@ int Train(const Argv& argv) {
       "         [--no-nce] [--no-tri] [--same-view] [--style-from-motion] [--seed S] [--resume]\n"
       "         [--random-starts] [--mirror] [--residual] [--channels 144]\n"
       "         [--content-weight W] [--dynamics-weight W] [--smooth-sigma S] [--threads N]\n"
-      "         [--teacher PACKAGE [--teacher-weight 1]]\n"
+      "         [--teacher PACKAGE [--teacher-weight 1] [--teacher-strength 1]]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
@@ -68,6 +68,8 @@ int Train(const Argv& argv) {
       "pose and the teacher's transfer of the same windows (its content guard,\n"
       "which reads whole clips, is not applied). For live packages, which then\n"
       "learn frame by frame what a model that sees whole windows does.\n"
+      "--teacher-strength K (0..1) distils the teacher's weaker form, the one its\n"
+      "content guard backs off to: the content plus K x the change the style makes.\n"
       "--guided trains with the clips' style and content labels (from the Bandai\n"
       "file names): the reconstruction takes its style code from a clip of the\n"
       "same style doing something else, the transfer from a clip of another\n"
@@ -148,7 +150,8 @@ int Train(const Argv& argv) {
                     "skeleton",
                     "leave-out-style",
                     "teacher",
-                    "teacher-weight"},
+                    "teacher-weight",
+                    "teacher-strength"},
                    {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
                     "random-starts", "mirror", "residual", "live", "frame-residual",
                     "style-from-motion"}},
@@ -211,6 +214,14 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--teacher-weight needs --teacher"));
   }
   c.teacher_weight = c.teacher.empty() ? 0 : *teacher_weight;
+  absl::StatusOr<double> teacher_strength = args->GetDouble("teacher-strength", 1);
+  if (!teacher_strength.ok() || *teacher_strength < 0 || *teacher_strength > 1) {
+    return Fail("train", absl::InvalidArgumentError("--teacher-strength must be a number in [0, 1]"));
+  }
+  if (args->Has("teacher-strength") && c.teacher.empty()) {
+    return Fail("train", absl::InvalidArgumentError("--teacher-strength needs --teacher"));
+  }
+  c.teacher_strength = *teacher_strength;
   if (c.teacher_weight == 0) c.teacher.clear();
   absl::StatusOr<double> smooth_sigma = args->GetDouble("smooth-sigma", 0);
   if (!smooth_sigma.ok() || *smooth_sigma < 0 || *smooth_sigma > 100) {

@@ -8,7 +8,7 @@
 namespace stylus::model {
 
 absl::StatusOr<Teacher> Teacher::Load(const std::string& dir, int dim,
-                                      const motion::NormStats& norm) {
+                                      const motion::NormStats& norm, double strength) {
   absl::StatusOr<ContrastiveConfig> config = ContrastiveConfig::Read(dir);
   if (!config.ok()) return config.status();
   const std::string what = absl::StrCat("--teacher ", dir, ": ");
@@ -29,6 +29,7 @@ absl::StatusOr<Teacher> Teacher::Load(const std::string& dir, int dim,
     return absl::FailedPreconditionError(what + "its feature channels are not the data's");
   }
   Teacher t;
+  t.strength_ = strength;
   // x_teacher = (x * std + mean - mean_t) / std_t, channel by channel.
   t.scale_ = torch::empty({1, dim, 1});
   t.shift_ = torch::empty({1, dim, 1});
@@ -47,15 +48,29 @@ absl::StatusOr<Teacher> Teacher::Load(const std::string& dir, int dim,
 torch::Tensor Teacher::Transfer(const torch::Tensor& x, const torch::Tensor& style) const {
   torch::NoGradGuard no_grad;
   const torch::Tensor xt = x * scale_ + shift_;
-  torch::Tensor y = net_->render(xt, net_->content(xt), net_->style(style * scale_ + shift_));
+  const torch::Tensor c = net_->content(xt);
+  torch::Tensor code = net_->style(style * scale_ + shift_);
   const int64_t path = config_.dim - motion::FeatureLayout::kPathChannels;
-  if (config_.smooth_sigma > 0) {
-    y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config_.smooth_sigma));
-  }
-  if (config_.content_detail > 0) {
-    const torch::Tensor pose = xt.slice(1, 0, path);
-    y.slice(1, 0, path)
-        .add_(config_.content_detail * (pose - SmoothOverTime(pose, config_.DetailSigma())));
+  torch::Tensor y;
+  if (strength_ < 1) {
+    // The guard's weaker form (model/contrastive/contrastive_model.cc).
+    const torch::Tensor own = net_->style(xt);
+    code = strength_ * code + (1 - strength_) * own;
+    y = net_->decode(c, code) - net_->decode(c, own);
+    if (config_.smooth_sigma > 0) {
+      y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config_.smooth_sigma));
+    }
+    y = y + xt;
+  } else {
+    y = net_->render(xt, c, code);
+    if (config_.smooth_sigma > 0) {
+      y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config_.smooth_sigma));
+    }
+    if (config_.content_detail > 0) {
+      const torch::Tensor pose = xt.slice(1, 0, path);
+      y.slice(1, 0, path)
+          .add_(config_.content_detail * (pose - SmoothOverTime(pose, config_.DetailSigma())));
+    }
   }
   if (config_.keep_path) y.slice(1, path).copy_(xt.slice(1, path));
   return ((y - shift_) / scale_).detach();

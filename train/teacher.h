@@ -9,6 +9,9 @@
 // from the style window, its generator's output smoothed (smooth_sigma), with
 // the content's detail (content_detail), the path channels the content's
 // (keep_path); its content guard, which reads whole clips, is not applied.
+// At a strength k < 1 it is the weaker form that guard backs off to: the
+// content window plus the smoothed change G(c, k s + (1 - k) s_own) -
+// G(c, s_own) the style makes, s_own the content window's own code.
 // Internal to train/ (includes LibTorch).
 #ifndef STYLUS_TRAIN_TEACHER_H_
 #define STYLUS_TRAIN_TEACHER_H_
@@ -31,9 +34,9 @@ class Teacher {
   // feature channels as the student's data (normalized by `norm`; the
   // teacher's own statistics may differ slightly: windows are converted to
   // them and back), else FAILED_PRECONDITION saying why; NOT_FOUND /
-  // INVALID_ARGUMENT naming the file.
+  // INVALID_ARGUMENT naming the file. `strength` in [0, 1].
   static absl::StatusOr<Teacher> Load(const std::string& dir, int dim,
-                                      const motion::NormStats& norm);
+                                      const motion::NormStats& norm, double strength = 1);
 
   bool on() const { return !net_.is_empty(); }
   // The teacher's transfer of content windows `x` to the style of `style`
@@ -45,6 +48,7 @@ class Teacher {
 
  private:
   ContrastiveConfig config_;
+  double strength_ = 1;
   mutable ContrastiveNet net_{nullptr};
   torch::Tensor scale_, shift_;  // (1, dim, 1): the student's normalization to the teacher's.
 };

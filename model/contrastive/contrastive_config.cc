@@ -42,6 +42,7 @@ std::string ContrastiveConfig::Serialize() const {
   if (teacher_weight > 0) {
     put("teacher_weight", absl::StrCat(teacher_weight));
     put("teacher", teacher);
+    if (teacher_strength != 1) put("teacher_strength", absl::StrCat(teacher_strength));
   }
   if (guided) {
     put("guided", "1");
@@ -106,6 +107,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "content_weight") return e.Double(&c.content_weight, 0, 1e6);
     if (key == "dynamics_weight") return e.Double(&c.dynamics_weight, 0, 1e6);
     if (key == "teacher_weight") return e.Double(&c.teacher_weight, 0, 1e6);
+    if (key == "teacher_strength") return e.Double(&c.teacher_strength, 0, 1);
     if (key == "teacher") {
       c.teacher = e.value;
       return absl::OkStatus();

@@ -109,9 +109,12 @@ struct ContrastiveConfig : GuardKeys {
   // Distillation (train/teacher.h): weight of an L1 term on the pose
   // channels between the transfer and the `teacher` package's transfer of
   // the same content window to the same style window (0: off). `teacher` is
-  // the package's directory, as given to training.
+  // the package's directory, as given to training. `teacher_strength` k < 1
+  // distils the teacher's weaker form, the one its content guard backs off
+  // to: the content plus k times the change the style makes.
   double teacher_weight = 0;
   std::string teacher;
+  double teacher_strength = 1;
   // Label-guided training (docs/notes/contrastive.md, "Label-guided training"):
   // style labels choose the style clips (the reconstruction's style code from
   // a clip of the same style doing something else, the transfer's from a clip

@@ -83,8 +83,13 @@ check "train --teacher-weight without --teacher" 1 "--teacher-weight needs --tea
   --data "$work/quick.bvh" --out "$work/student" --teacher-weight 2
 check "train --teacher" 0 "iter 2/2 .*teach [0-9.]+" -- "$tool" train --data "$work/quick.bvh" \
   --data "$work/slow.bvh" --out "$work/student" --live --iters 2 --batch 2 --log-every 1 --threads 1 \
-  --channels 24 --teacher "$work/narrow" --teacher-weight 2
+  --channels 24 --teacher "$work/narrow" --teacher-weight 2 --teacher-strength 0.7
 check "train --teacher in the package" 0 "^teacher_weight = 2$" -- cat "$work/student/config.txt"
+check "train --teacher-strength in the package" 0 "^teacher_strength = 0.7$" -- \
+  cat "$work/student/config.txt"
+check "train --teacher-strength out of range" 1 "--teacher-strength must be a number in \\[0, 1\\]" \
+  -- "$tool" train --data "$work/quick.bvh" --out "$work/student3" --teacher "$work/narrow" \
+  --teacher-strength 2
 check "train --teacher that is live" 1 "--teacher .*student: a live package" -- "$tool" train \
   --data "$work/quick.bvh" --data "$work/slow.bvh" --out "$work/student2" --iters 2 --batch 2 \
   --threads 1 --teacher "$work/student"

@@ -60,6 +60,25 @@ TEST(TeacherTest, GivesOneTransferWhateverTheStudentsNormalization) {
   EXPECT_FALSE(same->Transfer(x.requires_grad_(), style).requires_grad());
 }
 
+// At a strength below 1 the teacher gives its guard's weaker form: at 0 the
+// content itself, in between a change that grows with the strength.
+TEST(TeacherTest, WeakerFormsComeBetweenTheContentAndTheFullTransfer) {
+  absl::StatusOr<motion::NormStats> own = motion::NormStats::Load(TeacherDir() + "/norm.txt");
+  ASSERT_TRUE(own.ok()) << own.status();
+  const int dim = own->dim();
+  torch::manual_seed(7);
+  const torch::Tensor x = torch::randn({2, dim, 16}), style = torch::randn({2, dim, 16});
+  std::vector<double> change;
+  for (double k : {0.0, 0.4, 0.8}) {
+    absl::StatusOr<Teacher> t = Teacher::Load(TeacherDir(), dim, *own, k);
+    ASSERT_TRUE(t.ok()) << t.status();
+    change.push_back(Teacher::PoseL1(t->Transfer(x, style), x).item<double>());
+  }
+  EXPECT_LT(change[0], 1e-5);
+  EXPECT_GT(change[1], 1e-3);
+  EXPECT_GT(change[2], change[1]);
+}
+
 TEST(TeacherTest, RefusesLivePackagesAndOtherFeatures) {
   absl::StatusOr<motion::NormStats> own = motion::NormStats::Load(TeacherDir() + "/norm.txt");
   ASSERT_TRUE(own.ok());

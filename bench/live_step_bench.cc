@@ -7,7 +7,11 @@
 //     step, decoding), post-processing none and full;
 //   - window recompute: a whole-clip Transfer of the last 32 frames (the
 //     same features and decoding around a 32-frame pass), post-processing
-//     none.
+//     none;
+//   - batched steps: B streams stepped together (StyleModel::StepStreams,
+//     what the server's step batcher runs), per frame: features (Feed), the
+//     networks' step, decoding and post-processing full (Collect), for B = 1
+//     to 256.
 // usage: live_step_bench [--model DIR] [--frames 600]
 #include <cstdio>
 #include <cstdlib>
@@ -30,6 +34,49 @@ motion::Motion Frames(const motion::Motion& m, int begin, int end) {
   out.values.assign(m.values.begin() + static_cast<size_t>(begin) * c,
                     m.values.begin() + static_cast<size_t>(end) * c);
   return out;
+}
+
+// Per frame of B streams stepped together: Feed, the batched step, Collect.
+int BatchedSteps(const model::StyleModel& m, const motion::Motion& clip,
+                 const model::StyleCode& style, int frames) {
+  std::printf("batched steps (post full), ms per frame: batch, features, network step, "
+              "decoding + post, total\n");
+  for (const int batch : {1, 4, 16, 64, 256}) {
+    std::vector<std::unique_ptr<model::FrameStreamer>> streams;
+    std::vector<model::FrameStreamer*> cores;
+    for (int b = 0; b < batch; ++b) {
+      auto s = m.OpenStream({style, clip.skeleton, clip.frame_time, motion::PostProcessMode::kFull});
+      if (!s.ok() || !(*s)->batchable()) {
+        std::fprintf(stderr, "live_step_bench: the stream does not batch\n");
+        return 1;
+      }
+      cores.push_back((*s)->step_core());
+      streams.push_back(*std::move(s));
+    }
+    const int n = std::max(40, frames * 4 / batch);
+    double t[3] = {0, 0, 0};
+    for (int f = 0; f < 32 + n; ++f) {
+      const motion::Motion one = Frames(clip, f % (clip.num_frames - 1), f % (clip.num_frames - 1) + 1);
+      const Clock::time_point a = Clock::now();
+      for (auto& s : streams) (void)s->Feed(one);
+      const Clock::time_point b = Clock::now();
+      if (!streams.front()->has_steps()) continue;  // The features' look-ahead.
+      if (absl::Status st = m.StepStreams(cores); !st.ok()) {
+        std::fprintf(stderr, "live_step_bench: %s\n", st.ToString().c_str());
+        return 1;
+      }
+      const Clock::time_point c = Clock::now();
+      for (auto& s : streams) (void)s->Collect();
+      if (f < 32) continue;  // Warm-up.
+      t[0] += std::chrono::duration<double>(b - a).count();
+      t[1] += std::chrono::duration<double>(c - b).count();
+      t[2] += Since(c);
+    }
+    const double k = 1000.0 / (static_cast<double>(n) * batch);
+    std::printf("  %3d  %.4f  %.4f  %.4f  %.4f\n", batch, k * t[0], k * t[1], k * t[2],
+                k * (t[0] + t[1] + t[2]));
+  }
+  return 0;
 }
 
 int Main(int argc, char** argv) {
@@ -91,7 +138,7 @@ int Main(int argc, char** argv) {
   std::printf("stream step, post full: %.3f ms per frame\n", 1000 * per_frame[1]);
   std::printf("32-frame window recompute, post none: %.3f ms per frame; ratio to the step %.1fx\n",
               1000 * window, window / per_frame[0]);
-  return 0;
+  return BatchedSteps(**m, clip, style, frames);
 }
 
 }  // namespace

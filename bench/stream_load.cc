@@ -14,7 +14,8 @@
 //                    [--streams 1,16,64,128,256,384,512,768,1000]
 //                    [--budget-ms B (default: lookahead frames + 33 ms)]
 //                    [--server-bin PATH] [--server-threads 2] [--unary-calls 40]
-//                    [--unary-model contrastive]
+//                    [--unary-model contrastive] [--modes batched,unbatched]
+//                    [--max-queue-delay-us N (the batched server's; default its own)]
 // The server runs with its defaults otherwise; OPENBLAS_CORETYPE is passed
 // through from the environment when set (and then printed).
 #include <grpcpp/grpcpp.h>
@@ -198,7 +199,8 @@ int Main(int argc, char** argv) {
   std::string model = "live", unary_model = "contrastive",
               streams_arg = "1,16,64,128,256,384,512,768,1000";
   double rate = 30, seconds = 10, budget_ms = -1;
-  int server_threads = 2, unary_calls = 40;
+  int server_threads = 2, unary_calls = 40, queue_delay_us = -1;
+  std::string modes = "batched,unbatched";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help") {
@@ -206,13 +208,16 @@ int Main(int argc, char** argv) {
           "usage: stream_load [--model live] [--rate 30] [--seconds 10]\n"
           "                   [--streams 1,16,64,128,256,384,512,768,1000]\n"
           "                   [--budget-ms B] [--server-bin PATH] [--server-threads 2]\n"
-          "                   [--unary-calls 40] [--unary-model contrastive]\n\n"
+          "                   [--unary-calls 40] [--unary-model contrastive]\n"
+          "                   [--modes batched,unbatched] [--max-queue-delay-us N]\n\n"
           "Opens N streams of a real clip at --rate Hz against a stylus-server it\n"
           "starts, for each N of --streams, batched and unbatched (--max-batch 0),\n"
           "and prints per-frame latency, frames late and lost, server CPU and RSS,\n"
           "and the most streams held within the budget (default: the model's\n"
           "lookahead in frames + 33 ms). Then unary Transfer throughput, one call\n"
-          "at a time and from 8 callers, on --model and on --unary-model.\n");
+          "at a time and from 8 callers, on --model and on --unary-model (--unary-calls 0:\n"
+          "none). --modes runs one of the two servers only; --max-queue-delay-us\n"
+          "is passed to the batched one.\n");
       return 0;
     }
     if (i + 1 >= argc) {
@@ -238,7 +243,11 @@ int Main(int argc, char** argv) {
     else if (a == "--unary-model")
       unary_model = v;
     else if (a == "--unary-calls")
-      ok = absl::SimpleAtoi(v, &unary_calls);
+      ok = absl::SimpleAtoi(v, &unary_calls) && unary_calls >= 0;
+    else if (a == "--modes")
+      modes = v;
+    else if (a == "--max-queue-delay-us")
+      ok = absl::SimpleAtoi(v, &queue_delay_us) && queue_delay_us >= 0;
     else
       ok = false;
     if (!ok) {
@@ -272,12 +281,24 @@ int Main(int argc, char** argv) {
     wire::FrameToProto(*clip, f, f, frames[f].mutable_frame());
 
   int lookahead = 0;
-  for (const bool batched : {true, false}) {
+  std::vector<bool> runs;
+  for (absl::string_view m : absl::StrSplit(modes, ',')) {
+    if (m != "batched" && m != "unbatched") {
+      std::fprintf(stderr, "stream_load: --modes takes batched and/or unbatched\n");
+      return 2;
+    }
+    runs.push_back(m == "batched");
+  }
+  for (const bool batched : runs) {
     ServerProcess server;
     std::vector<std::string> args = {
         "--models", models, "--threads", std::to_string(server_threads), "--max-streams", "4096"};
     args.push_back(batched ? "--batch-unary" : "--max-batch");
     if (!batched) args.push_back("0");
+    if (batched && queue_delay_us >= 0) {
+      args.push_back("--max-queue-delay-us");
+      args.push_back(std::to_string(queue_delay_us));
+    }
     if (!server.Start(server_bin, args)) {
       std::fprintf(stderr, "stream_load: cannot start %s\n", server_bin.c_str());
       return 1;
@@ -294,7 +315,7 @@ int Main(int argc, char** argv) {
     }
     lookahead = info->lookahead();
     const double budget = budget_ms >= 0 ? budget_ms : 1000.0 * lookahead / info->fps() + 33;
-    if (batched) {
+    if (batched == runs.front()) {
       std::printf(
           "model %s (%s, lookahead %d frames at %.0f Hz); streams at %.0f Hz for %.0f s; "
           "budget p99 <= %.1f ms\n",
@@ -320,6 +341,7 @@ int Main(int argc, char** argv) {
     // Unary throughput: a 120-frame clip (saved style), one call at a time,
     // then 8 callers at once, on the streams' model and on --unary-model.
     for (const std::string& m : {model, unary_model}) {
+      if (unary_calls == 0) break;
       const std::string style_name = "load-" + absl::StrReplaceAll(m, {{"/", "-"}});
       if (absl::StatusOr<std::vector<float>> c = client.EncodeStyle(*style, style_name, {m});
           !c.ok()) {

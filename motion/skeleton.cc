@@ -41,14 +41,20 @@ std::optional<Channel> ParseChannel(absl::string_view name) {
   return std::nullopt;
 }
 
+Skeleton::Skeleton() {
+  static const std::shared_ptr<const Data>* empty = new std::shared_ptr<const Data>(new Data);
+  d_ = *empty;
+}
+
 absl::StatusOr<Skeleton> Skeleton::Create(std::vector<Joint> joints) {
   if (joints.empty()) return absl::InvalidArgumentError("skeleton has no joints");
-  Skeleton s;
+  auto d = std::make_shared<Data>();
+  Data& s = *d;
   const int n = static_cast<int>(joints.size());
-  s.children_.resize(n);
-  s.channel_start_.resize(n);
-  s.rotation_order_.resize(n);
-  s.has_rotation_.resize(n);
+  s.children.resize(n);
+  s.channel_start.resize(n);
+  s.rotation_order.resize(n);
+  s.has_rotation.resize(n);
   absl::flat_hash_set<std::string> names;
   for (int i = 0; i < n; ++i) {
     const Joint& j = joints[i];
@@ -71,7 +77,7 @@ absl::StatusOr<Skeleton> Skeleton::Create(std::vector<Joint> joints) {
       if (a != j.parent) {
         return absl::InvalidArgumentError(who + " breaks depth-first joint order");
       }
-      s.children_[j.parent].push_back(i);
+      s.children[j.parent].push_back(i);
     }
     auto finite = [](const Vec3& v) {
       return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -99,20 +105,22 @@ absl::StatusOr<Skeleton> Skeleton::Create(std::vector<Joint> joints) {
       return absl::InvalidArgumentError(
           absl::StrCat(who, " has ", rot_axes.size(), " rotation channels; 0 or 3 are supported"));
     }
-    s.has_rotation_[i] = !rot_axes.empty();
-    if (s.has_rotation_[i]) {
-      s.rotation_order_[i].axes = {rot_axes[0], rot_axes[1], rot_axes[2]};
+    s.has_rotation[i] = !rot_axes.empty();
+    if (s.has_rotation[i]) {
+      s.rotation_order[i].axes = {rot_axes[0], rot_axes[1], rot_axes[2]};
     }
-    s.channel_start_[i] = s.num_channels_;
-    s.num_channels_ += static_cast<int>(j.channels.size());
+    s.channel_start[i] = s.num_channels;
+    s.num_channels += static_cast<int>(j.channels.size());
   }
-  s.joints_ = std::move(joints);
-  return s;
+  s.joints = std::move(joints);
+  Skeleton skeleton;
+  skeleton.d_ = std::move(d);
+  return skeleton;
 }
 
 std::optional<int> Skeleton::Find(absl::string_view name) const {
   for (int i = 0; i < num_joints(); ++i) {
-    if (joints_[i].name == name) return i;
+    if (d_->joints[i].name == name) return i;
   }
   return std::nullopt;
 }
@@ -120,12 +128,13 @@ std::optional<int> Skeleton::Find(absl::string_view name) const {
 bool Skeleton::SameTopology(const Skeleton& other) const { return DescribeMismatch(other).empty(); }
 
 std::string Skeleton::DescribeMismatch(const Skeleton& other) const {
+  if (d_ == other.d_) return "";  // Copies of one skeleton.
   if (num_joints() != other.num_joints()) {
     return absl::StrCat("it has ", num_joints(), " joints but the other has ", other.num_joints());
   }
   for (int i = 0; i < num_joints(); ++i) {
-    const Joint& a = joints_[i];
-    const Joint& b = other.joints_[i];
+    const Joint& a = d_->joints[i];
+    const Joint& b = other.d_->joints[i];
     if (a.name != b.name) {
       return absl::StrCat("joint ", i, " is '", a.name, "' here but '", b.name, "' in the other");
     }

@@ -2,11 +2,13 @@
 //
 // Joints are stored in depth-first file order, so a joint's parent always has a
 // smaller index than the joint itself (index 0 is the root). A Skeleton is an
-// immutable value once created; copies are cheap enough for per-clip use and all
-// const methods are thread-safe.
+// immutable value once created: its copies share one set of joints (a copy
+// costs a reference count, so a clip or a streamed frame carries its skeleton
+// at no cost), and all const methods are thread-safe.
 #ifndef STYLUS_MOTION_SKELETON_H_
 #define STYLUS_MOTION_SKELETON_H_
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,22 +49,22 @@ class Skeleton {
   // Euler order, and finite offsets. INVALID_ARGUMENT names the offending joint.
   static absl::StatusOr<Skeleton> Create(std::vector<Joint> joints);
 
-  Skeleton() = default;
+  Skeleton();
 
-  int num_joints() const { return static_cast<int>(joints_.size()); }
-  const Joint& joint(int i) const { return joints_[i]; }
-  const std::vector<Joint>& joints() const { return joints_; }
-  const std::vector<int>& children(int i) const { return children_[i]; }
+  int num_joints() const { return static_cast<int>(d_->joints.size()); }
+  const Joint& joint(int i) const { return d_->joints[i]; }
+  const std::vector<Joint>& joints() const { return d_->joints; }
+  const std::vector<int>& children(int i) const { return d_->children[i]; }
 
   // Index of the joint called `name` (exact match), or nullopt.
   std::optional<int> Find(absl::string_view name) const;
 
   // Total channels in one frame row, and where joint i's channels start in it.
-  int num_channels() const { return num_channels_; }
-  int channel_start(int i) const { return channel_start_[i]; }
+  int num_channels() const { return d_->num_channels; }
+  int channel_start(int i) const { return d_->channel_start[i]; }
   // Euler order of joint i's rotation channels (ZXY when it has none).
-  const EulerOrder& rotation_order(int i) const { return rotation_order_[i]; }
-  bool has_rotation(int i) const { return has_rotation_[i]; }
+  const EulerOrder& rotation_order(int i) const { return d_->rotation_order[i]; }
+  bool has_rotation(int i) const { return d_->has_rotation[i]; }
 
   // True when both have the same joint names, parents and channel layouts
   // (offsets may differ: the same rig at another scale still matches).
@@ -72,12 +74,15 @@ class Skeleton {
   std::string DescribeMismatch(const Skeleton& other) const;
 
  private:
-  std::vector<Joint> joints_;
-  std::vector<std::vector<int>> children_;
-  std::vector<int> channel_start_;
-  std::vector<EulerOrder> rotation_order_;
-  std::vector<bool> has_rotation_;
-  int num_channels_ = 0;
+  struct Data {
+    std::vector<Joint> joints;
+    std::vector<std::vector<int>> children;
+    std::vector<int> channel_start;
+    std::vector<EulerOrder> rotation_order;
+    std::vector<bool> has_rotation;
+    int num_channels = 0;
+  };
+  std::shared_ptr<const Data> d_;  // Never null; shared by copies.
 };
 
 }  // namespace stylus::motion

@@ -8,8 +8,7 @@
 
 namespace stylus::server {
 
-absl::Status ParseMessage(const grpc::ByteBuffer& bytes, const std::string& what,
-                          google::protobuf::Message* message) {
+absl::Status ParseInto(const grpc::ByteBuffer& bytes, google::protobuf::Message* message) {
   message->Clear();
   // The reader consumes its buffer; a copy shares the slices (no byte copy).
   grpc::ByteBuffer copy(bytes);
@@ -18,9 +17,16 @@ absl::Status ParseMessage(const grpc::ByteBuffer& bytes, const std::string& what
     return absl::OkStatus();
   }
   message->Clear();
-  return absl::InvalidArgumentError(absl::StrCat(what, ": its ", bytes.Length(),
-                                                 " bytes do not parse as ", message->GetTypeName(),
+  return absl::InvalidArgumentError(absl::StrCat("its ", bytes.Length(), " bytes do not parse as ",
+                                                 message->GetTypeName(),
                                                  " (truncated, or not this message)"));
+}
+
+absl::Status ParseMessage(const grpc::ByteBuffer& bytes, const std::string& what,
+                          google::protobuf::Message* message) {
+  absl::Status s = ParseInto(bytes, message);
+  if (s.ok()) return s;
+  return absl::InvalidArgumentError(absl::StrCat(what, ": ", s.message()));
 }
 
 absl::Status SerializeMessage(const google::protobuf::Message& message, grpc::ByteBuffer* bytes) {

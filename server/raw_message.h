@@ -6,12 +6,15 @@
 #ifndef STYLUS_SERVER_RAW_MESSAGE_H_
 #define STYLUS_SERVER_RAW_MESSAGE_H_
 
+#include <google/protobuf/arena.h>
 #include <google/protobuf/message.h>
 #include <grpcpp/support/byte_buffer.h>
 
 #include <string>
 
 #include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "absl/strings/str_cat.h"
 
 namespace stylus::server {
 
@@ -20,6 +23,44 @@ namespace stylus::server {
 // that type.
 absl::Status ParseMessage(const grpc::ByteBuffer& bytes, const std::string& what,
                           google::protobuf::Message* message);
+
+// Parses `bytes` into `message` (cleared first); INVALID_ARGUMENT saying why
+// it does not parse, without naming the request.
+absl::Status ParseInto(const grpc::ByteBuffer& bytes, google::protobuf::Message* message);
+
+// A stream's requests, parsed one at a time into a message on an arena that
+// is reset before each parse: the message and its many small parts (a frame's
+// joints) take no heap allocation per request once the arena's first block
+// holds one request.
+//
+// Thread-safety: one parse at a time; the message lives until the next one.
+template <typename Message>
+class StreamRequests {
+ public:
+  StreamRequests() : arena_(Options(block_, sizeof(block_))) {}
+  // The request in `bytes`, or INVALID_ARGUMENT as ParseMessage says, naming
+  // the request "`what` `index`" (a name built only on an error).
+  absl::StatusOr<const Message*> Parse(const grpc::ByteBuffer& bytes, int64_t index,
+                                       const char* what) {
+    arena_.Reset();
+    Message* m = google::protobuf::Arena::CreateMessage<Message>(&arena_);
+    absl::Status s = ParseInto(bytes, m);
+    if (!s.ok()) {
+      return absl::InvalidArgumentError(absl::StrCat(what, " ", index, ": ", s.message()));
+    }
+    return m;
+  }
+
+ private:
+  static google::protobuf::ArenaOptions Options(char* block, size_t size) {
+    google::protobuf::ArenaOptions o;
+    o.initial_block = block;
+    o.initial_block_size = size;
+    return o;
+  }
+  alignas(8) char block_[16384];
+  google::protobuf::Arena arena_;
+};
 
 // Serializes `message` into `bytes`. INTERNAL only if protobuf refuses (a
 // message over 2 GB).

@@ -77,18 +77,18 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     // A task returns true when it handed its steps to the batcher, whose
     // continuation then ends the task.
     // The request is parsed in place: the next read starts after the task
-    // (AfterTask), and parsing into the same message reuses its storage.
+    // (AfterTask), and each parse reuses the arena of the one before.
     std::function<bool()> task;
     if (ok) {
       task = [this] {
-        absl::Status parsed =
-            ParseMessage(read_bytes_, absl::StrCat("stream message ", messages_read_), &request_);
+        absl::StatusOr<const v1::StreamRequest*> parsed =
+            requests_.Parse(read_bytes_, messages_read_, "stream message");
         if (!parsed.ok()) {
           absl::MutexLock lock(&mu_);
-          Fail(parsed);
+          Fail(parsed.status());
           return false;
         }
-        return Handle(request_);
+        return Handle(**parsed);
       };
     } else {
       task = [this] { return HandleEnd(); };
@@ -560,7 +560,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   // its task runs; read by that task).
   std::chrono::steady_clock::time_point read_at_;
   grpc::ByteBuffer read_bytes_;   // Read buffer; the task parses it...
-  v1::StreamRequest request_;     // ...into this, and reads it in place.
+  StreamRequests<v1::StreamRequest> requests_;  // ...into this, and reads it in place.
   int64_t messages_read_ = 0;     // Counted by OnReadDone, read by the task.
   grpc::ByteBuffer write_bytes_;  // The write in flight.
 

@@ -140,6 +140,43 @@ TEST_F(GarbageBytesTest, RandomBytesNeverLookLikeAMissingMethod) {
   EXPECT_FALSE(models->empty());
 }
 
+// A stream's requests parse one after another on one arena: each is read
+// whole, whatever the one before held, and a bad one is named by its index.
+TEST(RawMessageTest, StreamRequestsParseInTurnOnOneArena) {
+  server::StreamRequests<v1::StreamRequest> requests;
+  v1::StreamRequest frame, change;
+  for (int j = 0; j < 40; ++j) {
+    v1::Quaternion* q = frame.mutable_frame()->add_rotations();
+    q->set_w(1);
+    q->set_x(0.01 * j);
+  }
+  frame.mutable_frame()->set_index(7);
+  change.mutable_change()->set_from_frame(9);
+  change.mutable_change()->set_strength(0.5);
+  grpc::ByteBuffer frame_bytes, change_bytes;
+  ASSERT_TRUE(server::SerializeMessage(frame, &frame_bytes).ok());
+  ASSERT_TRUE(server::SerializeMessage(change, &change_bytes).ok());
+  for (int round = 0; round < 3; ++round) {
+    absl::StatusOr<const v1::StreamRequest*> a = requests.Parse(frame_bytes, 2 * round, "message");
+    ASSERT_TRUE(a.ok()) << a.status();
+    EXPECT_EQ((*a)->frame().index(), 7);
+    ASSERT_EQ((*a)->frame().rotations_size(), 40);
+    EXPECT_DOUBLE_EQ((*a)->frame().rotations(39).x(), 0.39);
+    absl::StatusOr<const v1::StreamRequest*> b =
+        requests.Parse(change_bytes, 2 * round + 1, "message");
+    ASSERT_TRUE(b.ok()) << b.status();
+    EXPECT_FALSE((*b)->has_frame());
+    EXPECT_EQ((*b)->change().from_frame(), 9);
+  }
+  const absl::StatusOr<const v1::StreamRequest*> bad = requests.Parse(Bytes("\x0a\x09"
+                                                                            "short"),
+                                                                      12, "stream message");
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(bad.status().message(),
+            "stream message 12: its 7 bytes do not parse as stylus.v1.StreamRequest (truncated, or "
+            "not this message)");
+}
+
 TEST(RawMessageTest, ParsesWhatSerializes) {
   v1::GetModelRequest request;
   request.set_model("contrastive/v1");

@@ -1,6 +1,5 @@
 #include "server/step_batcher.h"
 
-#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -91,25 +90,13 @@ void StepBatcher::Loop() {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     std::vector<Entry> again;
-    std::vector<std::function<void(absl::Status)>> finished;
     for (Entry& e : batch) {
       if (s.ok() && e.core->has_steps()) {
         again.push_back(std::move(e));
         continue;
       }
-      finished.push_back(std::move(e.done));
-    }
-    // The continuations (decoding, post-processing, the replies) run on the
-    // executor in one task per executor thread, each taking a slice of the
-    // batch: a hand-off per thread rather than per stream.
-    const size_t tasks = std::min<size_t>(finished.size(), std::max(1, executor_->threads()));
-    auto shared = std::make_shared<std::vector<std::function<void(absl::Status)>>>(
-        std::move(finished));
-    for (size_t t = 0; t < tasks; ++t) {
-      auto slice = [shared, s, t, tasks] {
-        for (size_t i = t; i < shared->size(); i += tasks) (*shared)[i](s);
-      };
-      if (!executor_->Submit(slice)) slice();
+      auto done = std::move(e.done);
+      if (!executor_->Submit([done, s] { done(s); })) done(s);
     }
     if (!again.empty()) {
       // Their next steps go first: they have waited longest.

@@ -50,29 +50,17 @@ torch::Tensor Teacher::Transfer(const torch::Tensor& x, const torch::Tensor& sty
   const torch::Tensor xt = x * scale_ + shift_;
   const torch::Tensor c = net_->content(xt);
   torch::Tensor code = net_->style(style * scale_ + shift_);
-  const int64_t path = config_.dim - motion::FeatureLayout::kPathChannels;
-  torch::Tensor y;
   if (strength_ < 1) {
-    // The guard's weaker form (model/contrastive/contrastive_model.cc).
+    // The guard's weaker form (model/contrastive/contrastive_model.cc): the
+    // change the style makes at this strength, added to the content.
     const torch::Tensor own = net_->style(xt);
     code = strength_ * code + (1 - strength_) * own;
-    y = net_->decode(c, code) - net_->decode(c, own);
-    if (config_.smooth_sigma > 0) {
-      y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config_.smooth_sigma));
-    }
-    y = y + xt;
-  } else {
-    y = net_->render(xt, c, code);
-    if (config_.smooth_sigma > 0) {
-      y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config_.smooth_sigma));
-    }
-    if (config_.content_detail > 0) {
-      const torch::Tensor pose = xt.slice(1, 0, path);
-      y.slice(1, 0, path)
-          .add_(config_.content_detail * (pose - SmoothOverTime(pose, config_.DetailSigma())));
-    }
+    const torch::Tensor change = net_->decode(c, code) - net_->decode(c, own);
+    const torch::Tensor y = FinishWindows(config_, xt, change, 0, /*residual=*/true);
+    return ((y - shift_) / scale_).detach();
   }
-  if (config_.keep_path) y.slice(1, path).copy_(xt.slice(1, path));
+  const torch::Tensor y =
+      FinishWindows(config_, xt, net_->render(xt, c, code), config_.content_detail, false);
   return ((y - shift_) / scale_).detach();
 }
 

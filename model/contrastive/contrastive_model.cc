@@ -200,20 +200,7 @@ absl::StatusOr<std::vector<float>> ContrastiveModel::Impl::Generate(
       }
       y = y - passes.own_decode;
     }
-    // Channels [0, path) pose the body; [path, dim) are the root trajectory
-    // and foot contacts (motion/features.h).
-    const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
-    if (config.smooth_sigma > 0) {
-      y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config.smooth_sigma));
-    }
-    if (knobs.content_detail > 0) {
-      const torch::Tensor pose = x.slice(1, 0, path);
-      y.slice(1, 0, path)
-          .add_(knobs.content_detail * (pose - SmoothOverTime(pose, config.DetailSigma())));
-    }
-    if (knobs.residual) y = y + x;
-    // keep_path: the style changes the body, not the content's path.
-    if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
+    y = FinishWindows(config, x, y, knobs.content_detail, knobs.residual);
     y = y.contiguous();
     return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
   } catch (const std::exception& e) {

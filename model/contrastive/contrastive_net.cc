@@ -1,5 +1,8 @@
 #include "model/contrastive/contrastive_net.h"
 
+#include "model/window_tensor.h"
+#include "motion/features.h"
+
 namespace stylus::model {
 namespace {
 
@@ -152,6 +155,24 @@ torch::Tensor GeneratorGanLoss(const torch::Tensor& fake_logits) {
 torch::Tensor DiscriminatorGanLoss(const torch::Tensor& real_logits,
                                    const torch::Tensor& fake_logits) {
   return F::softplus(-real_logits).mean() + F::softplus(fake_logits).mean();
+}
+
+torch::Tensor FinishWindows(const ContrastiveConfig& config, const torch::Tensor& x,
+                            torch::Tensor y, double content_detail, bool residual) {
+  // Channels [0, path) pose the body; [path, dim) are the root trajectory
+  // and foot contacts (motion/features.h).
+  const int64_t path = config.dim - motion::FeatureLayout::kPathChannels;
+  if (config.smooth_sigma > 0) {
+    y.slice(1, 0, path).copy_(SmoothOverTime(y.slice(1, 0, path), config.smooth_sigma));
+  }
+  if (content_detail > 0) {
+    const torch::Tensor pose = x.slice(1, 0, path);
+    y.slice(1, 0, path).add_(content_detail * (pose - SmoothOverTime(pose, config.DetailSigma())));
+  }
+  if (residual) y = y + x;
+  // keep_path: the style changes the body, not the content's path.
+  if (config.keep_path) y.slice(1, path).copy_(x.slice(1, path));
+  return y;
 }
 
 }  // namespace stylus::model

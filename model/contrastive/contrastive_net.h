@@ -118,6 +118,15 @@ torch::Tensor GeneratorGanLoss(const torch::Tensor& fake_logits);
 torch::Tensor DiscriminatorGanLoss(const torch::Tensor& real_logits,
                                    const torch::Tensor& fake_logits);
 
+// The inference form's finish of generated windows `y` for content windows
+// `x` (both (B, dim, T), normalized), the same for transfers and for a
+// teacher in training (train/teacher.h): the pose channels smoothed by
+// smooth_sigma, plus `content_detail` times the content's own detail, plus
+// x when `residual` (y is then the change the style makes), and with
+// keep_path the content's path channels.
+torch::Tensor FinishWindows(const ContrastiveConfig& config, const torch::Tensor& x,
+                            torch::Tensor y, double content_detail, bool residual);
+
 }  // namespace stylus::model
 
 #endif  // STYLUS_MODEL_CONTRASTIVE_CONTRASTIVE_NET_H_

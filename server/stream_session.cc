@@ -96,7 +96,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     if (!service_->executor->Submit([this, task] {
           if (!task()) AfterTask();
         })) {
-      absl::MutexLock lock(&mu_);
+      mu_.Lock();  // ReleaseLocked unlocks.
       Fail(absl::UnavailableError("the server is shutting down"));
       ReleaseLocked();
     }

@@ -39,13 +39,15 @@ motion::Motion Frames(const motion::Motion& m, int begin, int end) {
 // Per frame of B streams stepped together: Feed, the batched step, Collect.
 int BatchedSteps(const model::StyleModel& m, const motion::Motion& clip,
                  const model::StyleCode& style, int frames) {
-  std::printf("batched steps (post full), ms per frame: batch, features, network step, "
-              "decoding + post, total\n");
+  std::printf(
+      "batched steps (post full), ms per frame: batch, features, network step, "
+      "decoding + post, total\n");
   for (const int batch : {1, 4, 16, 64, 256}) {
     std::vector<std::unique_ptr<model::FrameStreamer>> streams;
     std::vector<model::FrameStreamer*> cores;
     for (int b = 0; b < batch; ++b) {
-      auto s = m.OpenStream({style, clip.skeleton, clip.frame_time, motion::PostProcessMode::kFull});
+      auto s =
+          m.OpenStream({style, clip.skeleton, clip.frame_time, motion::PostProcessMode::kFull});
       if (!s.ok() || !(*s)->batchable()) {
         std::fprintf(stderr, "live_step_bench: the stream does not batch\n");
         return 1;
@@ -56,7 +58,8 @@ int BatchedSteps(const model::StyleModel& m, const motion::Motion& clip,
     const int n = std::max(40, frames * 4 / batch);
     double t[3] = {0, 0, 0};
     for (int f = 0; f < 32 + n; ++f) {
-      const motion::Motion one = Frames(clip, f % (clip.num_frames - 1), f % (clip.num_frames - 1) + 1);
+      const motion::Motion one =
+          Frames(clip, f % (clip.num_frames - 1), f % (clip.num_frames - 1) + 1);
       const Clock::time_point a = Clock::now();
       for (auto& s : streams) (void)s->Feed(one);
       const Clock::time_point b = Clock::now();

@@ -4,8 +4,8 @@
 #include <thread>
 
 #include "absl/strings/numbers.h"
-#include "absl/synchronization/mutex.h"
 #include "absl/strings/str_cat.h"
+#include "absl/synchronization/mutex.h"
 #include "server/call_log.h"
 #include "server/server.h"
 #include "spdlog/spdlog.h"

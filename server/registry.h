@@ -55,8 +55,7 @@ class ModelRegistry {
 
   const std::string root_;
   mutable absl::Mutex mu_;
-  std::map<std::string, std::shared_ptr<const model::StyleModel>> models_
-      ABSL_GUARDED_BY(mu_);
+  std::map<std::string, std::shared_ptr<const model::StyleModel>> models_ ABSL_GUARDED_BY(mu_);
   std::string default_id_ ABSL_GUARDED_BY(mu_);
 };
 

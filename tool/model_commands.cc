@@ -216,7 +216,8 @@ int Train(const Argv& argv) {
   c.teacher_weight = c.teacher.empty() ? 0 : *teacher_weight;
   absl::StatusOr<double> teacher_strength = args->GetDouble("teacher-strength", 1);
   if (!teacher_strength.ok() || *teacher_strength < 0 || *teacher_strength > 1) {
-    return Fail("train", absl::InvalidArgumentError("--teacher-strength must be a number in [0, 1]"));
+    return Fail("train",
+                absl::InvalidArgumentError("--teacher-strength must be a number in [0, 1]"));
   }
   if (args->Has("teacher-strength") && c.teacher.empty()) {
     return Fail("train", absl::InvalidArgumentError("--teacher-strength needs --teacher"));
@@ -421,8 +422,8 @@ int Transfer(const Argv& argv) {
   options.joint_map = joint_map;
   const std::string timing = args->Get("timing", "content");
   if (timing != "content" && timing != "style") {
-    return Fail("transfer", absl::InvalidArgumentError(absl::StrCat(
-                                "--timing must be content or style, not '", timing, "'")));
+    return Fail("transfer", absl::InvalidArgumentError(
+                                absl::StrCat("--timing must be content or style, not '", timing, "'")));
   }
   options.timing = timing == "style" ? model::Timing::kStyle : model::Timing::kContent;
   absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(args->Get("model"));
@@ -471,7 +472,8 @@ int Transfer(const Argv& argv) {
     const std::string out =
         absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
     std::string note;
-    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, options, &note); !s.ok()) {
+    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, options, &note);
+        !s.ok()) {
       std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
                    std::string(s.message()).c_str());
       ++failed;

@@ -268,7 +268,8 @@ struct Trainer {
     content_mask = ContentMask();
     if (config.dynamics_weight > 0) dynamics = DynamicsStyle(data);
     if (config.teacher_weight > 0) {
-      absl::StatusOr<Teacher> t = Teacher::Load(config.teacher, config.dim, data.norm, config.teacher_strength);
+      absl::StatusOr<Teacher> t =
+          Teacher::Load(config.teacher, config.dim, data.norm, config.teacher_strength);
       if (!t.ok()) return t.status();
       teacher = *std::move(t);
       Log("distilling from " + config.teacher);

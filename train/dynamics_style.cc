@@ -39,10 +39,11 @@ DynamicsStyle::DynamicsStyle(const TrainingSet& data) {
   std::vector<torch::Tensor> vel;
   for (const motion::FeatureClip& clip : data.clips) {
     if (clip.frames < 3) continue;
-    const torch::Tensor x = torch::from_blob(const_cast<float*>(clip.values.data()),
-                                             {clip.frames, clip.dim}, torch::kFloat32)
-                                .t()
-                                .unsqueeze(0);
+    const torch::Tensor x =
+        torch::from_blob(const_cast<float*>(clip.values.data()), {clip.frames, clip.dim},
+                         torch::kFloat32)
+            .t()
+            .unsqueeze(0);
     vel.push_back(Unscaled(x));
   }
   if (vel.empty()) return;

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -120,7 +121,11 @@ struct ServerProcess {
     cargs.push_back(nullptr);
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    // The server's log goes to $STYLUS_SERVER_LOG when set (appended), else nowhere.
+    const char* log = std::getenv("STYLUS_SERVER_LOG");
+    posix_spawn_file_actions_addopen(&actions, 2, log != nullptr ? log : "/dev/null",
+                                     log != nullptr ? O_WRONLY | O_CREAT | O_APPEND : O_WRONLY,
+                                     0644);
     if (posix_spawn(&pid, binary.c_str(), &actions, nullptr, cargs.data(), environ) != 0) {
       pid = -1;
       return false;

@@ -190,17 +190,19 @@ ServerLoad StylusServer::load() const {
 namespace {
 
 // Waits, until `deadline` at the latest, for every accepted unary call to be
-// answered, and then for the last answer to be a moment old. gRPC closes a
-// connection as soon as its last call is over; closing a socket that still
-// holds part of a large reply can reset the connection and lose the reply
-// (seen on a 3000-frame Transfer answered just before shutdown). Streams are
-// not waited for here: a drained stream ends when its client has read the
-// last frames, which can take until gRPC's own shutdown.
-void WaitForUnaryAnswers(const ServiceContext& context,
-                         std::chrono::system_clock::time_point deadline) {
+// answered and every drained stream to end, and then for the last answer to
+// be a moment old. gRPC closes a connection as soon as its last call is over;
+// closing a socket that still holds part of a large reply, or that still
+// receives a stream's frames (its client sends on until it reads the end),
+// resets the connection, and the client loses what it had not read yet: a
+// 3000-frame Transfer answered just before shutdown, a drained stream's last
+// frames and trailers.
+void WaitForAnswers(const ServiceContext& context,
+                    std::chrono::system_clock::time_point deadline) {
   constexpr auto kPoll = std::chrono::milliseconds(5);
   constexpr auto kLinger = std::chrono::milliseconds(300);
-  while (std::chrono::system_clock::now() < deadline && context.unary_calls.load() > 0) {
+  while (std::chrono::system_clock::now() < deadline &&
+         (context.unary_calls.load() > 0 || context.open_streams.load() > 0)) {
     std::this_thread::sleep_for(kPoll);
   }
   const auto last_answer = std::chrono::steady_clock::time_point(
@@ -228,7 +230,7 @@ void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
   const int drained = context.streams.DrainAll();
   spdlog::info("shutting down: no new calls; {} open stream(s) drained, in-flight calls may finish",
                drained);
-  WaitForUnaryAnswers(context, deadline);
+  WaitForAnswers(context, deadline);
   impl_->server->Shutdown(deadline);
   // Calls are over; the batcher runs the steps it holds, the executor what
   // it accepted; then both stop.

@@ -56,23 +56,23 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
 
   void OnReadDone(bool ok) override {
     {
+      // One critical section, so that a task which checks for a drain after
+      // starting this read (AfterTask) sees either this read done and
+      // refused, or a task of it counted in busy_.
       absl::MutexLock lock(&mu_);
       reading_ = false;
       // A message that arrives once the drain has begun is not taken: the
-      // drain's task ends the stream.
+      // drain's task, or the task that started this read, ends the stream.
       if (draining_) return;
+      // A read that fails after the call was finished (cancellation) needs
+      // no handling: the session is about to be done.
+      if (finished_) return;
+      ++busy_;  // From here on nobody else finishes the call.
     }
     if (ok) {
       read_at_ = std::chrono::steady_clock::now();
       ++messages_read_;
       if (series_ != nullptr) service_->metrics->MessageReceived(series_);
-    }
-    {
-      absl::MutexLock lock(&mu_);
-      // A read that fails after the call was finished (cancellation) needs
-      // no handling: the session is about to be done.
-      if (finished_) return;
-      ++busy_;  // From here on nobody else finishes the call.
     }
     // A task returns true when it handed its steps to the batcher, whose
     // continuation then ends the task.
@@ -410,6 +410,18 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
         waiting_since_ = std::chrono::steady_clock::now();
       }
       StartRead(&read_bytes_);
+      // A drain that began after the choice to read found this task busy
+      // and left the end to it: end now, unless the read has already
+      // completed and queued a task of its own (busy_ > 1), whose AfterTask
+      // ends the stream instead.
+      mu_.Lock();
+      if (draining_ && busy_ == 1 && !ending_ && !failed_ && !finished_) {
+        mu_.Unlock();
+        if (!HandleEnd()) AfterTask();
+        return;
+      }
+      ReleaseLocked();
+      return;
     }
     mu_.Lock();
     ReleaseLocked();
@@ -513,7 +525,9 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
       m->CallHandled(series_, outcome_.status.code(), ms / 1000);
       if (outcome_.frames > 0) m->Frames(outcome_.model, "stream", outcome_.frames);
     }
-    // Counted out last: once no stream is open, every stream's line is logged.
+    // Counted out last: once no stream is open, every stream's line is logged
+    // (and shutdown's linger runs from the last stream's end).
+    if (registered_) MarkAnswered(service_);
     service_->open_streams.fetch_sub(1);
     delete this;
   }

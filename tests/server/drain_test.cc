@@ -107,7 +107,8 @@ TEST(DrainTest, SigtermReturnsEveryFrameTheServerTookBeforeStreamsEnd) {
     SCOPED_TRACE(run->model);
     EXPECT_EQ(run->status.error_code(), grpc::StatusCode::UNAVAILABLE)
         << run->status.error_message();
-    EXPECT_NE(run->status.error_message().find("shutting down"), std::string::npos);
+    EXPECT_NE(run->status.error_message().find("shutting down"), std::string::npos)
+        << run->status.error_message();
     ASSERT_GT(run->server_took, 0);
     EXPECT_LT(run->server_took, content.num_frames) << "the stream was not cut";
     EXPECT_LE(run->server_took, run->sent);

@@ -11,6 +11,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "motion/bvh.h"
+#include "motion/cadence.h"
 #include "motion/contacts.h"
 #include "motion/dataset.h"
 #include "motion/kinematics.h"
@@ -69,6 +70,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
   for (const EvalModel& m : models) {
     report.rows.push_back({m.name + ", no post-processing"});
     if (m.postprocess) report.rows.push_back({m.name + ", post-processing full"});
+    if (m.style_timing) report.rows.push_back({"content at the style's cadence (no model)"});
   }
   report.identity_row = static_cast<int>(report.rows.size());
   report.rows.push_back({"identity (output = content)"});
@@ -97,11 +99,15 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
                      j.contents()[*c] == content_label->content};
     };
     std::vector<motion::Motion> outputs;
+    // Per output: the content clip it is measured against (its feet, its
+    // path), at the output's speed.
+    std::vector<motion::Motion> timed_content;
     for (const EvalModel& m : models) {
       absl::StatusOr<StyleCode> code = m.model->EncodeStyle(m.own_style ? *content : *style);
       if (!code.ok()) return code.status();
-      absl::StatusOr<TransferResult> transferred =
-          m.model->Transfer(*content, *code, motion::PostProcessMode::kNone);
+      TransferOptions options(motion::PostProcessMode::kNone);
+      if (m.style_timing) options.timing = Timing::kStyle;
+      absl::StatusOr<TransferResult> transferred = m.model->Transfer(*content, *code, options);
       if (!transferred.ok()) return transferred.status();
       const TransferNote& note = transferred->note;
       const motion::Motion* raw = &transferred->motion;
@@ -110,16 +116,31 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
         ++row.guarded;
         if (note.backed_off) ++row.backed_off_at[note.residual_strength];
       }
+      const motion::Motion reference_content =
+          transferred->warp.applied ? motion::TimeWarp(*content, transferred->warp.ratio)
+                                    : *content;
+      if (transferred->warp.applied) {
+        report.rows[outputs.size()].time_warped += 1;
+        report.rows[outputs.size()].time_warp_ratio += transferred->warp.ratio;
+      }
       outputs.push_back(*raw);
+      timed_content.push_back(reference_content);
       if (m.postprocess) {
         absl::StatusOr<motion::Motion> full =
-            motion::PostProcess(*raw, *content, roles, motion::PostProcessMode::kFull);
+            motion::PostProcess(*raw, reference_content, roles, motion::PostProcessMode::kFull);
         if (!full.ok()) return full.status();
         outputs.push_back(*std::move(full));
+        timed_content.push_back(reference_content);
+      }
+      if (m.style_timing) {
+        outputs.push_back(reference_content);
+        timed_content.push_back(reference_content);
       }
     }
     outputs.push_back(*content);
+    timed_content.push_back(*content);
     outputs.push_back(*style);
+    timed_content.push_back(*content);
     std::optional<FeatureMap> content_features, style_features;
     if (features) {
       absl::StatusOr<FeatureMap> c = features->Features(*content), s = features->Features(*style);
@@ -153,12 +174,12 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
         row.content_by_both += v->content_right && w->content_right;
       }
       // Copy-style has another length: its feet are measured against itself.
-      const motion::Motion& planted = r + 1 == n_rows ? *style : *content;
+      const motion::Motion& planted = r + 1 == n_rows ? *style : timed_content[r];
       row.foot_skating += motion::FootSkating(out, planted, roles);
       row.foot_height_error += motion::FootHeightError(out, planted, roles);
       row.bone_length_error += motion::BoneLengthError(out, roles);
       row.jitter += motion::Jitter(out);
-      row.trajectory_error += motion::TrajectoryError(out, *content, roles);
+      row.trajectory_error += motion::TrajectoryError(out, timed_content[r], roles);
       row.euler_discontinuities += motion::EulerDiscontinuities(out);
       if (features) {
         absl::StatusOr<FeatureMap> f = features->Features(out);
@@ -188,6 +209,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
   }
   for (size_t r = 0; r < n_rows; ++r) {
     EvalRow& row = report.rows[r];
+    if (row.time_warped > 0) row.time_warp_ratio /= row.time_warped;
     row.style_accuracy /= row.pairs;
     row.content_accuracy /= row.pairs;
     row.second_style_accuracy /= row.pairs;
@@ -367,6 +389,16 @@ std::string EvalReport::Markdown() const {
                           "when no form kept the action).\n",
                           r.name, r.guarded, r.guarded - backed_off, backed_off,
                           where.empty() ? "none" : where);
+  }
+  for (const EvalRow& r : rows) {
+    if (r.time_warped == 0) continue;
+    absl::StrAppendFormat(&s,
+                          "\nStyle timing (%s): %d of %d transfers time-warped to the style "
+                          "clip's cadence, mean duration ratio %.2f (the others keep the "
+                          "content's timing: a clip without a cadence, or one that steps against "
+                          "one that does not); the feet and path are measured against the "
+                          "content warped alike.\n",
+                          r.name, r.time_warped, r.pairs, r.time_warp_ratio);
   }
   if (second_judges) {
     s +=

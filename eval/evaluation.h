@@ -67,17 +67,26 @@ struct EvalRow {
   // residual form at each strength (the full row post-processes these).
   int guarded = 0;
   std::map<double, int> backed_off_at = {};
+  // A model row with style timing: the transfers time-warped to the style's
+  // cadence, and their mean ratio (output duration / content duration).
+  int time_warped = 0;
+  double time_warp_ratio = 0;
 };
 
 // A model to evaluate; `postprocess` adds a second row with `full`
 // post-processing. With `own_style`, each content clip is restyled with its
 // own style code instead of the style clip's: what the model keeps of a clip
-// it should give back unchanged (its ceiling on content accuracy).
+// it should give back unchanged (its ceiling on content accuracy). With
+// `style_timing`, transfers take the style clip's cadence (Timing::kStyle;
+// post-processing and the feet are measured against the content played at
+// the same speed), and a further row is the content itself played at the
+// style's cadence: what the time warp alone does.
 struct EvalModel {
   std::string name;
   const StyleModel* model = nullptr;
   bool postprocess = false;
   bool own_style = false;
+  bool style_timing = false;
 };
 
 // What the judges said about one output of one pair.

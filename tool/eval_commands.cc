@@ -220,7 +220,8 @@ int Eval(const Argv& argv) {
   static const char kHelp[] =
       "usage: stylus-tool eval --model DIR --judges DIR --data DIR... --out report.md\n"
       "         [--ablation LABEL=DIR]... [--pairs-per-content 3] [--threads N]\n"
-      "         [--verdicts verdicts.csv] [--second-judges DIR] [--own-style]\n\n"
+      "         [--verdicts verdicts.csv] [--second-judges DIR] [--own-style]\n"
+      "         [--timing-style]\n\n"
       "Transfers deterministic held-out pairs (content clip x style clip of another\n"
       "content and another style) and reports, as Markdown: style and content\n"
       "recognition accuracy (by the judges); FMD and KID against every clip of\n"
@@ -239,12 +240,16 @@ int Eval(const Argv& argv) {
       "whose content both sets, or either, recognized.\n"
       "--own-style adds a row of the model restyling each content clip with its\n"
       "own style: what it keeps of a clip it should give back unchanged (its\n"
-      "ceiling on content accuracy).\n";
+      "ceiling on content accuracy).\n"
+      "--timing-style adds the model's transfers with the style clip's cadence\n"
+      "(timing = style: time-warped; feet and path measured against the content\n"
+      "warped alike), without and with post-processing, and the content itself\n"
+      "played at the style's cadence (what the warp alone does).\n";
   int code = 0;
   auto args = ParseOrExit("eval", argv,
                           {{"model", "judges", "data", "out", "pairs-per-content", "threads",
                             "ablation", "verdicts", "second-judges"},
-                           {"own-style"}},
+                           {"own-style", "timing-style"}},
                           kHelp, &code);
   if (!args) return code;
   if (!args->Has("model") || !args->Has("judges") || !args->Has("data") || !args->Has("out")) {
@@ -282,6 +287,10 @@ int Eval(const Argv& argv) {
   }
   if (args->switches.count("own-style")) {
     models.push_back({"model with its own style", m->get(), false, /*own_style=*/true});
+  }
+  if (args->switches.count("timing-style")) {
+    models.push_back({"model, style timing", m->get(), /*postprocess=*/true, /*own_style=*/false,
+                      /*style_timing=*/true});
   }
   std::unique_ptr<model::FeatureJudge> features;
   std::vector<motion::Motion> reference;

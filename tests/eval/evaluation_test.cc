@@ -14,6 +14,7 @@
 #include "gtest/gtest.h"
 #include "model/contrastive/contrastive_model.h"
 #include "motion/bvh.h"
+#include "motion/cadence.h"
 #include "motion/dataset.h"
 #include "motion/metrics.h"
 #include "motion/synth.h"
@@ -157,6 +158,71 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   ASSERT_EQ(checked, static_cast<int>(pairs->size()));
   EXPECT_NEAR(own->rows[1].foot_skating, skating / checked, 1e-6 * skating / checked);
   EXPECT_NE(own->rows[1].foot_skating, own->rows[0].foot_skating);
+
+  // style_timing: transfers with the style's cadence, post-processed against
+  // the content warped alike, and the warped content as a row of its own;
+  // each verdict is the judges' on exactly that output.
+  // Walks long enough to have a cadence, the style's at another step rate
+  // (speed / stride).
+  const std::string gaits = ::testing::TempDir() + "/eval_gaits";
+  fs::create_directories(gaits);
+  std::vector<EvalPair> gait_pairs;
+  for (const auto& [content, style] :
+       std::vector<std::pair<std::string, std::string>>{{"old,frames=150,speed=100,stride=120",
+                                                         "proud,frames=150,speed=150,stride=120"},
+                                                        {"proud,frames=150,speed=130",
+                                                         "old,frames=150,speed=80,stride=100"}}) {
+    const std::string c = gaits + "/dataset-9_walk_" + content.substr(0, content.find(',')) +
+                          "_00" + std::to_string(gait_pairs.size() + 3) + ".bvh";
+    const std::string st = gaits + "/dataset-9_run_" + style.substr(0, style.find(',')) + "_00" +
+                           std::to_string(gait_pairs.size() + 3) + ".bvh";
+    ASSERT_TRUE(
+        motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(content)), c).ok());
+    ASSERT_TRUE(
+        motion::WriteBvhFile(*motion::Synthesize(*motion::ParseSynthStyle(style)), st).ok());
+    gait_pairs.push_back({c, st});
+  }
+  pairs->insert(pairs->end(), gait_pairs.begin(), gait_pairs.end());
+  absl::StatusOr<EvalReport> timed =
+      Evaluate({{"model", model->get(), false},
+                {"timed", model->get(), true, /*own_style=*/false, /*style_timing=*/true}},
+               **judges, nullptr, {}, *pairs);
+  ASSERT_TRUE(timed.ok()) << timed.status();
+  ASSERT_EQ(timed->rows.size(), 6u);
+  EXPECT_EQ(timed->rows[1].name, "timed, no post-processing");
+  EXPECT_EQ(timed->rows[2].name, "timed, post-processing full");
+  EXPECT_EQ(timed->rows[3].name, "content at the style's cadence (no model)");
+  EXPECT_EQ(timed->identity_row, 4);
+  int warped = 0;
+  double ratio_sum = 0;
+  for (const EvalVerdict& v : timed->verdicts) {
+    if (v.row != 1 && v.row != 3) continue;
+    const motion::Motion content = *motion::ReadBvhFile((*pairs)[v.pair].content_path);
+    const motion::Motion style = *motion::ReadBvhFile((*pairs)[v.pair].style_path);
+    TransferOptions options(motion::PostProcessMode::kNone);
+    options.timing = Timing::kStyle;
+    absl::StatusOr<TransferResult> t =
+        (*model)->Transfer(content, *(*model)->EncodeStyle(style), options);
+    ASSERT_TRUE(t.ok()) << t.status();
+    const motion::Motion expected =
+        v.row == 1 ? t->motion
+                   : (t->warp.applied ? motion::TimeWarp(content, t->warp.ratio) : content);
+    EXPECT_EQ(v.content, (*judges)->contents()[*(*judges)->ClassifyContent(expected)]);
+    EXPECT_EQ(v.style, (*judges)->styles()[*(*judges)->ClassifyStyle(expected)]);
+    if (v.row == 1 && t->warp.applied) {
+      ++warped;
+      ratio_sum += t->warp.ratio;
+    }
+  }
+  ASSERT_GT(warped, 0) << "no pair of the tiny set was time-warped: the rows test nothing";
+  EXPECT_EQ(timed->rows[1].time_warped, warped);
+  EXPECT_NEAR(timed->rows[1].time_warp_ratio, ratio_sum / warped, 1e-9);
+  EXPECT_EQ(timed->rows[0].time_warped, 0);
+  // The timing rows differ from the content-timed transfers' where a warp
+  // was applied (their jitter is measured over other frames).
+  EXPECT_NE(timed->rows[1].jitter, timed->rows[0].jitter);
+  EXPECT_NE(timed->Markdown().find("Style timing (timed, no post-processing): "),
+            std::string::npos);
 
   // The motion-only judge beside the pose judges: its verdict on every
   // output, counted against the style clip's style and the content clip's.

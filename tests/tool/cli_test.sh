@@ -323,6 +323,9 @@ if [ -d "$bandai/dataset-2" ]; then
     -show_entries stream=codec_name,width,height -of csv=p=0 "$work/eval/report_accuracy.png"
   check "the per-style chart is a PNG" 0 "^png," -- ffprobe -v error -select_streams v:0 \
     -show_entries stream=codec_name,width,height -of csv=p=0 "$work/eval/report_styles.png"
+  check "eval --timing-style adds the style-timed rows" 0 "content at the style's cadence \(no model\)" \
+    -- "$tool" eval --model "$model" --judges "$judges" --data "$bandai/dataset-2" \
+    --pairs-per-content 1 --out "$work/eval/timed.md" --threads 2 --timing-style
 elif [ "${CI:-}" = true ]; then
   echo "FAIL: $bandai missing (required under CI)"; failed=$((failed + 1))
 fi

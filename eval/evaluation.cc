@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <deque>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -100,8 +101,9 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     };
     std::vector<motion::Motion> outputs;
     // Per output: the content clip it is measured against (its feet, its
-    // path), at the output's speed.
-    std::vector<motion::Motion> timed_content;
+    // path), at the output's speed; the warped ones live in `warped`.
+    std::vector<const motion::Motion*> measured_against;
+    std::deque<motion::Motion> warped;
     for (const EvalModel& m : models) {
       absl::StatusOr<StyleCode> code = m.model->EncodeStyle(m.own_style ? *content : *style);
       if (!code.ok()) return code.status();
@@ -116,31 +118,32 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
         ++row.guarded;
         if (note.backed_off) ++row.backed_off_at[note.residual_strength];
       }
-      const motion::Motion reference_content =
-          transferred->warp.applied ? motion::TimeWarp(*content, transferred->warp.ratio)
-                                    : *content;
+      const motion::Motion* timed = &*content;
       if (transferred->warp.applied) {
-        report.rows[outputs.size()].time_warped += 1;
-        report.rows[outputs.size()].time_warp_ratio += transferred->warp.ratio;
+        EvalRow& row = report.rows[outputs.size()];
+        ++row.time_warped;
+        row.time_warp_ratio += transferred->warp.ratio;
+        timed = &warped.emplace_back(motion::TimeWarp(*content, transferred->warp.ratio));
       }
       outputs.push_back(*raw);
-      timed_content.push_back(reference_content);
+      measured_against.push_back(timed);
       if (m.postprocess) {
         absl::StatusOr<motion::Motion> full =
-            motion::PostProcess(*raw, reference_content, roles, motion::PostProcessMode::kFull);
+            motion::PostProcess(*raw, *timed, roles, motion::PostProcessMode::kFull);
         if (!full.ok()) return full.status();
         outputs.push_back(*std::move(full));
-        timed_content.push_back(reference_content);
+        measured_against.push_back(timed);
       }
       if (m.style_timing) {
-        outputs.push_back(reference_content);
-        timed_content.push_back(reference_content);
+        outputs.push_back(*timed);
+        measured_against.push_back(timed);
       }
     }
     outputs.push_back(*content);
-    timed_content.push_back(*content);
     outputs.push_back(*style);
-    timed_content.push_back(*content);
+    // Copy-style has another length: its feet are measured against itself.
+    measured_against.push_back(&*content);
+    measured_against.push_back(&*style);
     std::optional<FeatureMap> content_features, style_features;
     if (features) {
       absl::StatusOr<FeatureMap> c = features->Features(*content), s = features->Features(*style);
@@ -173,13 +176,14 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
         row.second_content_accuracy += w->content_right;
         row.content_by_both += v->content_right && w->content_right;
       }
-      // Copy-style has another length: its feet are measured against itself.
-      const motion::Motion& planted = r + 1 == n_rows ? *style : timed_content[r];
+      const motion::Motion& planted = *measured_against[r];
       row.foot_skating += motion::FootSkating(out, planted, roles);
       row.foot_height_error += motion::FootHeightError(out, planted, roles);
       row.bone_length_error += motion::BoneLengthError(out, roles);
       row.jitter += motion::Jitter(out);
-      row.trajectory_error += motion::TrajectoryError(out, timed_content[r], roles);
+      // The path against the content's (copy-style's too: how far it strays).
+      row.trajectory_error +=
+          motion::TrajectoryError(out, r + 1 == n_rows ? *content : planted, roles);
       row.euler_discontinuities += motion::EulerDiscontinuities(out);
       if (features) {
         absl::StatusOr<FeatureMap> f = features->Features(out);

@@ -410,20 +410,16 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
         waiting_since_ = std::chrono::steady_clock::now();
       }
       StartRead(&read_bytes_);
-      // A drain that began after the choice to read found this task busy
-      // and left the end to it: end now, unless the read has already
-      // completed and queued a task of its own (busy_ > 1), whose AfterTask
-      // ends the stream instead.
-      mu_.Lock();
-      if (draining_ && busy_ == 1 && !ending_ && !failed_ && !finished_) {
-        mu_.Unlock();
-        if (!HandleEnd()) AfterTask();
-        return;
-      }
-      ReleaseLocked();
-      return;
     }
     mu_.Lock();
+    // A drain that began after the choice to read found this task busy and
+    // left the end to it: end now, unless the read has already completed and
+    // queued a task of its own (busy_ > 1), whose AfterTask ends the stream.
+    if (read && draining_ && busy_ == 1 && !ending_ && !failed_ && !finished_) {
+      mu_.Unlock();
+      if (!HandleEnd()) AfterTask();
+      return;
+    }
     ReleaseLocked();
   }
 

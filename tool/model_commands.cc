@@ -33,7 +33,8 @@ int Train(const Argv& argv) {
       "         [--content-weight W] [--dynamics-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--teacher PACKAGE [--teacher-weight 1] [--teacher-strength 1]]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
-      "          [--content-class-weight 1] [--content-balance 0]]\n"
+      "          [--content-class-weight 1] [--content-balance 0]\n"
+      "          [--motion-gan-weight W] [--motion-class-weight W]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
       "         [--live [--lookahead 2] [--frame-residual] [--dilation-growth 1]]\n"
       "         [--window 32] [--hop 24]\n"
@@ -83,6 +84,11 @@ int Train(const Argv& argv) {
       "--pair-gan (with --guided) conditions the discriminator (--alpha) on the\n"
       "(style, content) label pair; it also rejects the unchanged content and the\n"
       "style clip itself under the transfer's labels.\n"
+      "--motion-gan-weight W and --motion-class-weight W (with --guided) add critics\n"
+      "that read only how the body moves (the joints' velocities and accelerations\n"
+      "as --dynamics-weight computes them): a label-conditional discriminator, and\n"
+      "a style and content classifier trained on real windows, whose verdicts on\n"
+      "each transfer weigh W (default 0: off).\n"
       "--channels N sets the width of the encoders, the generator and the codes\n"
       "(a new network: it cannot start from a package of another width).\n"
 
@@ -133,6 +139,8 @@ int Train(const Argv& argv) {
                     "commit",
                     "content-weight",
                     "dynamics-weight",
+                    "motion-gan-weight",
+                    "motion-class-weight",
                     "smooth-sigma",
                     "class-weight",
                     "cycle-weight",
@@ -238,7 +246,9 @@ int Train(const Argv& argv) {
   for (auto [name, field] : {std::pair<const char*, double*>{"class-weight", &c.class_weight},
                              {"cycle-weight", &c.cycle_weight},
                              {"content-class-weight", &c.content_class_weight},
-                             {"content-balance", &c.content_balance}}) {
+                             {"content-balance", &c.content_balance},
+                             {"motion-gan-weight", &c.motion_gan_weight},
+                             {"motion-class-weight", &c.motion_class_weight}}) {
     if (!args->Has(name)) continue;
     absl::StatusOr<double> w = args->GetDouble(name, *field);
     if (!c.guided) {

@@ -42,7 +42,9 @@ struct Trainer {
   LabelCritic critic;
   PairGan pair_gan;                // With `pair_gan` only.
   torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
-  DynamicsStyle dynamics;          // With dynamics_weight.
+  DynamicsStyle dynamics;          // With dynamics_weight or a motion critic.
+  PairGan motion_gan;              // With motion_gan_weight: reads dynamics.
+  LabelCritic motion_critic;       // With motion_class_weight: reads dynamics.
   Teacher teacher;                 // With teacher_weight.
   std::mt19937_64* rng = nullptr;  // The run's (checkpointed with it).
 
@@ -118,6 +120,33 @@ struct Trainer {
         pair_gan.Step(x, x_style, x_content, y, y_style, y_content, fake, &r->disc);
     r->gan = gan.item<double>();
     return gan;
+  }
+
+  // The terms of the critics that read only dynamics (motion_gan_weight,
+  // motion_class_weight): each learns on real windows (the content x and the
+  // style window y under their own labels), then judges the transfer x_g
+  // under (target style, x's content).
+  torch::Tensor MotionCritics(const torch::Tensor& x, const torch::Tensor& x_style,
+                              const torch::Tensor& x_content, const torch::Tensor& y,
+                              const torch::Tensor& y_style, const torch::Tensor& y_content,
+                              const torch::Tensor& x_g, LossRecord* r) {
+    const torch::Tensor m_x = dynamics.Stacked(x), m_y = dynamics.Stacked(y);
+    const torch::Tensor m_g = dynamics.Stacked(x_g);
+    torch::Tensor total = torch::zeros({});
+    if (config.motion_gan_weight > 0) {
+      const torch::Tensor gan =
+          motion_gan.Step(m_x, x_style, x_content, m_y, y_style, y_content, m_g, &r->mdisc);
+      r->mgan = gan.item<double>();
+      total = total + config.motion_gan_weight * gan;
+    }
+    if (config.motion_class_weight > 0) {
+      r->mcritic = motion_critic.Learn({{m_x, x_style, x_content}, {m_y, y_style, y_content}});
+      const torch::Tensor cls =
+          motion_critic.Verdict(m_g, y_style, x_content, config.content_class_weight);
+      r->mcls = cls.item<double>();
+      total = total + config.motion_class_weight * cls;
+    }
+    return total;
   }
 
   LossRecord Step() {
@@ -212,6 +241,9 @@ struct Trainer {
       r.dyn = dyn.item<double>();
       total = total + config.dynamics_weight * dyn;
     }
+    if (config.motion_gan_weight > 0 || config.motion_class_weight > 0)
+      total = total + MotionCritics(x, x_style, x_content, y_other, target_style, other_content,
+                                    x_g, &r);
     const torch::Tensor cls =
         critic.Verdict(x_g, target_style, x_content, config.content_class_weight);
     r.cls = cls.item<double>();
@@ -266,7 +298,16 @@ struct Trainer {
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
     content_mask = ContentMask();
-    if (config.dynamics_weight > 0) dynamics = DynamicsStyle(data);
+    const bool motion_critics = config.motion_gan_weight > 0 || config.motion_class_weight > 0;
+    if (motion_critics && !config.guided) {
+      return absl::InvalidArgumentError(
+          "motion_gan_weight and motion_class_weight need label-guided training (--guided)");
+    }
+    if (config.dynamics_weight > 0 || motion_critics) dynamics = DynamicsStyle(data);
+    if (motion_critics && !dynamics.on()) {
+      return absl::InvalidArgumentError(
+          "the motion critics need training clips of at least 3 frames");
+    }
     if (config.teacher_weight > 0) {
       absl::StatusOr<Teacher> t =
           Teacher::Load(config.teacher, config.dim, data.norm, config.teacher_strength);
@@ -308,6 +349,14 @@ struct Trainer {
       critic = LabelCritic(config.dim, static_cast<int>(classes.styles.size()),
                            static_cast<int>(classes.contents.size()));
     }
+    if (config.motion_gan_weight > 0) {
+      motion_gan = PairGan(2 * dynamics.channels(), static_cast<int>(classes.styles.size()),
+                           static_cast<int>(classes.contents.size()), config.lr);
+    }
+    if (config.motion_class_weight > 0) {
+      motion_critic = LabelCritic(2 * dynamics.channels(), static_cast<int>(classes.styles.size()),
+                                  static_cast<int>(classes.contents.size()));
+    }
     if (config.pair_gan) {
       pair_gan = PairGan(config.dim, static_cast<int>(classes.styles.size()),
                          static_cast<int>(classes.contents.size()), config.lr);
@@ -322,6 +371,10 @@ struct Trainer {
     if (config.guided) spec.loss_names.insert(spec.loss_names.end(), {"cls", "cyc", "critic"});
     if (config.dynamics_weight > 0) spec.loss_names.push_back("dyn");
     if (config.teacher_weight > 0) spec.loss_names.push_back("teach");
+    if (config.motion_gan_weight > 0)
+      spec.loss_names.insert(spec.loss_names.end(), {"mgan", "mdisc"});
+    if (config.motion_class_weight > 0)
+      spec.loss_names.insert(spec.loss_names.end(), {"mcls", "mcritic"});
     spec.loss_names.push_back("total");
     spec.config_text = config.Serialize();
     spec.iterations = config.iterations;
@@ -332,7 +385,8 @@ struct Trainer {
       spec.on_record = [this](const LossRow& row) {
         LossRecord r{row.iteration,  row.Get("rec"),    row.Get("gan"),   row.Get("nce"),
                      row.Get("tri"), row.Get("disc"),   row.Get("total"), row.Get("cls"),
-                     row.Get("cyc"), row.Get("critic"), row.Get("dyn"),   row.Get("teach")};
+                     row.Get("cyc"), row.Get("critic"), row.Get("dyn"),   row.Get("teach"),
+                     row.Get("mgan"), row.Get("mdisc"), row.Get("mcls"),  row.Get("mcritic")};
         opt.on_record(r);
       };
     }
@@ -343,6 +397,8 @@ struct Trainer {
       critic.AddFiles("critic", "opt_c", &files);
     }
     if (config.pair_gan) pair_gan.AddFiles(&files);
+    if (config.motion_gan_weight > 0) motion_gan.AddFiles(&files, "motion_disc", "opt_md");
+    if (config.motion_class_weight > 0) motion_critic.AddFiles("motion_critic", "opt_mc", &files);
     if (average.on()) files.push_back(Tensors("average.pt", average.mean()));
     CheckpointTorchFiles(std::move(files), &spec);
     spec.write_package = [this](int iterations, const std::string& csv) {
@@ -362,6 +418,9 @@ struct Trainer {
       if (config.guided) losses.insert({{"cls", r.cls}, {"cyc", r.cyc}, {"critic", r.critic}});
       if (config.dynamics_weight > 0) losses.insert({"dyn", r.dyn});
       if (config.teacher_weight > 0) losses.insert({"teach", r.teach});
+      if (config.motion_gan_weight > 0) losses.insert({{"mgan", r.mgan}, {"mdisc", r.mdisc}});
+      if (config.motion_class_weight > 0)
+        losses.insert({{"mcls", r.mcls}, {"mcritic", r.mcritic}});
       return losses;
     });
   }

@@ -24,6 +24,10 @@ struct LossRecord {
   double dyn = 0;
   // With teacher_weight: the distance to the teacher's transfer.
   double teach = 0;
+  // With motion_gan_weight: the generator's and the motion discriminator's
+  // losses; with motion_class_weight: the transfers' loss against the motion
+  // critic and the critic's own loss on real windows.
+  double mgan = 0, mdisc = 0, mcls = 0, mcritic = 0;
 };
 
 struct ContrastiveTrainOptions {

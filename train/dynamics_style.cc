@@ -65,6 +65,11 @@ std::pair<torch::Tensor, torch::Tensor> DynamicsStyle::Dynamics(const torch::Ten
   return {v, TimeDiff(v) * acc_scale_};
 }
 
+torch::Tensor DynamicsStyle::Stacked(const torch::Tensor& x) const {
+  const auto [v, a] = Dynamics(x);
+  return torch::cat({v.slice(2, 1, v.size(2)), a}, 1);
+}
+
 torch::Tensor DynamicsStyle::Loss(const torch::Tensor& out, const torch::Tensor& reference) const {
   const auto [v_out, a_out] = Dynamics(out);
   const auto [v_ref, a_ref] = Dynamics(reference);

@@ -33,6 +33,11 @@ class DynamicsStyle {
   // (B, dim, T) normalized feature windows -> (B, C, T - 1) scaled
   // velocities and (B, C, T - 2) scaled accelerations.
   std::pair<torch::Tensor, torch::Tensor> Dynamics(const torch::Tensor& x) const;
+  // The two stacked on the frames both have: (B, 2 C, T - 2), what the
+  // motion critics of training read.
+  torch::Tensor Stacked(const torch::Tensor& x) const;
+  // C of Dynamics: three per moving joint, four of the root trajectory.
+  int channels() const { return static_cast<int>(position_channels_.size(0)) + 4; }
   // The mean L1 distance between the Gram matrices of `out`'s dynamics and
   // `reference`'s, velocities and accelerations summed. Both (B, dim, T).
   torch::Tensor Loss(const torch::Tensor& out, const torch::Tensor& reference) const;

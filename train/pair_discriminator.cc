@@ -71,9 +71,10 @@ torch::Tensor PairGan::Step(const torch::Tensor& x, const torch::Tensor& x_style
                              d_loss);
 }
 
-void PairGan::AddFiles(std::vector<TorchFile>* files) {
-  files->push_back(Tensors("pair_disc.pt", &disc_));
-  files->push_back(Tensors("opt_p.pt", optimizer_.get()));
+void PairGan::AddFiles(std::vector<TorchFile>* files, const std::string& disc,
+                       const std::string& optimizer) {
+  files->push_back(Tensors(disc + ".pt", &disc_));
+  files->push_back(Tensors(optimizer + ".pt", optimizer_.get()));
 }
 
 torch::Tensor LabelTensor(const std::vector<int>& clips, const std::vector<int>& label_of) {

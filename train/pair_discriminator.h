@@ -6,6 +6,7 @@
 #include <torch/torch.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "model/guard_net.h"
@@ -58,8 +59,9 @@ class PairGan {
                      const torch::Tensor& x_content, const torch::Tensor& y,
                      const torch::Tensor& y_style, const torch::Tensor& y_content,
                      const torch::Tensor& fake, double* d_loss);
-  // Checkpoint files pair_disc.pt and opt_p.pt.
-  void AddFiles(std::vector<TorchFile>* files);
+  // Checkpoint files `disc`.pt and `optimizer`.pt.
+  void AddFiles(std::vector<TorchFile>* files, const std::string& disc = "pair_disc",
+                const std::string& optimizer = "opt_p");
 
  private:
   PairDiscriminator disc_{nullptr};

@@ -39,6 +39,8 @@ std::string ContrastiveConfig::Serialize() const {
   if (mirror) put("mirror", "1");
   if (content_weight > 0) put("content_weight", absl::StrCat(content_weight));
   if (dynamics_weight > 0) put("dynamics_weight", absl::StrCat(dynamics_weight));
+  if (motion_gan_weight > 0) put("motion_gan_weight", absl::StrCat(motion_gan_weight));
+  if (motion_class_weight > 0) put("motion_class_weight", absl::StrCat(motion_class_weight));
   if (teacher_weight > 0) {
     put("teacher_weight", absl::StrCat(teacher_weight));
     put("teacher", teacher);
@@ -106,6 +108,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "gamma") return e.Double(&c.gamma, 0, 1e6);
     if (key == "content_weight") return e.Double(&c.content_weight, 0, 1e6);
     if (key == "dynamics_weight") return e.Double(&c.dynamics_weight, 0, 1e6);
+    if (key == "motion_gan_weight") return e.Double(&c.motion_gan_weight, 0, 1e6);
+    if (key == "motion_class_weight") return e.Double(&c.motion_class_weight, 0, 1e6);
     if (key == "teacher_weight") return e.Double(&c.teacher_weight, 0, 1e6);
     if (key == "teacher_strength") return e.Double(&c.teacher_strength, 0, 1);
     if (key == "teacher") {

@@ -106,6 +106,16 @@ struct ContrastiveConfig : GuardKeys {
   // velocities, and their changes (accelerations), each channel scaled to
   // unit deviation over the training data (docs/notes/motion_style.md).
   double dynamics_weight = 0;
+  // Label-guided training only: critics that read only how the body moves
+  // (the same dynamics, velocities and accelerations, no static pose).
+  // `motion_gan_weight`: the generator's loss against a label-conditional
+  // discriminator on the dynamics (real: real windows under their own
+  // labels; fake: the transfer, and the content and style windows under the
+  // transfer's labels). `motion_class_weight`: the cross-entropy of a
+  // dynamics classifier, trained on real windows only, against the target
+  // style and the content's action (docs/notes/motion_style.md). 0: off.
+  double motion_gan_weight = 0;
+  double motion_class_weight = 0;
   // Distillation (train/teacher.h): weight of an L1 term on the pose
   // channels between the transfer and the `teacher` package's transfer of
   // the same content window to the same style window (0: off). `teacher` is

@@ -56,6 +56,8 @@ check "train --class-weight without --guided" 1 "--class-weight needs --guided" 
   --data "$work/old.bvh" --out "$work/unguided" --class-weight 2
 check "train --pair-gan without --guided" 1 "--pair-gan needs --guided" -- "$tool" train \
   --data "$work/old.bvh" --out "$work/unguided" --pair-gan
+check "train --motion-gan-weight without --guided" 1 "--motion-gan-weight needs --guided" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --motion-gan-weight 1
 check "train with a removed experiment option" 2 "unknown option --content-body" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-body
 check "train --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \

@@ -181,6 +181,44 @@ TEST(ContrastiveTrainerTest, PairGanTrainsAndResumesWithItsDiscriminator) {
   EXPECT_TRUE((*m)->config().pair_gan);
 }
 
+// The critics that read only dynamics: both learn on real windows (the
+// motion critic's label loss falls), both are checkpointed, and a resumed run
+// ends where an unbroken one does; without labels they are refused.
+TEST(ContrastiveTrainerTest, MotionCriticsTrainAndResume) {
+  auto options = [](const std::string& out, int iterations) {
+    ContrastiveTrainOptions o = GuidedOptions(out, iterations);
+    o.config.motion_gan_weight = 1;
+    o.config.motion_class_weight = 1;
+    return o;
+  };
+  ResumedRuns runs;
+  ASSERT_NO_FATAL_FAILURE(TrainUnbrokenAndResumed("motion_critics", options, &runs));
+  for (const char* f : {"motion_disc.pt", "opt_md.pt", "motion_critic.pt", "opt_mc.pt"})
+    EXPECT_TRUE(fs::exists(runs.unbroken_dir + "/checkpoint/" + f)) << f;
+  for (const LossRecord& r : runs.unbroken) {
+    std::printf("%d mgan %.4f mdisc %.4f mcls %.4f mcritic %.4f\n", r.iteration, r.mgan, r.mdisc,
+                r.mcls, r.mcritic);
+    EXPECT_TRUE(std::isfinite(r.mgan) && r.mgan > 0) << r.iteration;
+    EXPECT_TRUE(std::isfinite(r.mdisc) && r.mdisc > 0) << r.iteration;
+    EXPECT_TRUE(std::isfinite(r.mcls) && r.mcls > 0) << r.iteration;
+  }
+  EXPECT_LT(runs.unbroken.back().mcritic, 0.7 * runs.unbroken.front().mcritic);
+  const LossRecord &a = runs.unbroken.back(), &c = runs.resumed.back();
+  EXPECT_NEAR(c.mdisc, a.mdisc, 1e-4 * std::fabs(a.mdisc));
+  EXPECT_NEAR(c.mcritic, a.mcritic, 1e-4 * std::fabs(a.mcritic));
+  EXPECT_NEAR(c.total, a.total, 1e-4 * std::fabs(a.total));
+  absl::StatusOr<ContrastiveConfig> config = ReadPackageConfig(runs.unbroken_dir);
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_EQ(config->motion_gan_weight, 1);
+  EXPECT_EQ(config->motion_class_weight, 1);
+
+  ContrastiveTrainOptions unguided = options(testing::FreshDir("motion_critics_unguided"), 10);
+  unguided.config.guided = false;
+  const absl::Status s = TrainContrastive(unguided);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
+}
+
 TEST(ContrastiveTrainerTest, NeedsLabelledClipNames) {
   ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("guided_unlabelled"), 10);
   o.data = testing::FourClips();  // normal.bvh, old.bvh, ...

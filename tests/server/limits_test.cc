@@ -173,8 +173,8 @@ TEST(LimitsTest, LoadModelTakesOnlyNamesInsideTheModelDirectory) {
   std::unique_ptr<LiveServer> live = LiveServer::Start();
   ASSERT_NE(live, nullptr);
   for (const std::string name :
-       {"../models/contrastive/v5", "contrastive/../../models", "/etc/passwd",
-        "contrastive/v5/../v5", "./contrastive/v5", "contrastive\\v5", "contrastive//v5", ""}) {
+       {"../models/contrastive/v6", "contrastive/../../models", "/etc/passwd",
+        "contrastive/v6/../v6", "./contrastive/v6", "contrastive\\v6", "contrastive//v6", ""}) {
     const absl::Status s = live->client->LoadModel(name).status();
     EXPECT_TRUE(s.code() == absl::StatusCode::kInvalidArgument ||
                 s.code() == absl::StatusCode::kNotFound)

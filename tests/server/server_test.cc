@@ -269,7 +269,7 @@ TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
 TEST_F(ServerTest, TransferSaysWhatTheContentGuardDid) {
   STYLUS_REQUIRE_BANDAI(dir);
   // The default package's guard backs this pair off (see the test above) and
-  // keeps the sample walk's configured transfer.
+  // keeps the configured transfer of an old walk onto a normal one.
   v1::ContentGuardNote guard;
   CallOptions options;
   options.content_guard = &guard;
@@ -277,11 +277,12 @@ TEST_F(ServerTest, TransferSaysWhatTheContentGuardDid) {
   const motion::Motion style = BandaiClip(dir, "walk_proud_001");
   ASSERT_TRUE(client().Transfer(content, {&style, ""}, options).ok());
   EXPECT_TRUE(guard.backed_off());
-  const std::vector<double> strengths = {1, 0.7, 0.4, 0.2};
+  const std::vector<double> strengths = {1, 0.9, 0.8, 0.7, 0.55, 0.4, 0.2};
   EXPECT_NE(std::find(strengths.begin(), strengths.end(), guard.residual_strength()),
             strengths.end())
       << guard.residual_strength();
-  const motion::Motion walk = Sample("walk_normal.bvh"), old = Sample("walk_old.bvh");
+  const motion::Motion walk = BandaiClip(dir, "walk_normal_001");
+  const motion::Motion old = BandaiClip(dir, "walk_old_001");
   ASSERT_TRUE(client().Transfer(walk, {&old, ""}, options).ok());
   EXPECT_FALSE(guard.backed_off());
   EXPECT_EQ(guard.residual_strength(), 1);

@@ -51,10 +51,22 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(motion::Motion raw, int64_t 
     if (pins_[k])
       pins[k] = motion::ContactPin{static_cast<int>(pins_[k]->first - from), pins_[k]->second};
   }
+  // The history's world poses as they were posed when new (posed from the
+  // frames as sent if they are not known).
+  std::vector<motion::GlobalPose> posed;
+  const int history = static_cast<int>(first - from);
+  if (posed_.size() == sent_.size() &&
+      sent_base_ + static_cast<int64_t>(sent_.size()) - from == history) {
+    posed.assign(std::make_move_iterator(posed_.begin() + (from - sent_base_)),
+                 std::make_move_iterator(posed_.end()));
+  } else {
+    for (int f = 0; f < history && f < static_cast<int>(poses.size()); ++f)
+      posed.push_back(motion::ForwardKinematics(sk, poses[f]));
+  }
   absl::StatusOr<std::vector<motion::LocalPose>> cleaned = motion::PostProcessPoses(
       sk, roles_, std::move(poses),
       absl::MakeConstSpan(content_).subspan(0, static_cast<size_t>(end - from)), raw.fps(), post_,
-      params, static_cast<int>(first - from), &pins);
+      params, history, &pins, &posed);
   if (!cleaned.ok()) return cleaned.status();
   for (int k = 0; k < 4; ++k) {
     pins_[k].reset();
@@ -78,12 +90,14 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(motion::Motion raw, int64_t 
   const int frames = raw.num_frames;
   motion::Motion fresh = std::move(raw);
   for (int f = 0; f < frames; ++f) motion::SetPose(&fresh, f, (*cleaned)[f], &last_euler_);
-  // Keep `history` of the frames as sent.
+  // Keep `history` of the frames as sent, and their world poses.
   sent_.erase(sent_.begin(), sent_.begin() + (from - sent_base_));
   sent_base_ = from;
   std::move(cleaned->begin(), cleaned->end(), std::back_inserter(sent_));
+  posed_ = std::move(posed);  // Frames [from, first + frames), as sent_'s now.
   const int64_t keep = std::max(sent_base_, first + frames - history_);
   sent_.erase(sent_.begin(), sent_.begin() + (keep - sent_base_));
+  posed_.erase(posed_.begin(), posed_.begin() + (keep - sent_base_));
   sent_base_ = keep;
   return fresh;
 }

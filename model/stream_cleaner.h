@@ -6,9 +6,11 @@
 // the new frames' Euler angles continue from the last frame sent. Used by
 // the streamers of every family.
 //
-// The history's poses and the input's world positions are kept between
-// calls, so each frame is converted from Euler angles, and each input frame
-// posed, once (a live stream cleans one frame per call).
+// The history's poses (local, and in the world as they were posed when new)
+// and the input's world positions are kept between calls, so each frame is
+// converted from Euler angles, smoothed, and posed once, and each input frame
+// posed once (a live stream cleans one frame per call). The history is read
+// as sent: its frames are final and are not smoothed again.
 //
 // Thread-safety: one per stream, used by one thread at a time.
 #ifndef STYLUS_MODEL_STREAM_CLEANER_H_
@@ -22,6 +24,7 @@
 
 #include "absl/status/statusor.h"
 #include "motion/humanoid.h"
+#include "motion/kinematics.h"
 #include "motion/motion.h"
 #include "motion/postprocess.h"
 
@@ -51,6 +54,8 @@ class StreamCleaner {
   motion::PostProcessMode post_;
   int history_;
   std::vector<motion::LocalPose> sent_;   // The last output frames sent (history).
+  // Their world poses as post-processing posed them when they were new.
+  std::vector<motion::GlobalPose> posed_;
   int64_t sent_base_ = 0;                 // Stream index of sent_'s first frame.
   std::vector<motion::Vec3> last_euler_;  // The last frame sent's Euler angles.
   // World positions of input frames [content_base_, content_base_ + size).

@@ -137,7 +137,7 @@ void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles) {
   }
 }
 
-void SmoothPoses(const Skeleton& sk, std::vector<LocalPose>* poses_in, int radius) {
+void SmoothPoses(const Skeleton& sk, std::vector<LocalPose>* poses_in, int radius, int first) {
   std::vector<LocalPose>& poses = *poses_in;
   const int n = static_cast<int>(poses.size());
   if (radius <= 0 || n < 2) return;
@@ -154,7 +154,7 @@ void SmoothPoses(const Skeleton& sk, std::vector<LocalPose>* poses_in, int radiu
     for (int f = 0; f < n; ++f) {
       q[f] = f == 0 ? rotation(f) : SameHemisphere(rotation(f), q[f - 1]);
     }
-    for (int f = 0; f < n; ++f) {
+    for (int f = std::max(0, first); f < n; ++f) {
       Quat sum{0, 0, 0, 0};
       for (int d = -radius; d <= radius; ++d) {
         const int i = std::clamp(f + d, 0, n - 1);
@@ -166,7 +166,7 @@ void SmoothPoses(const Skeleton& sk, std::vector<LocalPose>* poses_in, int radiu
       smoothed_rotations[f] =
           under_root ? Normalized(Conjugate(poses[f].rotations[0]) * smoothed) : smoothed;
     }
-    for (int f = 0; f < n; ++f) poses[f].rotations[j] = smoothed_rotations[f];
+    for (int f = std::max(0, first); f < n; ++f) poses[f].rotations[j] = smoothed_rotations[f];
   }
 }
 
@@ -190,9 +190,15 @@ void MakeEulerContinuous(Motion* motion) {
 absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
     const Skeleton& sk, const HumanoidRoles& roles, std::vector<LocalPose> source,
     absl::Span<const std::vector<Vec3>> content_pos, double fps, PostProcessMode mode,
-    const PostProcessParams& params, int first_kept, ContactPins* pins) {
+    const PostProcessParams& params, int first_kept, ContactPins* pins,
+    std::vector<GlobalPose>* posed) {
   const int n = static_cast<int>(source.size());
   first_kept = std::clamp(first_kept, 0, n);
+  if (posed != nullptr && static_cast<int>(posed->size()) != first_kept) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("post-processing: ", posed->size(), " posed history frames for ",
+                     first_kept, " frames before the first kept"));
+  }
   if (mode == PostProcessMode::kNone || n == 0) {
     if (pins != nullptr) pins->fill(std::nullopt);
     source.erase(source.begin(), source.begin() + first_kept);
@@ -201,10 +207,13 @@ absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
   absl::StatusOr<std::array<Leg, 2>> legs = Legs(sk, roles);
   if (!legs.ok()) return legs.status();
   const auto spans = DetectContactSpans(content_pos, roles, fps, params.contacts);
-  if (mode == PostProcessMode::kFull) SmoothPoses(sk, &source, params.smooth_radius);
+  const int known = posed != nullptr ? first_kept : 0;  // Final frames, posed before.
+  if (mode == PostProcessMode::kFull) SmoothPoses(sk, &source, params.smooth_radius, known);
   // The output's world pose per frame: the pins and the knees' hinges read it.
   std::vector<GlobalPose> out_pose(n);
-  for (int f = 0; f < n; ++f) out_pose[f] = ForwardKinematics(sk, source[f]);
+  for (int f = 0; f < n; ++f) {
+    out_pose[f] = f < known ? std::move((*posed)[f]) : ForwardKinematics(sk, source[f]);
+  }
   const std::array<int, 4> feet = FootJoints(roles);
   const int blend = std::max(1, static_cast<int>(std::lround(params.blend_s * fps)));
 
@@ -325,6 +334,7 @@ absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
     }
     result.push_back(std::move(local));
   }
+  if (posed != nullptr) *posed = std::move(out_pose);
   return result;
 }
 

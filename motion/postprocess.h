@@ -14,6 +14,7 @@
 #include "absl/strings/string_view.h"
 #include "absl/types/span.h"
 #include "motion/humanoid.h"
+#include "motion/kinematics.h"
 #include "motion/motion.h"
 
 namespace stylus::motion {
@@ -95,10 +96,17 @@ using ContactPins = std::array<std::optional<ContactPin>, 4>;  // FootJoints ord
 // (none: nullopt). Without it a span that began before the first frame is
 // pinned where it is at the first frame, which drifts as a stream's history
 // window slides along a long contact.
+// `posed`, when given (a stream's history): on the way in, the world poses of
+// frames [0, first_kept) as this function posed them when they were new
+// (smoothed, before the feet were locked); those frames are final, so they are
+// read (as the new frames' smoothing neighbours, for pins and hinges) but
+// neither smoothed nor posed again. On the way out, the same for every frame.
+// INVALID_ARGUMENT when its size is not first_kept.
 absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
     const Skeleton& skeleton, const HumanoidRoles& roles, std::vector<LocalPose> output,
     absl::Span<const std::vector<Vec3>> content_positions, double fps, PostProcessMode mode,
-    const PostProcessParams& params = {}, int first_kept = 0, ContactPins* pins = nullptr);
+    const PostProcessParams& params = {}, int first_kept = 0, ContactPins* pins = nullptr,
+    std::vector<GlobalPose>* posed = nullptr);
 
 // Position channels of every joint below the pelvis set to its offset (its
 // bone length and direction at rest).
@@ -108,8 +116,10 @@ void RestoreBoneLengths(Motion* motion, const HumanoidRoles& roles);
 // of its rotations over [f - radius, f + radius] (quaternions aligned to one
 // hemisphere, renormalized). Translations are kept.
 void SmoothRotations(Motion* motion, int radius);
-// The same on poses.
-void SmoothPoses(const Skeleton& skeleton, std::vector<LocalPose>* poses, int radius);
+// The same on poses; frames before `first` keep their rotations (they are
+// still read as their neighbours').
+void SmoothPoses(const Skeleton& skeleton, std::vector<LocalPose>* poses, int radius,
+                 int first = 0);
 
 // Rewrites every rotation as the Euler angles, in the joint's own order,
 // nearest to the previous frame's: the same rotations without 360-degree (or

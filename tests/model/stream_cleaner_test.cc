@@ -1,6 +1,7 @@
-// The stream cleaner keeps its history as poses and the input's world
-// positions between calls; its frames must be what post-processing each
-// batch with its history from the frames as sent gives.
+// The stream cleaner keeps its history as poses (and their world poses from
+// when they were new) and the input's world positions between calls; its
+// frames must be what post-processing each batch with its history from the
+// frames as sent gives, the history read as final.
 #include "model/stream_cleaner.h"
 
 #include <array>
@@ -39,7 +40,9 @@ Motion Swaying(const Motion& content, const motion::HumanoidRoles& roles) {
 // Post-processes each batch of `chunk` raw frames with the last kHistory
 // frames as sent, read back from their Euler angles, against the input up to
 // kLookahead frames ahead, every frame posed afresh; a contact seen before
-// keeps its pin; the batch's angles continue from the last frame sent.
+// keeps its pin; the history frames are final (not smoothed again; their
+// world poses those their own batch gave them); the batch's angles continue
+// from the last frame sent.
 Motion Reference(const Motion& raw, const Motion& input, const motion::HumanoidRoles& roles,
                  PostProcessMode mode, int chunk) {
   Motion sent = raw;
@@ -48,6 +51,7 @@ Motion Reference(const Motion& raw, const Motion& input, const motion::HumanoidR
   motion::PostProcessParams params;
   params.pin_at_span_start = true;
   std::array<std::optional<std::pair<int, motion::Vec3>>, 4> carried;  // Stream frame, pin.
+  std::vector<motion::GlobalPose> posed_all;  // Per stream frame.
   for (int first = 0; first < raw.num_frames; first += chunk) {
     const int last = std::min(raw.num_frames, first + chunk);
     const int from = std::max(0, first - kHistory);
@@ -61,9 +65,13 @@ Motion Reference(const Motion& raw, const Motion& input, const motion::HumanoidR
     for (int k = 0; k < 4; ++k) {
       if (carried[k]) pins[k] = motion::ContactPin{carried[k]->first - from, carried[k]->second};
     }
+    std::vector<motion::GlobalPose> posed(posed_all.begin() + from, posed_all.end());
     absl::StatusOr<std::vector<motion::LocalPose>> cleaned =
         motion::PostProcessPoses(raw.skeleton, roles, poses, motion::GlobalPositions(content),
-                                 raw.fps(), mode, params, first - from, &pins);
+                                 raw.fps(), mode, params, first - from, &pins, &posed);
+    EXPECT_EQ(posed.size(), poses.size());
+    posed_all.resize(from);
+    posed_all.insert(posed_all.end(), posed.begin(), posed.end());
     EXPECT_TRUE(cleaned.ok()) << cleaned.status();
     if (!cleaned.ok()) return sent;
     for (int k = 0; k < 4; ++k) {

@@ -239,6 +239,49 @@ TEST(PostProcessTest, SlidingFeetGetLockedKeepingFramesAndRoot) {
   EXPECT_EQ(PostProcess(output, content, roles, PostProcessMode::kNone)->values, output.values);
 }
 
+// A stream's history: frames before first_kept given with their world poses
+// are final (read as neighbours, not smoothed or posed again), and the world
+// poses of every frame come back for the next call.
+TEST(PostProcessTest, AHistoryWithItsWorldPosesIsReadAsFinal) {
+  const Motion content = *ReadBvhFile(testing::SourceDir() + "/samples/walk_normal.bvh");
+  const HumanoidRoles roles = *FindHumanoidRoles(content.skeleton);
+  const Skeleton& sk = content.skeleton;
+  Motion output = content;
+  const int cx = sk.channel_start(roles.pelvis);
+  for (int f = 0; f < output.num_frames; ++f) output.frame(f)[cx + 3] += 9 * std::sin(f * 0.9);
+  std::vector<LocalPose> poses;
+  for (int f = 0; f < 12; ++f) poses.push_back(PoseAt(output, f));
+  const auto positions = GlobalPositions(content);
+  const absl::Span<const std::vector<Vec3>> span = absl::MakeConstSpan(positions).subspan(0, 12);
+  // With no history, the same frames as without `posed`, and a pose per frame back.
+  std::vector<GlobalPose> posed;
+  auto with = PostProcessPoses(sk, roles, poses, span, content.fps(), PostProcessMode::kFull, {},
+                               0, nullptr, &posed);
+  auto without = PostProcessPoses(sk, roles, poses, span, content.fps(), PostProcessMode::kFull);
+  ASSERT_TRUE(with.ok() && without.ok());
+  ASSERT_EQ(posed.size(), 12u);
+  for (int f = 0; f < 12; ++f) {
+    for (int j = 0; j < sk.num_joints(); ++j) {
+      EXPECT_LT(AngleBetween((*with)[f].rotations[j], (*without)[f].rotations[j]), 1e-12);
+    }
+  }
+  // With 8 frames of history, the history is not smoothed again: the poses
+  // handed back for it are the ones given.
+  std::vector<GlobalPose> history(posed.begin(), posed.begin() + 8);
+  history[3].positions[0] = history[3].positions[0] + Vec3{1, 2, 3};  // Marked.
+  auto kept = PostProcessPoses(sk, roles, poses, span, content.fps(), PostProcessMode::kFull, {},
+                               8, nullptr, &history);
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  EXPECT_EQ(kept->size(), 4u);
+  ASSERT_EQ(history.size(), 12u);
+  EXPECT_LT(Dist(history[3].positions[0], posed[3].positions[0] + Vec3{1, 2, 3}), 1e-12);
+  // A history of the wrong length is refused.
+  std::vector<GlobalPose> short_history(posed.begin(), posed.begin() + 5);
+  EXPECT_FALSE(PostProcessPoses(sk, roles, poses, span, content.fps(), PostProcessMode::kFull, {},
+                                8, nullptr, &short_history)
+                   .ok());
+}
+
 TEST(PostProcessTest, RestoreBoneLengthsUndoesStretchedBones) {
   Motion m = *ReadBvhFile(testing::SourceDir() + "/samples/walk_normal.bvh");
   const HumanoidRoles roles = *FindHumanoidRoles(m.skeleton);

@@ -102,4 +102,14 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(motion::Motion raw, int64_t 
   return fresh;
 }
 
+size_t StreamCleaner::bytes() const {
+  size_t n = last_euler_.size() * sizeof(motion::Vec3);
+  for (const motion::LocalPose& p : sent_)
+    n += p.translations.size() * sizeof(motion::Vec3) + p.rotations.size() * sizeof(motion::Quat);
+  for (const motion::GlobalPose& p : posed_)
+    n += p.positions.size() * sizeof(motion::Vec3) + p.rotations.size() * sizeof(motion::Quat);
+  for (const std::vector<motion::Vec3>& c : content_) n += c.size() * sizeof(motion::Vec3);
+  return n;
+}
+
 }  // namespace stylus::model

@@ -48,6 +48,9 @@ class StreamCleaner {
   // at `first`.
   int64_t FirstInputNeeded(int64_t first) const;
   motion::PostProcessMode mode() const { return post_; }
+  // Bytes of the frames it keeps between calls (the history's poses and
+  // world poses, the input's world positions, the last Euler angles).
+  size_t bytes() const;
 
  private:
   const motion::HumanoidRoles& roles_;

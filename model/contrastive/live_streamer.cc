@@ -217,7 +217,7 @@ size_t LiveStreamer::state_bytes() const {
   for (const auto& r : recent_) n += r.size() * sizeof(float);
   n += input_.values.size() * sizeof(double);
   n += generated_.values.size() * sizeof(float);
-  return n + kCleanHistory * input_.skeleton.num_channels() * sizeof(double);
+  return n + cleaner_.bytes();
 }
 
 }  // namespace stylus::model

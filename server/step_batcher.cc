@@ -1,6 +1,5 @@
 #include "server/step_batcher.h"
 
-#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -91,23 +90,13 @@ void StepBatcher::Loop() {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     std::vector<Entry> again;
-    auto finished = std::make_shared<std::vector<std::function<void(absl::Status)>>>();
     for (Entry& e : batch) {
       if (s.ok() && e.core->has_steps()) {
         again.push_back(std::move(e));
         continue;
       }
-      finished->push_back(std::move(e.done));
-    }
-    // The continuations (decoding, post-processing, the replies) run on the
-    // executor in one task per executor thread, each taking every k-th of
-    // the batch: a wake-up per thread rather than one per stream.
-    const size_t tasks = std::min<size_t>(finished->size(), std::max(1, executor_->threads()));
-    for (size_t t = 0; t < tasks; ++t) {
-      auto slice = [finished, s, t, tasks] {
-        for (size_t i = t; i < finished->size(); i += tasks) (*finished)[i](s);
-      };
-      if (!executor_->Submit(slice)) slice();
+      auto done = std::move(e.done);
+      if (!executor_->Submit([done, s] { done(s); })) done(s);
     }
     if (!again.empty()) {
       // Their next steps go first: they have waited longest.

@@ -67,7 +67,10 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(motion::Motion raw, int64_t 
       sk, roles_, std::move(poses),
       absl::MakeConstSpan(content_).subspan(0, static_cast<size_t>(end - from)), raw.fps(), post_,
       params, history, &pins, &posed);
-  if (!cleaned.ok()) return cleaned.status();
+  if (!cleaned.ok()) {
+    posed_.clear();  // Moved from: posed afresh by the next call.
+    return cleaned.status();
+  }
   for (int k = 0; k < 4; ++k) {
     pins_[k].reset();
     if (pins[k]) pins_[k] = std::make_pair(from + pins[k]->frame, pins[k]->pin);

@@ -32,7 +32,8 @@ namespace stylus::model {
 
 class StreamCleaner {
  public:
-  // `history`: output frames kept and re-cleaned with each batch.
+  // `history`: output frames kept and read with each batch (as sent: they
+  // are final and are not cleaned again).
   StreamCleaner(const motion::HumanoidRoles& roles, motion::PostProcessMode post, int history);
 
   // Cleans output frames [first, first + raw.num_frames) (stream indices,

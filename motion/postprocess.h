@@ -100,8 +100,8 @@ using ContactPins = std::array<std::optional<ContactPin>, 4>;  // FootJoints ord
 // frames [0, first_kept) as this function posed them when they were new
 // (smoothed, before the feet were locked); those frames are final, so they are
 // read (as the new frames' smoothing neighbours, for pins and hinges) but
-// neither smoothed nor posed again. On the way out, the same for every frame.
-// INVALID_ARGUMENT when its size is not first_kept.
+// neither smoothed nor posed again. On the way out (modes other than none),
+// the same for every frame. INVALID_ARGUMENT when its size is not first_kept.
 absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
     const Skeleton& skeleton, const HumanoidRoles& roles, std::vector<LocalPose> output,
     absl::Span<const std::vector<Vec3>> content_positions, double fps, PostProcessMode mode,

@@ -34,7 +34,7 @@ int Train(const Argv& argv) {
       "         [--teacher PACKAGE [--teacher-weight 1] [--teacher-strength 1]]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]\n"
-      "          [--motion-gan-weight W] [--motion-class-weight W]]\n"
+      "          [--motion-gan-weight W] [--motion-class-weight W] [--paired-weight W]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
       "         [--live [--lookahead 2] [--frame-residual] [--dilation-growth 1]]\n"
       "         [--window 32] [--hop 24]\n"
@@ -89,6 +89,10 @@ int Train(const Argv& argv) {
       "as --dynamics-weight computes them): a label-conditional discriminator, and\n"
       "a style and content classifier trained on real windows, whose verdicts on\n"
       "each transfer weigh W (default 0: off).\n"
+      "--paired-weight W (with --guided) adds W x the L1 distance between each\n"
+      "transfer and a real clip of the content's action in the target style (where\n"
+      "the data has one), at the window whose content code is nearest the content\n"
+      "window's: the pose and how it moves, all but the root path (default 0: off).\n"
       "--channels N sets the width of the encoders, the generator and the codes\n"
       "(a new network: it cannot start from a package of another width).\n"
 
@@ -141,6 +145,7 @@ int Train(const Argv& argv) {
                     "dynamics-weight",
                     "motion-gan-weight",
                     "motion-class-weight",
+                    "paired-weight",
                     "smooth-sigma",
                     "class-weight",
                     "cycle-weight",
@@ -248,7 +253,8 @@ int Train(const Argv& argv) {
                              {"content-class-weight", &c.content_class_weight},
                              {"content-balance", &c.content_balance},
                              {"motion-gan-weight", &c.motion_gan_weight},
-                             {"motion-class-weight", &c.motion_class_weight}}) {
+                             {"motion-class-weight", &c.motion_class_weight},
+                             {"paired-weight", &c.paired_weight}}) {
     if (!args->Has(name)) continue;
     absl::StatusOr<double> w = args->GetDouble(name, *field);
     if (!c.guided) {

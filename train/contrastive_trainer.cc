@@ -18,6 +18,7 @@
 #include "train/dynamics_style.h"
 #include "train/label_critic.h"
 #include "train/pair_discriminator.h"
+#include "train/paired_target.h"
 #include "train/teacher.h"
 #include "train/torch_files.h"
 #include "train/training_run.h"
@@ -42,6 +43,7 @@ struct Trainer {
   LabelCritic critic;
   PairGan pair_gan;                // With `pair_gan` only.
   torch::Tensor content_mask;      // (1, dim, 1): channels of the content-keeping term.
+  torch::Tensor pose_mask;         // (1, dim, 1): every channel but the root path's.
   DynamicsStyle dynamics;          // With dynamics_weight or a motion critic.
   PairGan motion_gan;              // With motion_gan_weight: reads dynamics.
   LabelCritic motion_critic;       // With motion_class_weight: reads dynamics.
@@ -244,6 +246,17 @@ struct Trainer {
     if (config.motion_gan_weight > 0 || config.motion_class_weight > 0)
       total = total + MotionCritics(x, x_style, x_content, y_other, target_style, other_content,
                                     x_g, &r);
+    if (config.paired_weight > 0) {
+      // The content's action performed in the target style, where the data
+      // has it (train/paired_target.h).
+      std::vector<int> examples;
+      for (size_t i = 0; i < clips.size(); ++i)
+        examples.push_back(classes.SameContentInStyle(clips[i], classes.style_of[other[i]], rng));
+      const PairedTargets targets = FindPairedTargets(net, data, examples, c_x, config.window);
+      const torch::Tensor pair = PairedLoss(x_g, targets, pose_mask);
+      r.pair = pair.item<double>();
+      total = total + config.paired_weight * pair;
+    }
     const torch::Tensor cls =
         critic.Verdict(x_g, target_style, x_content, config.content_class_weight);
     r.cls = cls.item<double>();
@@ -298,6 +311,12 @@ struct Trainer {
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
     content_mask = ContentMask();
+    pose_mask = torch::ones({1, config.dim, 1});
+    pose_mask.slice(1, motion::FeatureLayout(data.skeleton.num_joints()).trajectory()).zero_();
+    if (config.paired_weight > 0 && !config.guided) {
+      return absl::InvalidArgumentError(
+          "paired_weight needs label-guided training (--guided)");
+    }
     const bool motion_critics = config.motion_gan_weight > 0 || config.motion_class_weight > 0;
     if (motion_critics && !config.guided) {
       return absl::InvalidArgumentError(
@@ -375,6 +394,7 @@ struct Trainer {
       spec.loss_names.insert(spec.loss_names.end(), {"mgan", "mdisc"});
     if (config.motion_class_weight > 0)
       spec.loss_names.insert(spec.loss_names.end(), {"mcls", "mcritic"});
+    if (config.paired_weight > 0) spec.loss_names.push_back("pair");
     spec.loss_names.push_back("total");
     spec.config_text = config.Serialize();
     spec.iterations = config.iterations;
@@ -386,7 +406,8 @@ struct Trainer {
         LossRecord r{row.iteration,  row.Get("rec"),    row.Get("gan"),   row.Get("nce"),
                      row.Get("tri"), row.Get("disc"),   row.Get("total"), row.Get("cls"),
                      row.Get("cyc"), row.Get("critic"), row.Get("dyn"),   row.Get("teach"),
-                     row.Get("mgan"), row.Get("mdisc"), row.Get("mcls"),  row.Get("mcritic")};
+                     row.Get("mgan"), row.Get("mdisc"), row.Get("mcls"),  row.Get("mcritic"),
+                     row.Get("pair")};
         opt.on_record(r);
       };
     }
@@ -421,6 +442,7 @@ struct Trainer {
       if (config.motion_gan_weight > 0) losses.insert({{"mgan", r.mgan}, {"mdisc", r.mdisc}});
       if (config.motion_class_weight > 0)
         losses.insert({{"mcls", r.mcls}, {"mcritic", r.mcritic}});
+      if (config.paired_weight > 0) losses.insert({"pair", r.pair});
       return losses;
     });
   }

@@ -28,6 +28,8 @@ struct LossRecord {
   // losses; with motion_class_weight: the transfers' loss against the motion
   // critic and the critic's own loss on real windows.
   double mgan = 0, mdisc = 0, mcls = 0, mcritic = 0;
+  // With paired_weight: the distance to the paired targets.
+  double pair = 0;
 };
 
 struct ContrastiveTrainOptions {

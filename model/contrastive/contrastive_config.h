@@ -116,6 +116,11 @@ struct ContrastiveConfig : GuardKeys {
   // style and the content's action (docs/notes/motion_style.md). 0: off.
   double motion_gan_weight = 0;
   double motion_class_weight = 0;
+  // Label-guided training only: weight of an L1 term between each transfer
+  // and a real window of the content's action performed in the target
+  // style, the one whose content code is nearest the content window's
+  // (train/paired_target.h); every channel but the root path's. 0: off.
+  double paired_weight = 0;
   // Distillation (train/teacher.h): weight of an L1 term on the pose
   // channels between the transfer and the `teacher` package's transfer of
   // the same content window to the same style window (0: off). `teacher` is

@@ -219,6 +219,32 @@ TEST(ContrastiveTrainerTest, MotionCriticsTrainAndResume) {
   EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
 }
 
+// The paired term: each transfer's distance to the content's action in the
+// target style (the labelled walks have a walk in both styles, so every
+// batch has some), logged and stored; without labels it is refused.
+TEST(ContrastiveTrainerTest, PairedTermTrainsOnExamplesOfTheActionInTheTargetStyle) {
+  ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("paired"), 40);
+  o.config.paired_weight = 1;
+  std::vector<LossRecord> curve;
+  o.on_record = [&](const LossRecord& r) { curve.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(o).ok());
+  ASSERT_EQ(curve.size(), 4u);
+  for (const LossRecord& r : curve) {
+    std::printf("%d pair %.4f\n", r.iteration, r.pair);
+    EXPECT_TRUE(std::isfinite(r.pair) && r.pair > 0) << r.iteration;
+  }
+  absl::StatusOr<ContrastiveConfig> config = ReadPackageConfig(o.out);
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_EQ(config->paired_weight, 1);
+
+  ContrastiveTrainOptions unguided = GuidedOptions(testing::FreshDir("paired_unguided"), 10);
+  unguided.config.paired_weight = 1;
+  unguided.config.guided = false;
+  const absl::Status s = TrainContrastive(unguided);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
+}
+
 TEST(ContrastiveTrainerTest, NeedsLabelledClipNames) {
   ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("guided_unlabelled"), 10);
   o.data = testing::FourClips();  // normal.bvh, old.bvh, ...

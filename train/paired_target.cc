@@ -31,8 +31,8 @@ PairedTargets FindPairedTargets(ContrastiveNet& net, const TrainingSet& data,
         (placed - codes[i].detach().unsqueeze(1).unsqueeze(0)).pow(2).sum({1, 3});  // (1, n)
     const int64_t best = distance.argmin(1).item<int64_t>();
     const int64_t start = std::min<int64_t>(best * window / code_frames, clip.frames - window);
-    out.windows[i] = whole[0].slice(1, start, start + window);
-    out.found[i] = 1;
+    out.windows[i].copy_(whole[0].slice(1, start, start + window));
+    out.found[i].fill_(1);
   }
   return out;
 }

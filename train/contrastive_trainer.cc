@@ -290,6 +290,13 @@ struct Trainer {
                                Tensors("weights.pt", average.ForPackage(iterations, &net)), csv);
   }
 
+  // Every channel but the root path's (the paired term's).
+  torch::Tensor PoseMask() const {
+    torch::Tensor mask = torch::ones({1, config.dim, 1});
+    mask.slice(1, motion::FeatureLayout(data.skeleton.num_joints()).trajectory()).zero_();
+    return mask;
+  }
+
   torch::Tensor ContentMask() const {
     const motion::Skeleton& sk = data.skeleton;
     const motion::FeatureLayout layout(sk.num_joints());
@@ -311,8 +318,7 @@ struct Trainer {
     if (!loaded.ok()) return loaded.status();
     data = *std::move(loaded);
     content_mask = ContentMask();
-    pose_mask = torch::ones({1, config.dim, 1});
-    pose_mask.slice(1, motion::FeatureLayout(data.skeleton.num_joints()).trajectory()).zero_();
+    pose_mask = PoseMask();
     if (config.paired_weight > 0 && !config.guided) {
       return absl::InvalidArgumentError(
           "paired_weight needs label-guided training (--guided)");

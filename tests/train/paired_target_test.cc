@@ -49,8 +49,8 @@ struct Fixture {
 
 TEST(PairedTargetTest, FindsAWindowOfEachExampleLongEnough) {
   Fixture f;
-  // Three content windows; examples: a clip exactly a window long, none, a
-  // clip a frame short of a window, and a long clip.
+  // Four content windows; their examples: a clip exactly a window long,
+  // none, a clip a frame short of a window, and a long clip.
   const torch::Tensor content = torch::cat({f.Window(2, 5), f.Window(2, 20), f.Window(0, 0),
                                             f.Window(2, 32)});
   const torch::Tensor codes = f.net->content(content);

@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
 
   // Baseline: the same transfer in this process, 1 LibTorch thread (as the server runs it).
   stylus::model::SetComputeThreads(1);
-  auto model = stylus::model::LoadStyleModel(models + "/contrastive/v7");
+  auto model = stylus::model::LoadStyleModel(models + "/contrastive/v8");
   const auto code = *(*model)->EncodeStyle(style);
   std::vector<double> local, unary;
   for (int r = 0; r < reps; ++r) {

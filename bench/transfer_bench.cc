@@ -24,7 +24,7 @@ double Since(Clock::time_point t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v7";
+  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v8";
   int frames = 1000, reps = 5, kc = -1;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--help")) {

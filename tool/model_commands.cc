@@ -509,7 +509,7 @@ int RigInfo(const Argv& argv) {
       "Shows how a BVH file's rig maps onto a model's skeleton: the joint found\n"
       "for each humanoid role and how (joint map, name, hierarchy, geometry, End\n"
       "Site), the up axis, and the scale (model units per rig unit). Exits 1\n"
-      "naming the roles it cannot find. --model defaults to models/contrastive/v7.\n"
+      "naming the roles it cannot find. --model defaults to models/contrastive/v8.\n"
       "Known naming conventions: docs/rigs.md.\n";
   int code = 0;
   auto args = ParseOrExit("rig-info", argv, {{"model", "joint-map"}, {}}, kHelp, &code);
@@ -530,7 +530,7 @@ int RigInfo(const Argv& argv) {
     joint_map = *std::move(map);
   }
   absl::StatusOr<std::unique_ptr<model::StyleModel>> m =
-      LoadModelSpec(args->Get("model", "models/contrastive/v7"));
+      LoadModelSpec(args->Get("model", "models/contrastive/v8"));
   if (!m.ok()) return Fail("rig-info", m.status());
   absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
       (*m)->RetargeterFor(*clip, joint_map, args->positional[0]);

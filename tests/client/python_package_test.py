@@ -87,7 +87,7 @@ def inside(port, cli, src, work):
 
     check("health", stylus.health() is True)
     ids = [m.id for m in stylus.models()]
-    check("models", "contrastive/v7" in ids and "live/v1" in ids, ids)
+    check("models", "contrastive/v8" in ids and "live/v1" in ids, ids)
     check("model", stylus.model("live").lookahead == 2)
 
     out = stylus.transfer(walk, old, postprocess="full")

@@ -19,7 +19,7 @@ namespace {
 
 using ::stylus::testing::MotionOf;
 
-const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v7";
+const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v8";
 const std::string kJudges = std::string(STYLUS_SOURCE_DIR) + "/models/judges/v1";
 
 TEST(DefaultModelTest, TransfersTheShippedSamples) {
@@ -80,7 +80,7 @@ TEST(DefaultModelTest, RestylesHeldOutPairsWithinTheKinematicTargets) {
   ASSERT_TRUE(pairs.ok()) << pairs.status();
   ASSERT_EQ(pairs->size(), 94u);
   absl::StatusOr<EvalReport> report =
-      Evaluate({{"v7", model->get(), /*postprocess=*/true}}, **judges, nullptr, {}, *pairs);
+      Evaluate({{"v8", model->get(), /*postprocess=*/true}}, **judges, nullptr, {}, *pairs);
   ASSERT_TRUE(report.ok()) << report.status();
   const EvalRow &raw = report->rows[0], &full = report->rows[1],
                 &real = report->rows[report->identity_row];
@@ -101,10 +101,10 @@ TEST(DefaultModelTest, RestylesHeldOutPairsWithinTheKinematicTargets) {
 // (strength >= 0) in the residual form at that strength.
 std::string Variant(const std::string& name, double strength) {
   if (strength < 0) {
-    return testing::CopyPackage(kModel, "v7_" + name, {"content_guard", "guard_strengths"});
+    return testing::CopyPackage(kModel, "v8_" + name, {"content_guard", "guard_strengths"});
   }
   return testing::CopyPackage(
-      kModel, "v7_" + name, {"content_guard", "guard_strengths", "content_detail", "detail_sigma"},
+      kModel, "v8_" + name, {"content_guard", "guard_strengths", "content_detail", "detail_sigma"},
       "residual = 1\nstyle_strength = " + std::to_string(strength) + "\n");
 }
 

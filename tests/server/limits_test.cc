@@ -173,8 +173,8 @@ TEST(LimitsTest, LoadModelTakesOnlyNamesInsideTheModelDirectory) {
   std::unique_ptr<LiveServer> live = LiveServer::Start();
   ASSERT_NE(live, nullptr);
   for (const std::string name :
-       {"../models/contrastive/v7", "contrastive/../../models", "/etc/passwd",
-        "contrastive/v7/../v7", "./contrastive/v7", "contrastive\\v7", "contrastive//v7", ""}) {
+       {"../models/contrastive/v8", "contrastive/../../models", "/etc/passwd",
+        "contrastive/v8/../v7", "./contrastive/v8", "contrastive\\v8", "contrastive//v8", ""}) {
     const absl::Status s = live->client->LoadModel(name).status();
     EXPECT_TRUE(s.code() == absl::StatusCode::kInvalidArgument ||
                 s.code() == absl::StatusCode::kNotFound)

@@ -270,7 +270,7 @@ check "judge missing judges" 1 "labels.txt: missing" -- \
 
 # Other rigs: the real Mixamo and mocapbank files (../shared/data/rigs, MIT).
 rigs=$src/../shared/data/rigs
-model=$src/models/contrastive/v7
+model=$src/models/contrastive/v8
 check "rig-info --help" 0 "usage: stylus-tool rig-info" -- "$tool" rig-info --help
 if [ -d "$rigs" ]; then
   check "rig-info mixamo" 0 "left_upper_arm +mixamorig:LeftArm +hierarchy" -- \

@@ -214,6 +214,25 @@ void WaitForAnswers(const ServiceContext& context,
   }
 }
 
+// A stream's session can outlive its call: one with an idle alarm set lives
+// until the alarm's callback (cancelled when the call ends) has run on a
+// gRPC thread, and then counts itself out of `context`. The context must
+// outlive every session, so shutdown waits for the last one; the callbacks
+// are due at once, so this wait is short.
+void WaitForSessionsGone(const ServiceContext& context) {
+  constexpr auto kPoll = std::chrono::milliseconds(1);
+  constexpr auto kWarnEvery = std::chrono::seconds(5);
+  auto warn_at = std::chrono::steady_clock::now() + kWarnEvery;
+  while (context.open_streams.load() > 0) {
+    if (std::chrono::steady_clock::now() >= warn_at) {
+      spdlog::warn("shutting down: waiting for {} stream session(s) to end",
+                   context.open_streams.load());
+      warn_at += kWarnEvery;
+    }
+    std::this_thread::sleep_for(kPoll);
+  }
+}
+
 }  // namespace
 
 void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
@@ -241,6 +260,7 @@ void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
   impl_->batcher.reset();
   impl_->executor->Shutdown();
   impl_->executor.reset();
+  WaitForSessionsGone(context);
   spdlog::info("shut down");
   impl_->done.Notify();
 }

@@ -1,6 +1,7 @@
 // The limits that protect the process, each on a real server with the
 // repository's models: frames and joints per call, saved styles per model,
-// unary calls in flight, stream idle timeout, LoadModel names.
+// unary calls in flight, stream idle timeout (and shutdown with idle
+// alarms set), LoadModel names.
 #include <grpcpp/grpcpp.h>
 
 #include <atomic>
@@ -167,6 +168,49 @@ TEST(LimitsTest, AStreamWhoseClientFallsSilentIsClosed) {
   absl::StatusOr<StreamResult> streamed = live->client->Stream(Head(walk, 60), {&old, ""}, 30);
   ASSERT_TRUE(streamed.ok()) << streamed.status();
   EXPECT_EQ(streamed->output.num_frames, 60);
+}
+
+// A stream with an idle timeout holds an alarm; when its call ends, the
+// session lives on until the alarm's cancelled callback has run. Shutdown
+// returns only once every session is gone: a session that outlived the
+// server would count itself out of freed memory.
+TEST(LimitsTest, ShutdownReturnsOnlyOnceEveryStreamSessionIsGone) {
+  const motion::Motion walk = Sample("walk_normal.bvh"), old = Sample("walk_old.bvh");
+  v1::StreamRequest config;
+  config.mutable_config()->set_fps(walk.fps());
+  wire::SkeletonToProto(walk.skeleton, config.mutable_config()->mutable_skeleton());
+  wire::ClipToProto(old, config.mutable_config()->mutable_style()->mutable_clip());
+  server::ServerOptions options;
+  options.stream_idle_timeout_s = 30;
+  // The window is short (a callback due at once), so a few servers in turn.
+  for (int round = 0; round < 4; ++round) {
+    std::unique_ptr<LiveServer> live = LiveServer::Start(options);
+    ASSERT_NE(live, nullptr);
+    auto stub = v1::StyleService::NewStub(
+        grpc::CreateChannel(live->address, grpc::InsecureChannelCredentials()));
+    // Streams that end every way a call can: half of them ended by their
+    // client, the other half cancelled as the server shuts down.
+    constexpr int kStreams = 128;
+    std::vector<std::unique_ptr<grpc::ClientContext>> contexts;
+    std::vector<
+        std::unique_ptr<grpc::ClientReaderWriter<v1::StreamRequest, v1::StreamResponse>>>
+        streams;
+    for (int i = 0; i < kStreams; ++i) {
+      contexts.push_back(std::make_unique<grpc::ClientContext>());
+      streams.push_back(stub->TransferStream(contexts.back().get()));
+      ASSERT_TRUE(streams.back()->Write(config));
+    }
+    for (int i = 0; i < kStreams; i += 2) {
+      ASSERT_TRUE(streams[i]->WritesDone());
+      v1::StreamResponse response;
+      while (streams[i]->Read(&response)) {
+      }
+      EXPECT_TRUE(streams[i]->Finish().ok());
+    }
+    for (int i = 1; i < kStreams; i += 2) contexts[i]->TryCancel();
+    live->server->Shutdown(std::chrono::system_clock::now());
+    ASSERT_EQ(live->server->load().open_streams, 0) << "round " << round;
+  }
 }
 
 TEST(LimitsTest, LoadModelTakesOnlyNamesInsideTheModelDirectory) {

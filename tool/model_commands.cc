@@ -34,7 +34,8 @@ int Train(const Argv& argv) {
       "         [--teacher PACKAGE [--teacher-weight 1] [--teacher-strength 1]]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]\n"
-      "          [--motion-gan-weight W] [--motion-class-weight W] [--paired-weight W]]\n"
+      "          [--motion-gan-weight W] [--motion-class-weight W [--motion-content-weight W]]\n"
+      "          [--paired-weight W]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
       "         [--live [--lookahead 2] [--frame-residual] [--dilation-growth 1]]\n"
       "         [--window 32] [--hop 24]\n"
@@ -88,7 +89,9 @@ int Train(const Argv& argv) {
       "that read only how the body moves (the joints' velocities and accelerations\n"
       "as --dynamics-weight computes them): a label-conditional discriminator, and\n"
       "a style and content classifier trained on real windows, whose verdicts on\n"
-      "each transfer weigh W (default 0: off).\n"
+      "each transfer weigh W (default 0: off). --motion-content-weight W scales the\n"
+      "content half of the motion classifier's verdict (default: as\n"
+      "--content-class-weight scales the pose critic's).\n"
       "--paired-weight W (with --guided) adds W x the L1 distance between each\n"
       "transfer and a real clip of the content's action in the target style (where\n"
       "the data has one), at the window whose content code is nearest the content\n"
@@ -145,6 +148,7 @@ int Train(const Argv& argv) {
                     "dynamics-weight",
                     "motion-gan-weight",
                     "motion-class-weight",
+                    "motion-content-weight",
                     "paired-weight",
                     "smooth-sigma",
                     "class-weight",
@@ -268,6 +272,18 @@ int Train(const Argv& argv) {
       return Fail("train", absl::InvalidArgumentError("--content-balance must be in [0, 1]"));
     }
     *field = *w;
+  }
+  if (args->Has("motion-content-weight")) {
+    absl::StatusOr<double> w = args->GetDouble("motion-content-weight", 0);
+    if (c.motion_class_weight <= 0) {
+      return Fail("train", absl::InvalidArgumentError(
+                               "--motion-content-weight needs --motion-class-weight"));
+    }
+    if (!w.ok() || *w < 0) {
+      return Fail("train",
+                  absl::InvalidArgumentError("--motion-content-weight must be a number >= 0"));
+    }
+    c.motion_content_weight = *w;
   }
   absl::StatusOr<int> average_from = args->GetInt("average-from", 0),
                       average_every = args->GetInt("average-every", c.average_every);

@@ -144,7 +144,7 @@ struct Trainer {
     if (config.motion_class_weight > 0) {
       r->mcritic = motion_critic.Learn({{m_x, x_style, x_content}, {m_y, y_style, y_content}});
       const torch::Tensor cls =
-          motion_critic.Verdict(m_g, y_style, x_content, config.content_class_weight);
+          motion_critic.Verdict(m_g, y_style, x_content, config.MotionContentWeight());
       r->mcls = cls.item<double>();
       total = total + config.motion_class_weight * cls;
     }

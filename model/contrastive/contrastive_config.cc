@@ -41,6 +41,8 @@ std::string ContrastiveConfig::Serialize() const {
   if (dynamics_weight > 0) put("dynamics_weight", absl::StrCat(dynamics_weight));
   if (motion_gan_weight > 0) put("motion_gan_weight", absl::StrCat(motion_gan_weight));
   if (motion_class_weight > 0) put("motion_class_weight", absl::StrCat(motion_class_weight));
+  if (motion_content_weight)
+    put("motion_content_weight", absl::StrCat(*motion_content_weight));
   if (paired_weight > 0) put("paired_weight", absl::StrCat(paired_weight));
   if (teacher_weight > 0) {
     put("teacher_weight", absl::StrCat(teacher_weight));
@@ -111,6 +113,12 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "dynamics_weight") return e.Double(&c.dynamics_weight, 0, 1e6);
     if (key == "motion_gan_weight") return e.Double(&c.motion_gan_weight, 0, 1e6);
     if (key == "motion_class_weight") return e.Double(&c.motion_class_weight, 0, 1e6);
+    if (key == "motion_content_weight") {
+      double w = 0;
+      absl::Status s = e.Double(&w, 0, 1e6);
+      if (s.ok()) c.motion_content_weight = w;
+      return s;
+    }
     if (key == "paired_weight") return e.Double(&c.paired_weight, 0, 1e6);
     if (key == "teacher_weight") return e.Double(&c.teacher_weight, 0, 1e6);
     if (key == "teacher_strength") return e.Double(&c.teacher_strength, 0, 1);

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -116,6 +117,13 @@ struct ContrastiveConfig : GuardKeys {
   // style and the content's action (docs/notes/motion_style.md). 0: off.
   double motion_gan_weight = 0;
   double motion_class_weight = 0;
+  // The content half of the motion classifier's verdict, times this; unset:
+  // `content_class_weight`, as for the pose critic. Lower, the classifier
+  // asks for the style's motion more than for the content's action in it.
+  std::optional<double> motion_content_weight;
+  double MotionContentWeight() const {
+    return motion_content_weight.value_or(content_class_weight);
+  }
   // Label-guided training only: weight of an L1 term between each transfer
   // and a real window of the content's action performed in the target
   // style, the one whose content code is nearest the content window's

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -217,6 +218,38 @@ TEST(ContrastiveTrainerTest, MotionCriticsTrainAndResume) {
   const absl::Status s = TrainContrastive(unguided);
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
+}
+
+// --motion-content-weight: the motion classifier's verdict without its
+// content half is its style half alone, smaller than both; the weight is
+// stored, and a package trained without it stores nothing (its content half
+// weighs content_class_weight, as before the key).
+TEST(ContrastiveTrainerTest, MotionContentWeightScalesTheMotionCriticsContentHalf) {
+  auto run = [](const std::string& dir, std::optional<double> weight, double* mcls) {
+    ContrastiveTrainOptions o = GuidedOptions(dir, 10);
+    o.config.motion_class_weight = 1;
+    o.config.motion_content_weight = weight;
+    o.on_record = [mcls](const LossRecord& r) { *mcls = r.mcls; };
+    ASSERT_TRUE(TrainContrastive(o).ok());
+  };
+  const std::string default_dir = testing::FreshDir("motion_content_default"),
+                    zero_dir = testing::FreshDir("motion_content_zero");
+  double both = 0, style_only = 0;
+  ASSERT_NO_FATAL_FAILURE(run(default_dir, std::nullopt, &both));
+  ASSERT_NO_FATAL_FAILURE(run(zero_dir, 0.0, &style_only));
+  std::printf("mcls: both halves %.4f, style half only %.4f\n", both, style_only);
+  EXPECT_GT(style_only, 0);
+  EXPECT_LT(style_only, both);
+  absl::StatusOr<ContrastiveConfig> zero =
+      ReadPackageConfig(zero_dir);
+  ASSERT_TRUE(zero.ok()) << zero.status();
+  ASSERT_TRUE(zero->motion_content_weight.has_value());
+  EXPECT_EQ(*zero->motion_content_weight, 0);
+  absl::StatusOr<ContrastiveConfig> unset =
+      ReadPackageConfig(default_dir);
+  ASSERT_TRUE(unset.ok()) << unset.status();
+  EXPECT_FALSE(unset->motion_content_weight.has_value());
+  EXPECT_EQ(unset->MotionContentWeight(), unset->content_class_weight);
 }
 
 // The paired term: each transfer's distance to the content's action in the

@@ -35,7 +35,7 @@ int Train(const Argv& argv) {
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]\n"
       "          [--motion-gan-weight W] [--motion-class-weight W [--motion-content-weight W]]\n"
-      "          [--paired-weight W [--paired-warp]]]\n"
+      "          [--paired-weight W]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
       "         [--live [--lookahead 2] [--frame-residual] [--dilation-growth 1]]\n"
       "         [--window 32] [--hop 24]\n"
@@ -96,8 +96,6 @@ int Train(const Argv& argv) {
       "transfer and a real clip of the content's action in the target style (where\n"
       "the data has one), at the window whose content code is nearest the content\n"
       "window's: the pose and how it moves, all but the root path (default 0: off).\n"
-      "--paired-warp time-warps that example onto the content window instead\n"
-      "(dynamic time warping of the two content codes, at 0-2x the content's pace).\n"
       "--channels N sets the width of the encoders, the generator and the codes\n"
       "(a new network: it cannot start from a package of another width).\n"
 
@@ -173,7 +171,7 @@ int Train(const Argv& argv) {
                     "teacher-strength"},
                    {"no-nce", "no-tri", "same-view", "resume", "guided", "keep-path", "pair-gan",
                     "random-starts", "mirror", "residual", "live", "frame-residual",
-                    "style-from-motion", "paired-warp"}},
+                    "style-from-motion"}},
                   kHelp, &code);
   if (!args) return code;
   if (args->Get("family", "contrastive") != "contrastive") {
@@ -251,7 +249,6 @@ int Train(const Argv& argv) {
   c.guided = args->switches.count("guided") > 0;
   c.keep_path = args->switches.count("keep-path") > 0;
   c.pair_gan = args->switches.count("pair-gan") > 0;
-  c.paired_warp = args->switches.count("paired-warp") > 0;
   if (c.pair_gan && !c.guided) {
     return Fail("train", absl::InvalidArgumentError("--pair-gan needs --guided"));
   }
@@ -287,9 +284,6 @@ int Train(const Argv& argv) {
                   absl::InvalidArgumentError("--motion-content-weight must be a number >= 0"));
     }
     c.motion_content_weight = *w;
-  }
-  if (c.paired_warp && c.paired_weight <= 0) {
-    return Fail("train", absl::InvalidArgumentError("--paired-warp needs --paired-weight"));
   }
   absl::StatusOr<int> average_from = args->GetInt("average-from", 0),
                       average_every = args->GetInt("average-every", c.average_every);

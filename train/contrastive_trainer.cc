@@ -252,7 +252,7 @@ struct Trainer {
       std::vector<int> examples;
       for (size_t i = 0; i < clips.size(); ++i)
         examples.push_back(classes.SameContentInStyle(clips[i], classes.style_of[other[i]], rng));
-      const PairedTargets targets = FindPairedTargets(net, data, examples, c_x, config.window, config.paired_warp);
+      const PairedTargets targets = FindPairedTargets(net, data, examples, c_x, config.window);
       const torch::Tensor pair = PairedLoss(x_g, targets, pose_mask);
       r.pair = pair.item<double>();
       total = total + config.paired_weight * pair;

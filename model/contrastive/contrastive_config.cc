@@ -44,7 +44,6 @@ std::string ContrastiveConfig::Serialize() const {
   if (motion_content_weight)
     put("motion_content_weight", absl::StrCat(*motion_content_weight));
   if (paired_weight > 0) put("paired_weight", absl::StrCat(paired_weight));
-  if (paired_warp) put("paired_warp", "1");
   if (teacher_weight > 0) {
     put("teacher_weight", absl::StrCat(teacher_weight));
     put("teacher", teacher);
@@ -121,7 +120,6 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
       return s;
     }
     if (key == "paired_weight") return e.Double(&c.paired_weight, 0, 1e6);
-    if (key == "paired_warp") return e.Bool(&c.paired_warp);
     if (key == "teacher_weight") return e.Double(&c.teacher_weight, 0, 1e6);
     if (key == "teacher_strength") return e.Double(&c.teacher_strength, 0, 1);
     if (key == "teacher") {

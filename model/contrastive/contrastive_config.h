@@ -129,11 +129,6 @@ struct ContrastiveConfig : GuardKeys {
   // style, the one whose content code is nearest the content window's
   // (train/paired_target.h); every channel but the root path's. 0: off.
   double paired_weight = 0;
-  // With paired_weight: the example is time-warped onto the content window
-  // (dynamic time warping of the two content codes, the example advancing
-  // 0-2x the content's pace) instead of taken at its nearest offset, so
-  // the target follows the content's tempo frame by frame.
-  bool paired_warp = false;
   // Distillation (train/teacher.h): weight of an L1 term on the pose
   // channels between the transfer and the `teacher` package's transfer of
   // the same content window to the same style window (0: off). `teacher` is

@@ -58,8 +58,6 @@ check "train --pair-gan without --guided" 1 "--pair-gan needs --guided" -- "$too
   --data "$work/old.bvh" --out "$work/unguided" --pair-gan
 check "train --motion-gan-weight without --guided" 1 "--motion-gan-weight needs --guided" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --motion-gan-weight 1
-check "train --paired-warp without --paired-weight" 1 "--paired-warp needs --paired-weight" -- \
-  "$tool" train --data "$work/old.bvh" --out "$work/unguided" --guided --paired-warp
 check "train with a removed experiment option" 2 "unknown option --content-body" -- \
   "$tool" train --data "$work/old.bvh" --out "$work/unguided" --content-body
 check "train --content-class-weight without --guided" 1 "--content-class-weight needs --guided" -- \

@@ -269,21 +269,6 @@ TEST(ContrastiveTrainerTest, PairedTermTrainsOnExamplesOfTheActionInTheTargetSty
   absl::StatusOr<ContrastiveConfig> config = ReadPackageConfig(o.out);
   ASSERT_TRUE(config.ok()) << config.status();
   EXPECT_EQ(config->paired_weight, 1);
-  EXPECT_FALSE(config->paired_warp);
-
-  // Time-warped examples: the term is there and the choice is stored.
-  ContrastiveTrainOptions warped = GuidedOptions(testing::FreshDir("paired_warp"), 20);
-  warped.config.paired_weight = 1;
-  warped.config.paired_warp = true;
-  std::vector<LossRecord> warped_curve;
-  warped.on_record = [&](const LossRecord& r) { warped_curve.push_back(r); };
-  ASSERT_TRUE(TrainContrastive(warped).ok());
-  ASSERT_FALSE(warped_curve.empty());
-  for (const LossRecord& r : warped_curve)
-    EXPECT_TRUE(std::isfinite(r.pair) && r.pair > 0) << r.iteration;
-  absl::StatusOr<ContrastiveConfig> warped_config = ReadPackageConfig(warped.out);
-  ASSERT_TRUE(warped_config.ok()) << warped_config.status();
-  EXPECT_TRUE(warped_config->paired_warp);
 
   ContrastiveTrainOptions unguided = GuidedOptions(testing::FreshDir("paired_unguided"), 10);
   unguided.config.paired_weight = 1;

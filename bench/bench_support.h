@@ -126,7 +126,9 @@ struct ServerProcess {
     posix_spawn_file_actions_addopen(&actions, 2, log != nullptr ? log : "/dev/null",
                                      log != nullptr ? O_WRONLY | O_CREAT | O_APPEND : O_WRONLY,
                                      0644);
-    if (posix_spawn(&pid, binary.c_str(), &actions, nullptr, cargs.data(), environ) != 0) {
+    const int spawned = posix_spawn(&pid, binary.c_str(), &actions, nullptr, cargs.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0) {
       pid = -1;
       return false;
     }

@@ -19,6 +19,7 @@
 #include "bench/bench_support.h"
 #include "client/client.h"
 #include "model/family_registry.h"
+#include "model/package.h"
 #include "model/runtime.h"
 #include "motion/synth.h"
 
@@ -60,7 +61,7 @@ int main(int argc, char** argv) {
 
   // Baseline: the same transfer in this process, 1 LibTorch thread (as the server runs it).
   stylus::model::SetComputeThreads(1);
-  auto model = stylus::model::LoadStyleModel(models + "/contrastive/v8");
+  auto model = stylus::model::LoadStyleModel(models + "/" + stylus::model::ReadDefaultPackage(models).value());
   const auto code = *(*model)->EncodeStyle(style);
   std::vector<double> local, unary;
   for (int r = 0; r < reps; ++r) {

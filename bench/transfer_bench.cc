@@ -11,6 +11,7 @@
 #include <string>
 
 #include "model/family_registry.h"
+#include "model/package.h"
 #include "model/runtime.h"
 #include "model/style_model.h"
 #include "motion/features.h"
@@ -24,7 +25,8 @@ double Since(Clock::time_point t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v8";
+  const std::string models = std::string(STYLUS_SOURCE_DIR) + "/models";
+  std::string dir = models + "/" + stylus::model::ReadDefaultPackage(models).value();
   int frames = 1000, reps = 5, kc = -1;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--help")) {

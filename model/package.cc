@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
+#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "motion/bvh.h"
 #include "motion/features.h"
@@ -83,6 +85,25 @@ absl::Status CheckClipFitsModel(const motion::Motion& clip, const DataFiles& pac
     }
   }
   return absl::OkStatus();
+}
+
+absl::StatusOr<std::string> ReadDefaultPackage(const std::string& models_dir) {
+  const fs::path path = fs::path(models_dir) / kDefaultPackageFile;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return std::string();
+  std::ifstream in(path);
+  if (!in) return absl::InvalidArgumentError(absl::StrCat("cannot read ", path.string()));
+  std::vector<std::string> ids;
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::string id(absl::StripAsciiWhitespace(line));
+    if (!id.empty() && id[0] != '#') ids.push_back(id);
+  }
+  if (ids.size() != 1) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        path.string(), ": expected one model id (\"<name>/<version>\"), found ", ids.size()));
+  }
+  return ids.front();
 }
 
 }  // namespace stylus::model

@@ -48,6 +48,14 @@ absl::StatusOr<DataFiles> ReadPackageData(const std::string& dir, int config_dim
 absl::Status CheckClipFitsModel(const motion::Motion& clip, const DataFiles& package,
                                 const std::string& what);
 
+// The file in a model directory (models/) that names its default package:
+// one line "<name>/<version>"; blank lines and "#" comments are skipped.
+inline constexpr char kDefaultPackageFile[] = "DEFAULT";
+
+// The id <models_dir>/DEFAULT names, "" when there is no such file;
+// INVALID_ARGUMENT naming the file unless it names exactly one id.
+absl::StatusOr<std::string> ReadDefaultPackage(const std::string& models_dir);
+
 }  // namespace stylus::model
 
 #endif  // STYLUS_MODEL_PACKAGE_H_

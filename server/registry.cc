@@ -12,6 +12,7 @@
 #include "absl/strings/str_split.h"
 #include "model/config_text.h"
 #include "model/family_registry.h"
+#include "model/package.h"
 
 namespace stylus::server {
 namespace {
@@ -72,13 +73,20 @@ absl::StatusOr<std::unique_ptr<ModelRegistry>> ModelRegistry::Create(
     absl::StatusOr<HostedModel> m = r->Load(id);
     if (!m.ok()) return m.status();
   }
+  std::string named = default_id, named_by = "--default-model";
+  if (named.empty()) {
+    absl::StatusOr<std::string> from_file = model::ReadDefaultPackage(root);
+    if (!from_file.ok()) return from_file.status();
+    named = *from_file, named_by = (fs::path(root) / model::kDefaultPackageFile).string();
+  }
   absl::MutexLock lock(&r->mu_);
-  if (!default_id.empty()) {
-    if (!r->models_.count(default_id)) {
-      return absl::NotFoundError(absl::StrCat("default model '", default_id, "' is not in ", root,
+  if (!named.empty()) {
+    if (!r->models_.count(named)) {
+      return absl::NotFoundError(absl::StrCat("default model '", named, "' (", named_by,
+                                              ") is not in ", root,
                                               " (found: ", absl::StrJoin(ids, ", "), ")"));
     }
-    r->default_id_ = default_id;
+    r->default_id_ = named;
   } else if (!ids.empty()) {
     r->default_id_ = ids.front();
   }

@@ -28,10 +28,12 @@ class ModelRegistry {
  public:
   // Loads every servable package under `root` (directories
   // <root>/<name>/<version>/ whose config.txt names a served family; other
-  // packages, such as the evaluation judges, are skipped). `default_id`, when
-  // not empty, must be among them; otherwise the first id in sorted order is
-  // the default. NOT_FOUND when `root` does not exist; the status of the first
-  // package that fails to load otherwise.
+  // packages, such as the evaluation judges, are skipped). The default is
+  // `default_id` when not empty, else the id the file <root>/DEFAULT names
+  // (model::ReadDefaultPackage) when there is one, else the first id in
+  // sorted order; a named default must be among the packages (NOT_FOUND
+  // says which file or flag named it). NOT_FOUND when `root` does not exist;
+  // the status of the first package that fails to load otherwise.
   static absl::StatusOr<std::unique_ptr<ModelRegistry>> Create(const std::string& root,
                                                                const std::string& default_id);
 

@@ -19,6 +19,16 @@
 namespace stylus::testing {
 
 inline std::string SourceDir() { return STYLUS_SOURCE_DIR; }
+// The shipped default package, as models/DEFAULT names it (e.g.
+// "contrastive/v8"; the server reads the file with model::ReadDefaultPackage,
+// which the registry tests check against this), and its directory.
+inline std::string DefaultPackage() {
+  std::ifstream in(SourceDir() + "/models/DEFAULT");
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#') return line;
+  return "";
+}
+inline std::string DefaultPackageDir() { return SourceDir() + "/models/" + DefaultPackage(); }
 inline std::string FixturePath(const std::string& rel) {
   return SourceDir() + "/tests/fixtures/" + rel;
 }

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
+#include "model/package.h"
 #include "model/runtime.h"
 #include "model/style_model.h"
 #include "motion/bvh.h"
@@ -525,7 +526,8 @@ int RigInfo(const Argv& argv) {
       "Shows how a BVH file's rig maps onto a model's skeleton: the joint found\n"
       "for each humanoid role and how (joint map, name, hierarchy, geometry, End\n"
       "Site), the up axis, and the scale (model units per rig unit). Exits 1\n"
-      "naming the roles it cannot find. --model defaults to models/contrastive/v8.\n"
+      "naming the roles it cannot find. --model defaults to the package models/DEFAULT\n"
+      "names (run from the repository or the image's /opt/stylus).\n"
       "Known naming conventions: docs/rigs.md.\n";
   int code = 0;
   auto args = ParseOrExit("rig-info", argv, {{"model", "joint-map"}, {}}, kHelp, &code);
@@ -545,8 +547,14 @@ int RigInfo(const Argv& argv) {
     if (!map.ok()) return Fail("rig-info", map.status());
     joint_map = *std::move(map);
   }
+  absl::StatusOr<std::string> default_package = model::ReadDefaultPackage("models");
+  if (!default_package.ok()) return Fail("rig-info", default_package.status());
+  if (!args->Has("model") && default_package->empty()) {
+    return Fail("rig-info", absl::InvalidArgumentError(
+                                "no models/DEFAULT here to name the default model: give --model"));
+  }
   absl::StatusOr<std::unique_ptr<model::StyleModel>> m =
-      LoadModelSpec(args->Get("model", "models/contrastive/v8"));
+      LoadModelSpec(args->Get("model", "models/" + *default_package));
   if (!m.ok()) return Fail("rig-info", m.status());
   absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
       (*m)->RetargeterFor(*clip, joint_map, args->positional[0]);

@@ -87,7 +87,9 @@ def inside(port, cli, src, work):
 
     check("health", stylus.health() is True)
     ids = [m.id for m in stylus.models()]
-    check("models", "contrastive/v8" in ids and "live/v1" in ids, ids)
+    with open(os.path.join(src, "models", "DEFAULT")) as f:
+        default = next(ln.strip() for ln in f if ln.strip() and not ln.startswith("#"))
+    check("models", default in ids and "live/v1" in ids, ids)
     check("model", stylus.model("live").lookahead == 2)
 
     out = stylus.transfer(walk, old, postprocess="full")

@@ -19,7 +19,7 @@ namespace {
 
 using ::stylus::testing::MotionOf;
 
-const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v8";
+const std::string kModel = testing::DefaultPackageDir();
 const std::string kJudges = std::string(STYLUS_SOURCE_DIR) + "/models/judges/v1";
 
 TEST(DefaultModelTest, TransfersTheShippedSamples) {

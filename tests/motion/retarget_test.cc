@@ -23,7 +23,7 @@ using testing::TestRig;
 
 // The shipped default model's skeleton and its training data's mean pose.
 std::shared_ptr<const ModelRig> DefaultModelRig() {
-  const std::string dir = testing::SourceDir() + "/models/contrastive/v8";
+  const std::string dir = testing::DefaultPackageDir();
   absl::StatusOr<Motion> skeleton = ReadBvhFile(dir + "/skeleton.bvh");
   absl::StatusOr<NormStats> norm = NormStats::Load(dir + "/norm.txt");
   EXPECT_TRUE(skeleton.ok() && norm.ok());

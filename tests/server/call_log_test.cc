@@ -94,8 +94,8 @@ TEST_F(CallLogTest, EachCallsLineCarriesItsRequestIdAndPeer) {
     given |= line.find("\"rpc\":\"GetModel\"") != std::string::npos &&
              line.find("\"request_id\":\"req-42\"") != std::string::npos;
     generated |= line.find("\"request_id\":\"" + made + "\"") != std::string::npos;
-    stream |= line.find("\"rpc\":\"TransferStream\",\"model\":\"contrastive/v8\",\"frames\":20") !=
-              std::string::npos;
+    stream |= line.find("\"rpc\":\"TransferStream\",\"model\":\"" + testing::DefaultPackage() +
+                        "\",\"frames\":20") != std::string::npos;
   }
   EXPECT_EQ(calls, 4) << log_.str();
   EXPECT_TRUE(given) << log_.str();

@@ -22,10 +22,11 @@ fi
 addr=localhost:$(cat "$work/port")
 s=(--server "$addr")
 walk=$src/samples/walk_normal.bvh old=$src/samples/walk_old.bvh run=$src/samples/run.bvh
+default=$(grep -v '^#' "$src/models/DEFAULT")  # the package the server serves by default
 
 check "health" 0 "^SERVING" -- "$cli" "${s[@]}" health
-check "a dns:/// target" 0 "contrastive/v8" -- "$cli" --server "dns:///$addr" models
-check "models" 0 "contrastive/v8 \(default\)" -- "$cli" "${s[@]}" models
+check "a dns:/// target" 0 "$default" -- "$cli" --server "dns:///$addr" models
+check "models" 0 "$default \(default\)" -- "$cli" "${s[@]}" models
 check "models lists both families" 0 "cyclic/v2" -- "$cli" "${s[@]}" models
 check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrastive
 check "model-info cyclic" 0 "window 60" -- "$cli" "${s[@]}" model-info --model cyclic
@@ -42,10 +43,10 @@ check "stream --change on an offline model" 1 "FAILED_PRECONDITION.*live model" 
 check "stream --change malformed" 1 "--change 30: expected FRAME:WHAT" -- "$cli" "${s[@]}" \
   stream --model live --content "$walk" --style "$old" --change 30
 check "model-info unknown" 1 "NOT_FOUND" -- "$cli" "${s[@]}" model-info --model nope/v1
-check "unload" 0 "unloaded contrastive/v8" -- "$cli" "${s[@]}" unload --model contrastive/v8
+check "unload" 0 "unloaded $default" -- "$cli" "${s[@]}" unload --model $default
 check "transfer without models" 1 "NOT_FOUND: no default model" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/x.bvh"
-check "load" 0 "loaded contrastive/v8 \(default\)" -- "$cli" "${s[@]}" load --model contrastive/v8
-check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model contrastive/v8
+check "load" 0 "loaded $default \(default\)" -- "$cli" "${s[@]}" load --model $default
+check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model $default
 check "transfer --postprocess none" 0 "wrote" -- "$cli" "${s[@]}" transfer --postprocess none --content "$walk" --style "$old" -o "$work/raw.bvh"
 check "transfer" 0 "wrote .*out.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/out.bvh"
 check "transfer output is BVH" 0 "HIERARCHY" -- head -1 "$work/out.bvh"
@@ -53,7 +54,7 @@ check "transfer --timing style" 0 "wrote .*timed.bvh \(162 frames\) .*\(style ti
   "$cli" "${s[@]}" transfer --content "$walk" --style "$old" --timing style -o "$work/timed.bvh"
 check "transfer --timing bad" 1 "--timing must be content or style" -- "$cli" "${s[@]}" transfer \
   --content "$walk" --style "$old" --timing beat -o "$work/x.bvh"
-check "transfer --model" 0 "wrote" -- "$cli" "${s[@]}" transfer --model contrastive/v8 --content "$walk" --style "$old" -o "$work/out2.bvh"
+check "transfer --model" 0 "wrote" -- "$cli" "${s[@]}" transfer --model $default --content "$walk" --style "$old" -o "$work/out2.bvh"
 check "interpolate" 0 "wrote .*mix_2.bvh \(weights 0:1\)" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,0.5,1 -o "$work/mix"
 check "interpolate files" 0 "mix_0.bvh" -- ls "$work/mix_0.bvh" "$work/mix_1.bvh" "$work/mix_2.bvh"
 check "stream" 0 "streamed 120 frames at 60.0 fps; got 120 back; latency p50 [0-9.]+ ms, p99 [0-9.]+ ms" -- "$cli" "${s[@]}" stream --content "$walk" --style "$old" --rate 60 -o "$work/stream.bvh"
@@ -89,11 +90,11 @@ check "a command's --help names the call options" 0 "--postprocess default\|none
 check "a command refuses another command's options" 2 "unknown option --weights" -- \
   "$cli" "${s[@]}" transfer --content "$walk" --style "$old" --weights 0,1 -o "$work/x.bvh"
 check "models takes no --content" 2 "unknown option --content" -- "$cli" "${s[@]}" models --content "$walk"
-check "global options after the command" 0 "contrastive/v8 \(default\)" -- "$cli" models "${s[@]}" --deadline-s 30
-check "STYLUS_SERVER sets the address" 0 "contrastive/v8 \(default\)" -- env STYLUS_SERVER="$addr" "$cli" models
+check "global options after the command" 0 "$default \(default\)" -- "$cli" models "${s[@]}" --deadline-s 30
+check "STYLUS_SERVER sets the address" 0 "$default \(default\)" -- env STYLUS_SERVER="$addr" "$cli" models
 check "--server wins over STYLUS_SERVER" 1 "UNAVAILABLE" -- env STYLUS_SERVER="$addr" "$cli" models \
   --server localhost:1 --deadline-s 2
-check "server logs one line per call" 0 "rpc=Transfer model=contrastive/v8 frames=120 ms=[0-9.]+ status=OK guard=(configured|residual:[0-9.]+) " -- cat "$work/server.log"
+check "server logs one line per call" 0 "rpc=Transfer model=$default frames=120 ms=[0-9.]+ status=OK guard=(configured|residual:[0-9.]+) " -- cat "$work/server.log"
 
 kill -TERM "$pid"
 wait "$pid"
@@ -115,14 +116,14 @@ a=(--server "localhost:$(cat "$work/port")")
 check "health needs no token" 0 "^SERVING" -- "$cli" "${a[@]}" health
 check "no token" 1 "UNAUTHENTICATED.*Bearer" -- "$cli" "${a[@]}" models
 check "a wrong token" 1 "UNAUTHENTICATED" -- "$cli" "${a[@]}" --token s3cret-beta models
-check "--token" 0 "contrastive/v8 \(default\)" -- "$cli" "${a[@]}" --token s3cret-alpha models
-check "STYLUS_TOKEN" 0 "contrastive/v8" -- env STYLUS_TOKEN=s3cret-alpha "$cli" "${a[@]}" models
+check "--token" 0 "$default \(default\)" -- "$cli" "${a[@]}" --token s3cret-alpha models
+check "STYLUS_TOKEN" 0 "$default" -- env STYLUS_TOKEN=s3cret-alpha "$cli" "${a[@]}" models
 printf 's3cret-beta\n' >"$work/tokens"
 kill -HUP "$pid"
 for _ in $(seq 1 50); do grep -q "SIGHUP" "$work/auth.log" && break; sleep 0.1; done
 check "SIGHUP re-reads the tokens" 0 "1 token\(s\) in force" -- cat "$work/auth.log"
 check "an old token after SIGHUP" 1 "UNAUTHENTICATED" -- "$cli" "${a[@]}" --token s3cret-alpha models
-check "the new token after SIGHUP" 0 "contrastive/v8" -- "$cli" "${a[@]}" --token s3cret-beta models
+check "the new token after SIGHUP" 0 "$default" -- "$cli" "${a[@]}" --token s3cret-beta models
 check "the log says access is by token" 0 "access: bearer tokens from" -- cat "$work/auth.log"
 check "no token in the log" 1 "^0$" -- grep -c s3cret "$work/auth.log"
 kill -TERM "$pid"
@@ -145,10 +146,10 @@ mtls=(--tls-ca "$p/ca.pem" --tls-cert "$p/client.pem" --tls-key "$p/client.key")
 check "the log says TLS" 0 "transport: TLS .*client certificates required" -- cat "$work/tls.log"
 check "plain text to a TLS server" 1 "UNAVAILABLE" -- "$cli" "${t[@]}" models
 check "TLS without a client cert" 1 "UNAVAILABLE" -- "$cli" "${t[@]}" --tls-ca "$p/ca.pem" models
-check "mutual TLS" 0 "contrastive/v8 \(default\)" -- "$cli" "${t[@]}" "${mtls[@]}" models
+check "mutual TLS" 0 "$default \(default\)" -- "$cli" "${t[@]}" "${mtls[@]}" models
 check "mutual TLS transfer" 0 "wrote .*tls.bvh" -- "$cli" "${t[@]}" "${mtls[@]}" transfer \
   --content "$walk" --style "$old" -o "$work/tls.bvh"
-check "STYLUS_TLS_CA" 0 "contrastive/v8" -- env STYLUS_TLS_CA="$p/ca.pem" "$cli" "${t[@]}" \
+check "STYLUS_TLS_CA" 0 "$default" -- env STYLUS_TLS_CA="$p/ca.pem" "$cli" "${t[@]}" \
   --tls-cert "$p/client.pem" --tls-key "$p/client.key" models
 check "a cert without its key" 2 "needs its key" -- "$cli" "${t[@]}" --tls-cert "$p/client.pem" models
 check "a CA that is not PEM" 2 "is not a PEM certificate" -- "$cli" "${t[@]}" --tls-ca "$p/client.key" models

@@ -49,7 +49,8 @@ TEST(MetricsTest, AScrapeAfterRealCallsCountsThem) {
       SeriesValue(text, R"(grpc_server_handled_total{grpc_code="NOT_FOUND",)" + transfer + "}"), 1);
   EXPECT_EQ(SeriesValue(text, "grpc_server_handling_seconds_count{" + transfer + "}"), 2);
   EXPECT_EQ(SeriesValue(text, "grpc_server_msg_sent_total{" + transfer + "}"), 1);
-  EXPECT_EQ(SeriesValue(text, R"(stylus_frames_total{kind="unary",model="contrastive/v8"})"),
+  EXPECT_EQ(SeriesValue(text, R"(stylus_frames_total{kind="unary",model=")" +
+                                  testing::DefaultPackage() + R"("})"),
             content.num_frames);
   // The stream: a config and every frame in, every frame out.
   EXPECT_EQ(SeriesValue(text, "grpc_server_started_total{" + stream + "}"), 1);
@@ -61,7 +62,9 @@ TEST(MetricsTest, AScrapeAfterRealCallsCountsThem) {
             content.num_frames);
   EXPECT_EQ(SeriesValue(text, "stylus_stream_frame_seconds_count"), content.num_frames);
   EXPECT_GT(SeriesValue(text, "stylus_step_batch_streams_count"), 0);
-  EXPECT_EQ(SeriesValue(text, R"(stylus_model_seconds_count{model="contrastive/v8"})"), 1);
+  EXPECT_EQ(SeriesValue(text, R"(stylus_model_seconds_count{model=")" + testing::DefaultPackage() +
+                                  R"("})"),
+            1);
   EXPECT_EQ(SeriesValue(text, R"(stylus_model_seconds_count{model="live/v1"})"),
             SeriesValue(text, "stylus_step_batch_streams_count"));
   // States read at the scrape.

@@ -2,6 +2,7 @@
 #include "server/registry.h"
 
 #include <filesystem>
+#include <fstream>
 
 #include "gtest/gtest.h"
 #include "tests/test_support.h"
@@ -31,6 +32,58 @@ TEST(RegistryTest, BareNameTakesTheHighestVersionByNumber) {
   ASSERT_TRUE((*registry)->Unload("cyclic/v2").ok());
   EXPECT_EQ((*registry)->Get("cyclic")->id, "cyclic/dev");
   fs::remove_all(root);
+}
+
+// The default package: the --default-model flag's, else the one the model
+// directory's DEFAULT file names, else the first in sorted order; a
+// default that names no package, or a DEFAULT file that does not name
+// exactly one, refuses to start with the file named.
+TEST(RegistryTest, DefaultComesFromTheFlagThenTheDefaultFileThenSortedOrder) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / "stylus_registry_default";
+  fs::remove_all(root);
+  fs::create_directories(root / "cyclic");
+  const fs::path v1 = fs::path(testing::SourceDir()) / "models/cyclic/v1";
+  for (const char* v : {"v1", "v2", "v3"}) fs::create_directory_symlink(v1, root / "cyclic" / v);
+  const auto write_default = [&](const std::string& text) {
+    std::ofstream(root / model::kDefaultPackageFile) << text;
+  };
+  const auto default_of = [&](const std::string& flag) -> std::string {
+    auto registry = server::ModelRegistry::Create(root.string(), flag);
+    if (!registry.ok()) return std::string(registry.status().message());
+    return (*registry)->default_id();
+  };
+  EXPECT_EQ(default_of(""), "cyclic/v1");  // no file: sorted order
+  write_default("# the shipped default\ncyclic/v2\n\n");
+  EXPECT_EQ(default_of(""), "cyclic/v2");
+  EXPECT_EQ(default_of("cyclic/v3"), "cyclic/v3");  // the flag wins
+  auto registry = server::ModelRegistry::Create(root.string(), "");
+  ASSERT_TRUE(registry.ok());
+  EXPECT_EQ((*registry)->Get("")->id, "cyclic/v2");
+
+  write_default("cyclic/v7\n");
+  auto missing = server::ModelRegistry::Create(root.string(), "");
+  EXPECT_EQ(missing.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_NE(missing.status().message().find("'cyclic/v7'"), std::string::npos);
+  EXPECT_NE(missing.status().message().find((root / "DEFAULT").string()), std::string::npos)
+      << missing.status();
+  auto flagged = server::ModelRegistry::Create(root.string(), "cyclic/v9");
+  EXPECT_NE(flagged.status().message().find("--default-model"), std::string::npos)
+      << flagged.status();
+
+  write_default("cyclic/v1\ncyclic/v2\n");
+  auto two = server::ModelRegistry::Create(root.string(), "");
+  EXPECT_EQ(two.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(two.status().message().find("found 2"), std::string::npos) << two.status();
+  fs::remove_all(root);
+}
+
+// The shipped model directory names its default, and it is served.
+TEST(RegistryTest, TheShippedDefaultFileNamesAShippedPackage) {
+  const std::string models = testing::SourceDir() + "/models";
+  auto registry = server::ModelRegistry::Create(models, "");
+  ASSERT_TRUE(registry.ok()) << registry.status();
+  EXPECT_EQ((*registry)->default_id(), testing::DefaultPackage());
 }
 
 }  // namespace

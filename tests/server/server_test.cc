@@ -31,7 +31,7 @@ using testing::Frames;
 using testing::LiveServer;
 using testing::Sample;
 
-const std::string kModel = testing::SourceDir() + "/models/contrastive/v8";
+const std::string kModel = testing::DefaultPackageDir();
 
 motion::Motion BandaiClip(const std::string& dir, const std::string& name) {
   return *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_" + name + ".bvh");
@@ -51,7 +51,7 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   auto models = client().ListModels();
   ASSERT_TRUE(models.ok()) << models.status();
   ASSERT_EQ(models->size(), 4u);  // models/judges is not a servable family.
-  EXPECT_EQ((*models)[0].id(), "contrastive/v8");
+  EXPECT_EQ((*models)[0].id(), testing::DefaultPackage());
   EXPECT_EQ((*models)[1].id(), "cyclic/v1");
   EXPECT_EQ((*models)[2].id(), "cyclic/v2");
   EXPECT_EQ((*models)[3].id(), "live/v1");
@@ -64,21 +64,23 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   EXPECT_EQ((*models)[0].skeleton().joints_size(), 22);
   EXPECT_EQ((*models)[0].window(), 32);
   EXPECT_NEAR((*models)[0].fps(), 30, 1e-3);
-  EXPECT_EQ(client().GetModel("contrastive")->id(), "contrastive/v8");
+  EXPECT_EQ(client().GetModel("contrastive")->id(), testing::DefaultPackage());
   EXPECT_EQ(client().GetModel("cyclic")->id(), "cyclic/v2");  // A bare name: its highest version.
-  EXPECT_EQ(client().GetModel("")->id(), "contrastive/v8");
+  EXPECT_EQ(client().GetModel("")->id(), testing::DefaultPackage());
   EXPECT_EQ(client().GetModel("nope/v9").status().code(), absl::StatusCode::kNotFound);
-  EXPECT_EQ(client().LoadModel("contrastive/v8").status().code(), absl::StatusCode::kAlreadyExists);
+  EXPECT_EQ(client().LoadModel(testing::DefaultPackage()).status().code(),
+            absl::StatusCode::kAlreadyExists);
   EXPECT_EQ(client().LoadModel("../etc").status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_EQ(client().LoadModel("contrastive/v804").status().code(), absl::StatusCode::kNotFound);
-  ASSERT_TRUE(client().UnloadModel("contrastive/v8").ok());
+  EXPECT_EQ(client().LoadModel(testing::DefaultPackage() + "04").status().code(),
+            absl::StatusCode::kNotFound);
+  ASSERT_TRUE(client().UnloadModel(testing::DefaultPackage()).ok());
   ASSERT_TRUE(client().UnloadModel("cyclic/v1").ok());
   ASSERT_TRUE(client().UnloadModel("cyclic/v2").ok());
   ASSERT_TRUE(client().UnloadModel("live/v1").ok());
-  EXPECT_EQ(client().UnloadModel("contrastive/v8").code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(client().UnloadModel(testing::DefaultPackage()).code(), absl::StatusCode::kNotFound);
   const motion::Motion clip = Sample("walk_normal.bvh");
   EXPECT_EQ(client().Transfer(clip, {&clip, ""}).status().code(), absl::StatusCode::kNotFound);
-  auto loaded = client().LoadModel("contrastive/v8");
+  auto loaded = client().LoadModel(testing::DefaultPackage());
   ASSERT_TRUE(loaded.ok()) << loaded.status();
   EXPECT_TRUE(loaded->is_default());
   EXPECT_TRUE(client().Transfer(clip, {&clip, ""}).ok());

@@ -270,8 +270,13 @@ check "judge missing judges" 1 "labels.txt: missing" -- \
 
 # Other rigs: the real Mixamo and mocapbank files (../shared/data/rigs, MIT).
 rigs=$src/../shared/data/rigs
-model=$src/models/contrastive/v8
+default_package=$(grep -v '^#' "$src/models/DEFAULT")
+model=$src/models/$default_package
 check "rig-info --help" 0 "usage: stylus-tool rig-info" -- "$tool" rig-info --help
+check "rig-info takes models/DEFAULT's package" 0 "model: models/$default_package" -- \
+  bash -c "cd '$src' && '$tool' rig-info samples/walk_normal.bvh"
+check "rig-info with no models/DEFAULT" 1 "no models/DEFAULT here .* give --model" -- \
+  bash -c "cd '$work' && '$tool' rig-info '$src/samples/walk_normal.bvh'"
 if [ -d "$rigs" ]; then
   check "rig-info mixamo" 0 "left_upper_arm +mixamorig:LeftArm +hierarchy" -- \
     "$tool" rig-info --model "$model" "$rigs/mixamo_55joints_30fps.bvh"

@@ -290,7 +290,7 @@ TEST_F(LiveControlTest, TheShippedPackagesStreamStateIsFixedOverTenMinutes) {
 
 TEST_F(LiveControlTest, OfflineStreamsRefuseStyleChanges) {
   std::shared_ptr<const StyleModel> offline(
-      *LoadStyleModel(std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v8"));
+      *LoadStyleModel(testing::DefaultPackageDir()));
   auto s = offline->OpenStream({*offline->EncodeStyle(Sample("walk_old.bvh")), content_.skeleton,
                                 content_.frame_time, motion::PostProcessMode::kFull});
   ASSERT_TRUE(s.ok()) << s.status();

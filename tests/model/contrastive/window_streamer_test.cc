@@ -18,7 +18,7 @@ namespace {
 using testing::Append;
 using testing::Frames;
 
-const std::string kModel = std::string(STYLUS_SOURCE_DIR) + "/models/contrastive/v8";
+const std::string kModel = testing::DefaultPackageDir();
 
 
 // Streams `clip` in chunks of random sizes (1..max_chunk) and returns the

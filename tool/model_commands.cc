@@ -547,14 +547,18 @@ int RigInfo(const Argv& argv) {
     if (!map.ok()) return Fail("rig-info", map.status());
     joint_map = *std::move(map);
   }
-  absl::StatusOr<std::string> default_package = model::ReadDefaultPackage("models");
-  if (!default_package.ok()) return Fail("rig-info", default_package.status());
-  if (!args->Has("model") && default_package->empty()) {
-    return Fail("rig-info", absl::InvalidArgumentError(
-                                "no models/DEFAULT here to name the default model: give --model"));
+  std::string model_spec = args->Get("model", "");
+  if (model_spec.empty()) {
+    absl::StatusOr<std::string> default_package = model::ReadDefaultPackage("models");
+    if (!default_package.ok()) return Fail("rig-info", default_package.status());
+    if (default_package->empty()) {
+      return Fail("rig-info",
+                  absl::InvalidArgumentError(
+                      "no models/DEFAULT here to name the default model: give --model"));
+    }
+    model_spec = "models/" + *default_package;
   }
-  absl::StatusOr<std::unique_ptr<model::StyleModel>> m =
-      LoadModelSpec(args->Get("model", "models/" + *default_package));
+  absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(model_spec);
   if (!m.ok()) return Fail("rig-info", m.status());
   absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
       (*m)->RetargeterFor(*clip, joint_map, args->positional[0]);

@@ -3,24 +3,34 @@
 
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
+#include <string>
 
 #include "gtest/gtest.h"
+#include "model/package.h"
 #include "tests/test_support.h"
 
 namespace stylus {
 namespace {
 
+namespace fs = std::filesystem;
+
+// A fresh model directory under /tmp holding cyclic/<version> for each of
+// `versions`, every one a link to the shipped cyclic/v1.
+fs::path CyclicVersions(const std::string& name, std::initializer_list<const char*> versions) {
+  const fs::path root = fs::temp_directory_path() / name;
+  fs::remove_all(root);
+  fs::create_directories(root / "cyclic");
+  const fs::path v1 = fs::path(testing::SourceDir()) / "models/cyclic/v1";
+  for (const char* v : versions) fs::create_directory_symlink(v1, root / "cyclic" / v);
+  return root;
+}
+
 // A bare model name picks its highest version by number, not by spelling:
 // v10 after v9 and v2, and numbered versions after other names such as
 // "dev" (every package here is cyclic/v1, linked).
 TEST(RegistryTest, BareNameTakesTheHighestVersionByNumber) {
-  namespace fs = std::filesystem;
-  const fs::path root = fs::temp_directory_path() / "stylus_registry_versions";
-  fs::remove_all(root);
-  fs::create_directories(root / "cyclic");
-  const fs::path v1 = fs::path(testing::SourceDir()) / "models/cyclic/v1";
-  for (const char* v : {"dev", "v2", "v9", "v10"})
-    fs::create_directory_symlink(v1, root / "cyclic" / v);
+  const fs::path root = CyclicVersions("stylus_registry_versions", {"dev", "v2", "v9", "v10"});
   auto registry = server::ModelRegistry::Create(root.string(), "");
   ASSERT_TRUE(registry.ok()) << registry.status();
   auto bare = (*registry)->Get("cyclic");
@@ -39,12 +49,7 @@ TEST(RegistryTest, BareNameTakesTheHighestVersionByNumber) {
 // default that names no package, or a DEFAULT file that does not name
 // exactly one, refuses to start with the file named.
 TEST(RegistryTest, DefaultComesFromTheFlagThenTheDefaultFileThenSortedOrder) {
-  namespace fs = std::filesystem;
-  const fs::path root = fs::temp_directory_path() / "stylus_registry_default";
-  fs::remove_all(root);
-  fs::create_directories(root / "cyclic");
-  const fs::path v1 = fs::path(testing::SourceDir()) / "models/cyclic/v1";
-  for (const char* v : {"v1", "v2", "v3"}) fs::create_directory_symlink(v1, root / "cyclic" / v);
+  const fs::path root = CyclicVersions("stylus_registry_default", {"v1", "v2", "v3"});
   const auto write_default = [&](const std::string& text) {
     std::ofstream(root / model::kDefaultPackageFile) << text;
   };

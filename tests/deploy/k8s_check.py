@@ -15,6 +15,7 @@ It then breaks a copy of the rendered base three ways and checks each is
 caught. Usage: k8s_check.py SOURCE_DIR
 """
 import copy
+import os
 import subprocess
 import sys
 
@@ -120,6 +121,15 @@ shards = int(command[command.index("--shard-count") + 1]) if "--shard-count" in 
 check("the library job is Indexed", spec.get("completionMode") == "Indexed")
 check("the job's completions equal its --shard-count", spec.get("completions") == shards,
       "%s completions, %s shards" % (spec.get("completions"), shards))
+# It names its package by version (a library restyles with one network):
+# that version must be one the image ships (deploy/Containerfile copies
+# models/ to /opt/stylus/models).
+package = command[command.index("--model") + 1] if "--model" in command else ""
+prefix = "/opt/stylus/models/"
+check("the library job's package is one the image ships",
+      package.startswith(prefix) and
+      os.path.isfile(os.path.join(src, "models", package[len(prefix):], "config.txt")),
+      package or "no --model")
 found = problems([{"kind": "Deployment", "metadata": job["metadata"],
                    "spec": {"template": spec["template"]}}])
 # A job has no gRPC port or probes: only the container rules apply.

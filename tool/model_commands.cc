@@ -36,7 +36,7 @@ int Train(const Argv& argv) {
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
       "          [--content-class-weight 1] [--content-balance 0]\n"
       "          [--motion-gan-weight W] [--motion-class-weight W [--motion-content-weight W]]\n"
-      "          [--paired-weight W]]\n"
+      "          [--paired-weight W] [--motion-rec-weight W] [--own-rec-weight W]]\n"
       "         [--keep-path] [--average-from K [--average-every 50]]\n"
       "         [--live [--lookahead 2] [--frame-residual] [--dilation-growth 1]]\n"
       "         [--window 32] [--hop 24]\n"
@@ -97,6 +97,13 @@ int Train(const Argv& argv) {
       "transfer and a real clip of the content's action in the target style (where\n"
       "the data has one), at the window whose content code is nearest the content\n"
       "window's: the pose and how it moves, all but the root path (default 0: off).\n"
+      "--motion-rec-weight W (with --guided) adds W x the L1 distance between the\n"
+      "frame-to-frame changes of the pose in the reconstruction and the cycle and\n"
+      "those of the content window: the generator gives back how a clip moves, not\n"
+      "only its poses (default 0: off).\n"
+      "--own-rec-weight W (with --guided) adds W x the L1 distance, on the\n"
+      "features and on their frame-to-frame changes, between each content window\n"
+      "and its rendering with its own style code (default 0: off).\n"
       "--channels N sets the width of the encoders, the generator and the codes\n"
       "(a new network: it cannot start from a package of another width).\n"
 
@@ -151,6 +158,8 @@ int Train(const Argv& argv) {
                     "motion-class-weight",
                     "motion-content-weight",
                     "paired-weight",
+                    "motion-rec-weight",
+                    "own-rec-weight",
                     "smooth-sigma",
                     "class-weight",
                     "cycle-weight",
@@ -259,7 +268,9 @@ int Train(const Argv& argv) {
                              {"content-balance", &c.content_balance},
                              {"motion-gan-weight", &c.motion_gan_weight},
                              {"motion-class-weight", &c.motion_class_weight},
-                             {"paired-weight", &c.paired_weight}}) {
+                             {"paired-weight", &c.paired_weight},
+                             {"motion-rec-weight", &c.motion_rec_weight},
+                             {"own-rec-weight", &c.own_rec_weight}}) {
     if (!args->Has(name)) continue;
     absl::StatusOr<double> w = args->GetDouble(name, *field);
     if (!c.guided) {

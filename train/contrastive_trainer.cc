@@ -151,6 +151,14 @@ struct Trainer {
     return total;
   }
 
+  // The L1 distance between the frame-to-frame changes (FrameChanges) of
+  // the pose channels of `output` and of `target`.
+  torch::Tensor MotionReconstructionLoss(const torch::Tensor& output,
+                                         const torch::Tensor& target) const {
+    return ((FrameChanges(output) - FrameChanges(target)).abs() * pose_mask).sum() /
+           (pose_mask.sum() * output.size(0) * output.size(2));
+  }
+
   LossRecord Step() {
     const auto [x_t, v_t] = Batch();
     const auto [x_s, v_s] = Batch();
@@ -217,7 +225,8 @@ struct Trainer {
 
     const torch::Tensor c_x = net->content(x);
     const torch::Tensor s_same = net->style(y_same), s_other = net->style(y_other);
-    const torch::Tensor rec = ReconstructionLoss(net->render(x, c_x, s_same), x);
+    const torch::Tensor x_rec = net->render(x, c_x, s_same);
+    const torch::Tensor rec = ReconstructionLoss(x_rec, x);
     const torch::Tensor s_x = net->style(x);
     const torch::Tensor x_g = Transfer(x, c_x, s_other, &s_x);
     torch::Tensor total = rec;
@@ -262,9 +271,22 @@ struct Trainer {
     r.cls = cls.item<double>();
     total = total + config.class_weight * cls;
     const torch::Tensor c_g = net->content(x_g);
-    const torch::Tensor cyc = ReconstructionLoss(net->render(x_g, c_g, s_same), x);
+    const torch::Tensor x_cyc = net->render(x_g, c_g, s_same);
+    const torch::Tensor cyc = ReconstructionLoss(x_cyc, x);
     r.cyc = cyc.item<double>();
     total = total + config.cycle_weight * cyc;
+    if (config.motion_rec_weight > 0) {
+      const torch::Tensor mrec = MotionReconstructionLoss(x_rec, x) +
+                                 config.cycle_weight * MotionReconstructionLoss(x_cyc, x);
+      r.mrec = mrec.item<double>();
+      total = total + config.motion_rec_weight * mrec;
+    }
+    if (config.own_rec_weight > 0) {
+      const torch::Tensor x_own = net->render(x, c_x, s_x);
+      const torch::Tensor own = ReconstructionLoss(x_own, x) + MotionReconstructionLoss(x_own, x);
+      r.own = own.item<double>();
+      total = total + config.own_rec_weight * own;
+    }
     if (config.use_nce && config.beta > 0) {
       const torch::Tensor nce = NceLoss(c_g, c_x, net->nce_w, config.temperature);
       r.nce = nce.item<double>();
@@ -319,9 +341,11 @@ struct Trainer {
     data = *std::move(loaded);
     content_mask = ContentMask();
     pose_mask = PoseMask();
-    if (config.paired_weight > 0 && !config.guided) {
+    if ((config.paired_weight > 0 || config.motion_rec_weight > 0 || config.own_rec_weight > 0) &&
+        !config.guided) {
       return absl::InvalidArgumentError(
-          "paired_weight needs label-guided training (--guided)");
+          "paired_weight, motion_rec_weight and own_rec_weight need label-guided training "
+          "(--guided)");
     }
     const bool motion_critics = config.motion_gan_weight > 0 || config.motion_class_weight > 0;
     if (motion_critics && !config.guided) {
@@ -401,6 +425,8 @@ struct Trainer {
     if (config.motion_class_weight > 0)
       spec.loss_names.insert(spec.loss_names.end(), {"mcls", "mcritic"});
     if (config.paired_weight > 0) spec.loss_names.push_back("pair");
+    if (config.motion_rec_weight > 0) spec.loss_names.push_back("mrec");
+    if (config.own_rec_weight > 0) spec.loss_names.push_back("own");
     spec.loss_names.push_back("total");
     spec.config_text = config.Serialize();
     spec.iterations = config.iterations;
@@ -413,7 +439,7 @@ struct Trainer {
                      row.Get("tri"), row.Get("disc"),   row.Get("total"), row.Get("cls"),
                      row.Get("cyc"), row.Get("critic"), row.Get("dyn"),   row.Get("teach"),
                      row.Get("mgan"), row.Get("mdisc"), row.Get("mcls"),  row.Get("mcritic"),
-                     row.Get("pair")};
+                     row.Get("pair"), row.Get("mrec"), row.Get("own")};
         opt.on_record(r);
       };
     }
@@ -449,6 +475,8 @@ struct Trainer {
       if (config.motion_class_weight > 0)
         losses.insert({{"mcls", r.mcls}, {"mcritic", r.mcritic}});
       if (config.paired_weight > 0) losses.insert({"pair", r.pair});
+      if (config.motion_rec_weight > 0) losses.insert({"mrec", r.mrec});
+      if (config.own_rec_weight > 0) losses.insert({"own", r.own});
       return losses;
     });
   }

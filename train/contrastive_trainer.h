@@ -30,6 +30,8 @@ struct LossRecord {
   double mgan = 0, mdisc = 0, mcls = 0, mcritic = 0;
   // With paired_weight: the distance to the paired targets.
   double pair = 0;
+  // With motion_rec_weight / own_rec_weight: those terms.
+  double mrec = 0, own = 0;
 };
 
 struct ContrastiveTrainOptions {

@@ -44,6 +44,8 @@ std::string ContrastiveConfig::Serialize() const {
   if (motion_content_weight)
     put("motion_content_weight", absl::StrCat(*motion_content_weight));
   if (paired_weight > 0) put("paired_weight", absl::StrCat(paired_weight));
+  if (motion_rec_weight > 0) put("motion_rec_weight", absl::StrCat(motion_rec_weight));
+  if (own_rec_weight > 0) put("own_rec_weight", absl::StrCat(own_rec_weight));
   if (teacher_weight > 0) {
     put("teacher_weight", absl::StrCat(teacher_weight));
     put("teacher", teacher);
@@ -120,6 +122,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
       return s;
     }
     if (key == "paired_weight") return e.Double(&c.paired_weight, 0, 1e6);
+    if (key == "motion_rec_weight") return e.Double(&c.motion_rec_weight, 0, 1e6);
+    if (key == "own_rec_weight") return e.Double(&c.own_rec_weight, 0, 1e6);
     if (key == "teacher_weight") return e.Double(&c.teacher_weight, 0, 1e6);
     if (key == "teacher_strength") return e.Double(&c.teacher_strength, 0, 1);
     if (key == "teacher") {
@@ -149,8 +153,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (std::optional<absl::Status> s =
             RefuseRemovedKey(e, {"local_style", "keep_amplitude", "replicate_pad",
                                  "full_rate_content", "centred_style", "self_rec_weight",
-                                 "pair_offset_weight", "content_body", "critics",
-                                 "motion_rec_weight", "own_rec_weight"}))
+                                 "pair_offset_weight", "content_body", "critics"}))
       return *s;
     if (key == "random_starts") return e.Bool(&c.random_starts);
     if (key == "mirror") return e.Bool(&c.mirror);

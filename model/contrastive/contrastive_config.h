@@ -129,6 +129,16 @@ struct ContrastiveConfig : GuardKeys {
   // style, the one whose content code is nearest the content window's
   // (train/paired_target.h); every channel but the root path's. 0: off.
   double paired_weight = 0;
+  // Label-guided training only: terms on the generator's fidelity to how a
+  // clip moves. `motion_rec_weight`: W x the L1 distance between the
+  // frame-to-frame changes of the pose channels (as FrameChanges scales
+  // them) of the reconstruction and the cycle and those of the content
+  // window. `own_rec_weight`: W x the L1 distance, on the features and on
+  // those changes, between the content window and its rendering with its
+  // own style code (the reconstruction otherwise takes another clip's of
+  // the same style, which cannot say how this clip moves). 0: off.
+  double motion_rec_weight = 0;
+  double own_rec_weight = 0;
   // Distillation (train/teacher.h): weight of an L1 term on the pose
   // channels between the transfer and the `teacher` package's transfer of
   // the same content window to the same style window (0: off). `teacher` is

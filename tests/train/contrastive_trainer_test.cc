@@ -278,6 +278,43 @@ TEST(ContrastiveTrainerTest, PairedTermTrainsOnExamplesOfTheActionInTheTargetSty
   EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
 }
 
+// The fidelity terms: the reconstruction's and the cycle's motion against
+// the content window's, and the window rendered with its own style code.
+// Each is computed (an untrained generator's output is far from its input),
+// logged and stored; without labels they are refused.
+TEST(ContrastiveTrainerTest, MotionAndSelfReconstructionTermsAreTrainedAndStored) {
+  ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("fidelity_terms"), 40);
+  o.config.motion_rec_weight = 1;
+  o.config.own_rec_weight = 1;
+  std::vector<LossRecord> curve;
+  o.on_record = [&](const LossRecord& r) { curve.push_back(r); };
+  ASSERT_TRUE(TrainContrastive(o).ok());
+  ASSERT_EQ(curve.size(), 4u);
+  for (const LossRecord& r : curve) {
+    std::printf("%d rec %.4f mrec %.4f own %.4f\n", r.iteration, r.rec, r.mrec, r.own);
+    EXPECT_TRUE(std::isfinite(r.mrec) && r.mrec > 0) << r.iteration;
+    EXPECT_TRUE(std::isfinite(r.own) && r.own > 0) << r.iteration;
+  }
+  absl::StatusOr<ContrastiveConfig> config = ReadPackageConfig(o.out);
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_EQ(config->motion_rec_weight, 1);
+  EXPECT_EQ(config->own_rec_weight, 1);
+  std::ifstream csv(o.out + "/loss.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_NE(header.find(",mrec,own,"), std::string::npos) << header;
+
+  for (auto set : {+[](ContrastiveConfig* c) { c->motion_rec_weight = 1; },
+                   +[](ContrastiveConfig* c) { c->own_rec_weight = 1; }}) {
+    ContrastiveTrainOptions unguided = GuidedOptions(testing::FreshDir("fidelity_unguided"), 10);
+    set(&unguided.config);
+    unguided.config.guided = false;
+    const absl::Status s = TrainContrastive(unguided);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
+  }
+}
+
 TEST(ContrastiveTrainerTest, NeedsLabelledClipNames) {
   ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("guided_unlabelled"), 10);
   o.data = testing::FourClips();  // normal.bvh, old.bvh, ...

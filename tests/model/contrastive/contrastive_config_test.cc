@@ -13,6 +13,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   c.content_weight = 0.5, c.guided = true, c.class_weight = 2, c.cycle_weight = 3;
   c.content_class_weight = 2.5, c.content_balance = 0.5;
   c.motion_class_weight = 1, c.motion_content_weight = 0.25, c.paired_weight = 2;
+  c.motion_rec_weight = 0.5, c.own_rec_weight = 1.5;
   c.pair_gan = true, c.keep_path = true, c.smooth_sigma = 1.5, c.style_strength = 0.7;
   c.residual = true, c.random_starts = true, c.mirror = true, c.style_from_motion = true;
   c.batch = 8, c.lr = 3e-4, c.iterations = 123, c.seed = 99, c.trained_iterations = 77;
@@ -34,6 +35,8 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_DOUBLE_EQ(back->motion_class_weight, 1);
   EXPECT_DOUBLE_EQ(back->MotionContentWeight(), 0.25);
   EXPECT_DOUBLE_EQ(back->paired_weight, 2);
+  EXPECT_DOUBLE_EQ(back->motion_rec_weight, 0.5);
+  EXPECT_DOUBLE_EQ(back->own_rec_weight, 1.5);
 }
 
 TEST(ContrastiveConfigTest, ContentDetailRoundTrips) {
@@ -84,8 +87,7 @@ TEST(ContrastiveConfigTest, ErrorsNameTheLine) {
 TEST(ContrastiveConfigTest, RemovedExperimentKeysAreNamed) {
   for (const char* key :
        {"local_style", "keep_amplitude", "replicate_pad", "full_rate_content", "centred_style",
-        "self_rec_weight", "pair_offset_weight", "content_body", "motion_rec_weight",
-        "own_rec_weight"}) {
+        "self_rec_weight", "pair_offset_weight", "content_body"}) {
     const absl::Status s =
         ContrastiveConfig::Parse(std::string("dim = 10\n") + key + " = 0\n", "c.txt").status();
     EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << key;

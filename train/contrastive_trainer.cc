@@ -71,8 +71,7 @@ struct Trainer {
 
   // L1 distance of a transfer to its content input over content_mask.
   torch::Tensor ContentKeeping(const torch::Tensor& transfer, const torch::Tensor& content) const {
-    return ((transfer - content).abs() * content_mask).sum() /
-           (content_mask.sum() * transfer.size(0) * transfer.size(2));
+    return MaskedL1Loss(transfer, content, content_mask);
   }
 
   // The transfer of content windows `x` (content codes `c`) to style code
@@ -155,8 +154,7 @@ struct Trainer {
   // the pose channels of `output` and of `target`.
   torch::Tensor MotionReconstructionLoss(const torch::Tensor& output,
                                          const torch::Tensor& target) const {
-    return ((FrameChanges(output) - FrameChanges(target)).abs() * pose_mask).sum() /
-           (pose_mask.sum() * output.size(0) * output.size(2));
+    return MaskedL1Loss(FrameChanges(output), FrameChanges(target), pose_mask);
   }
 
   LossRecord Step() {

@@ -129,6 +129,11 @@ torch::Tensor ReconstructionLoss(const torch::Tensor& output, const torch::Tenso
   return (output - target).abs().mean();
 }
 
+torch::Tensor MaskedL1Loss(const torch::Tensor& output, const torch::Tensor& target,
+                           const torch::Tensor& mask) {
+  return ((output - target).abs() * mask).sum() / (mask.sum() * output.size(0) * output.size(2));
+}
+
 torch::Tensor NceLoss(const torch::Tensor& generated, const torch::Tensor& target,
                       const torch::Tensor& w, double temperature) {
   const torch::Tensor q = F::normalize(generated, F::NormalizeFuncOptions().dim(1));  // (B, C, L)

@@ -105,6 +105,10 @@ TORCH_MODULE(ContrastiveNet);
 
 // Losses (docs/notes/contrastive.md).
 torch::Tensor ReconstructionLoss(const torch::Tensor& output, const torch::Tensor& target);
+// The L1 distance over the channels `mask` (1, dim, 1) marks with 1 only:
+// the mean over the batch, those channels and time.
+torch::Tensor MaskedL1Loss(const torch::Tensor& output, const torch::Tensor& target,
+                           const torch::Tensor& mask);
 // InfoNCE over every time step i of the content codes: query column i of
 // `generated`, positive column i of `target`, negatives its other columns;
 // similarity q^T W k / temperature on unit-length columns.

@@ -42,6 +42,14 @@ using namespace contrastive_testing;  // NOLINT: the trainer's test fixtures.
 namespace fs = std::filesystem;
 using testing::LabelledClips;
 
+// `o` with its labels turned off: training is refused, naming --guided.
+void ExpectRefusedWithoutGuided(ContrastiveTrainOptions o) {
+  o.config.guided = false;
+  const absl::Status s = TrainContrastive(o);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
+}
+
 TEST(ContrastiveTrainerTest, CriticLearnsTheLabelsAndTransfersFollowIt) {
   ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("guided_learn"), 200);
   o.config.alpha = 0;
@@ -213,11 +221,7 @@ TEST(ContrastiveTrainerTest, MotionCriticsTrainAndResume) {
   EXPECT_EQ(config->motion_gan_weight, 1);
   EXPECT_EQ(config->motion_class_weight, 1);
 
-  ContrastiveTrainOptions unguided = options(testing::FreshDir("motion_critics_unguided"), 10);
-  unguided.config.guided = false;
-  const absl::Status s = TrainContrastive(unguided);
-  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
+  ExpectRefusedWithoutGuided(options(testing::FreshDir("motion_critics_unguided"), 10));
 }
 
 // --motion-content-weight: the motion classifier's verdict without its
@@ -272,17 +276,14 @@ TEST(ContrastiveTrainerTest, PairedTermTrainsOnExamplesOfTheActionInTheTargetSty
 
   ContrastiveTrainOptions unguided = GuidedOptions(testing::FreshDir("paired_unguided"), 10);
   unguided.config.paired_weight = 1;
-  unguided.config.guided = false;
-  const absl::Status s = TrainContrastive(unguided);
-  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
+  ExpectRefusedWithoutGuided(unguided);
 }
 
 // The fidelity terms: the reconstruction's and the cycle's motion against
 // the content window's, and the window rendered with its own style code.
 // Each is computed (an untrained generator's output is far from its input),
 // logged and stored; without labels they are refused.
-TEST(ContrastiveTrainerTest, MotionAndSelfReconstructionTermsAreTrainedAndStored) {
+TEST(ContrastiveTrainerTest, MotionAndOwnCodeReconstructionTermsAreTrainedAndStored) {
   ContrastiveTrainOptions o = GuidedOptions(testing::FreshDir("fidelity_terms"), 40);
   o.config.motion_rec_weight = 1;
   o.config.own_rec_weight = 1;
@@ -304,15 +305,12 @@ TEST(ContrastiveTrainerTest, MotionAndSelfReconstructionTermsAreTrainedAndStored
   std::getline(csv, header);
   EXPECT_NE(header.find(",mrec,own,"), std::string::npos) << header;
 
-  for (auto set : {+[](ContrastiveConfig* c) { c->motion_rec_weight = 1; },
-                   +[](ContrastiveConfig* c) { c->own_rec_weight = 1; }}) {
-    ContrastiveTrainOptions unguided = GuidedOptions(testing::FreshDir("fidelity_unguided"), 10);
-    set(&unguided.config);
-    unguided.config.guided = false;
-    const absl::Status s = TrainContrastive(unguided);
-    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
-    EXPECT_NE(s.message().find("--guided"), std::string::npos) << s;
-  }
+  ContrastiveTrainOptions motion_only = GuidedOptions(testing::FreshDir("motion_rec_unguided"), 10);
+  motion_only.config.motion_rec_weight = 1;
+  ExpectRefusedWithoutGuided(motion_only);
+  ContrastiveTrainOptions own_only = GuidedOptions(testing::FreshDir("own_rec_unguided"), 10);
+  own_only.config.own_rec_weight = 1;
+  ExpectRefusedWithoutGuided(own_only);
 }
 
 TEST(ContrastiveTrainerTest, NeedsLabelledClipNames) {

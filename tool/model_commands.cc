@@ -31,6 +31,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--style-from-motion] [--seed S] [--resume]\n"
       "         [--random-starts] [--mirror] [--residual] [--channels 144]\n"
+      "         [--bottleneck-channels K [--bottleneck-pool 1]]\n"
       "         [--content-weight W] [--dynamics-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--teacher PACKAGE [--teacher-weight 1] [--teacher-strength 1]]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
@@ -106,6 +107,11 @@ int Train(const Argv& argv) {
       "and its rendering with its own style code (default 0: off).\n"
       "--channels N sets the width of the encoders, the generator and the codes\n"
       "(a new network: it cannot start from a package of another width).\n"
+      "--bottleneck-channels K squeezes the content code through K channels\n"
+      "(instance-normalized), averaged over --bottleneck-pool P of its steps: a\n"
+      "code that narrow says what is done and when, so how it is done (the legs'\n"
+      "and the pelvis's way of moving) comes from the style code (a new network;\n"
+      "offline packages only; default 0: off).\n"
 
       "--residual trains each transfer as the content window plus the change the\n"
       "style makes in the generator's output, G(Ec(x), s) - G(Ec(x), Es(x)), and\n"
@@ -169,6 +175,8 @@ int Train(const Argv& argv) {
                     "average-from",
                     "average-every",
                     "channels",
+                    "bottleneck-channels",
+                    "bottleneck-pool",
                     "lookahead",
                     "dilation-growth",
                     "window",
@@ -311,7 +319,24 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--channels must be a number in [1, 4096]"));
   }
   c.channels = *channels;
+  absl::StatusOr<int> bottleneck = args->GetInt("bottleneck-channels", 0),
+                      pool = args->GetInt("bottleneck-pool", 1);
+  if (!bottleneck.ok() || *bottleneck < 0 || *bottleneck > c.channels) {
+    return Fail("train", absl::InvalidArgumentError(
+                             "--bottleneck-channels must be a number in [0, --channels]"));
+  }
+  if (!pool.ok() || *pool < 1 || *pool > 64) {
+    return Fail("train", absl::InvalidArgumentError("--bottleneck-pool must be a number in [1, 64]"));
+  }
+  if (args->Has("bottleneck-pool") && *bottleneck == 0) {
+    return Fail("train", absl::InvalidArgumentError("--bottleneck-pool needs --bottleneck-channels"));
+  }
+  c.bottleneck_channels = *bottleneck, c.bottleneck_pool = *pool;
   c.live = args->switches.count("live") > 0;
+  if (c.live && c.bottleneck_channels > 0) {
+    return Fail("train", absl::InvalidArgumentError(
+                             "--bottleneck-channels is for offline packages, not with --live"));
+  }
   if (c.live) c.window = 64, c.hop = 32;
   absl::StatusOr<int> lookahead = args->GetInt("lookahead", c.lookahead),
                       window = args->GetInt("window", c.window), hop = args->GetInt("hop", c.hop);

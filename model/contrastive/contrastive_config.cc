@@ -21,6 +21,10 @@ std::string ContrastiveConfig::Serialize() const {
   put("channels", absl::StrCat(channels));
   put("res_kernel", absl::StrCat(res_kernel));
   if (style_from_motion) put("style_from_motion", "1");
+  if (bottleneck_channels > 0) {
+    put("bottleneck_channels", absl::StrCat(bottleneck_channels));
+    put("bottleneck_pool", absl::StrCat(bottleneck_pool));
+  }
   if (live) {
     put("live", "1");
     put("lookahead", absl::StrCat(lookahead));
@@ -105,6 +109,8 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     }
     if (key == "live") return e.Bool(&c.live);
     if (key == "style_from_motion") return e.Bool(&c.style_from_motion);
+    if (key == "bottleneck_channels") return e.Int(&c.bottleneck_channels, 0, 4096);
+    if (key == "bottleneck_pool") return e.Int(&c.bottleneck_pool, 1, 64);
     if (key == "lookahead") return e.Int(&c.lookahead, 1, 2);
     if (key == "frame_residual") return e.Bool(&c.frame_residual);
     if (key == "dilation_growth") return e.Int(&c.dilation_growth, 1, 4);
@@ -178,6 +184,14 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
   if (c.dilation_growth > 1 && !c.live) {
     return absl::InvalidArgumentError(source +
                                       ": 'dilation_growth' is for live packages (live = 1)");
+  }
+  if (c.bottleneck_channels > 0 && c.live) {
+    return absl::InvalidArgumentError(
+        source + ": 'bottleneck_channels' is for offline packages (not with live = 1)");
+  }
+  if (c.bottleneck_pool > 1 && c.bottleneck_channels == 0) {
+    return absl::InvalidArgumentError(source +
+                                      ": 'bottleneck_pool' needs 'bottleneck_channels' above 0");
   }
   if (c.live) {
     const char* whole_window = c.smooth_sigma > 0     ? "smooth_sigma"

@@ -49,6 +49,16 @@ struct ContrastiveConfig : GuardKeys {
   // code can say how the body moves (gait, rhythm, amplitude) but not how it
   // is posed. A style clip that does not move has one code whatever its pose.
   bool style_from_motion = false;
+  // Offline only: the content code squeezed through `bottleneck_channels`
+  // channels (0: off), instance-normalized there, and averaged over
+  // `bottleneck_pool` of its steps (1: every step; the code runs at half the
+  // frame rate), then widened again for the generator. A narrow code can
+  // say what is done and when (the action and its phase) but not the
+  // clip's own way of doing it, so the generator has to take that from the
+  // style code: the legs and pelvis move as the style moves
+  // (docs/notes/motion_style.md "A content bottleneck").
+  int bottleneck_channels = 0;
+  int bottleneck_pool = 1;
   // Inference keys (InferenceKeys(), with the guard's of GuardKeys; may be
   // set at load time). With `keep_path`, a transfer's root trajectory and
   // foot contacts are the content clip's (the style restyles the body along

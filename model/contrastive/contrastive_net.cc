@@ -59,6 +59,25 @@ torch::Tensor EncoderImpl::forward(torch::Tensor x) {
   return x;
 }
 
+BottleneckImpl::BottleneckImpl(int channels, int k, int pool_steps) : pool(pool_steps) {
+  down = register_module("down", Conv(channels, k, 1));
+  up = register_module("up", Conv(k, channels, 1));
+}
+
+torch::Tensor BottleneckImpl::forward(const torch::Tensor& code) {
+  torch::Tensor z = down->forward(code);
+  z = (z - z.mean(2, true)) / (z.var(2, false, true) + 1e-5).sqrt();
+  if (pool > 1) {
+    const int64_t steps = z.size(2);
+    z = F::avg_pool1d(z, F::AvgPool1dFuncOptions(pool).stride(pool).ceil_mode(true));
+    z = F::interpolate(z, F::InterpolateFuncOptions()
+                              .size(std::vector<int64_t>{steps})
+                              .mode(torch::kLinear)
+                              .align_corners(false));
+  }
+  return up->forward(z);
+}
+
 AdaInBlockImpl::AdaInBlockImpl(int c, int kernel) : channels(c) {
   conv1 = register_module("conv1", Conv(c, c, kernel));
   conv2 = register_module("conv2", Conv(c, c, kernel));
@@ -119,6 +138,10 @@ ContrastiveNetImpl::ContrastiveNetImpl(const ContrastiveConfig& c) {
     live_generator = register_module("live_generator", LiveGenerator(c));
   } else {
     content_encoder = register_module("content_encoder", Encoder(c, /*instance_norm=*/true));
+    if (c.bottleneck_channels > 0) {
+      bottleneck = register_module(
+          "bottleneck", Bottleneck(c.channels, c.bottleneck_channels, c.bottleneck_pool));
+    }
     style_encoder = register_module("style_encoder", Encoder(c, /*instance_norm=*/false));
     generator = register_module("generator", Generator(c));
   }

@@ -31,6 +31,18 @@ struct EncoderImpl : torch::nn::Module {
 };
 TORCH_MODULE(Encoder);
 
+// The content code's bottleneck (config `bottleneck_channels`): a 1x1
+// convolution down to k channels, instance normalization over time, the mean
+// over every `pool` steps (held, then linearly interpolated back to every
+// step), and a 1x1 convolution back up to the code's width.
+struct BottleneckImpl : torch::nn::Module {
+  BottleneckImpl(int channels, int k, int pool);
+  torch::Tensor forward(const torch::Tensor& code);
+  torch::nn::Conv1d down{nullptr}, up{nullptr};
+  int pool;
+};
+TORCH_MODULE(Bottleneck);
+
 // What the style encoder reads with `style_from_motion`: each channel's
 // change from the frame before, times kFrameChangeScale (normalized features
 // move about a tenth of their spread per frame at 30 fps); the first frame
@@ -76,7 +88,9 @@ TORCH_MODULE(Discriminator);
 struct ContrastiveNetImpl : torch::nn::Module {
   explicit ContrastiveNetImpl(const ContrastiveConfig& c);
   torch::Tensor content(const torch::Tensor& x) {
-    return live_content ? live_content->forward(x) : content_encoder->forward(x);
+    if (live_content) return live_content->forward(x);
+    const torch::Tensor code = content_encoder->forward(x);
+    return bottleneck ? bottleneck->forward(code) : code;
   }
   // (B, C): temporal mean of the style encoder's output, on the windows'
   // FrameChanges with `style_from_motion`.
@@ -94,6 +108,7 @@ struct ContrastiveNetImpl : torch::nn::Module {
     return frame_residual ? y + x : y;
   }
   Encoder content_encoder{nullptr}, style_encoder{nullptr};
+  Bottleneck bottleneck{nullptr};  // With bottleneck_channels.
   Generator generator{nullptr};
   bool frame_residual = false;
   bool style_from_motion = false;

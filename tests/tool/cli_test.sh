@@ -103,6 +103,18 @@ check "train --style-from-motion in the package" 0 "^style_from_motion = 1$" -- 
 check "the motion-style package transfers" 0 "wrote .*motion_style_out.bvh" -- "$tool" transfer \
   --model "$work/motion_style" --content "$work/quick.bvh" --style "$work/slow.bvh" \
   -o "$work/motion_style_out.bvh" --threads 1
+check "train --bottleneck-channels" 0 "model written to $work/bottleneck" -- "$tool" train \
+  --data "$work/quick.bvh" --data "$work/slow.bvh" --out "$work/bottleneck" --iters 2 --batch 2 \
+  --threads 1 --channels 24 --bottleneck-channels 4 --bottleneck-pool 2
+check "train --bottleneck-channels in the package" 0 "^bottleneck_channels = 4$" -- \
+  cat "$work/bottleneck/config.txt"
+check "the bottleneck package transfers" 0 "wrote .*bottleneck_out.bvh" -- "$tool" transfer \
+  --model "$work/bottleneck" --content "$work/quick.bvh" --style "$work/slow.bvh" \
+  -o "$work/bottleneck_out.bvh" --threads 1
+check "train --bottleneck-pool alone" 1 "--bottleneck-pool needs --bottleneck-channels" -- \
+  "$tool" train --data "$work/quick.bvh" --out "$work/bottleneck2" --bottleneck-pool 2
+check "train --bottleneck-channels with --live" 1 "is for offline packages, not with --live" -- \
+  "$tool" train --data "$work/quick.bvh" --out "$work/bottleneck2" --live --bottleneck-channels 4
 # The content guard on the narrow package, trained on the two clips under Bandai names.
 cp "$work/old.bvh" "$work/dataset-1_walk_old_1.bvh"
 cp "$work/proud.bvh" "$work/dataset-1_run_proud_1.bvh"

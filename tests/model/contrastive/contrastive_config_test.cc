@@ -16,6 +16,7 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   c.motion_rec_weight = 0.5, c.own_rec_weight = 1.5;
   c.pair_gan = true, c.keep_path = true, c.smooth_sigma = 1.5, c.style_strength = 0.7;
   c.residual = true, c.random_starts = true, c.mirror = true, c.style_from_motion = true;
+  c.bottleneck_channels = 12, c.bottleneck_pool = 2;
   c.batch = 8, c.lr = 3e-4, c.iterations = 123, c.seed = 99, c.trained_iterations = 77;
   c.data = "../shared/data/bandai", c.commit = "abc123";
   absl::StatusOr<ContrastiveConfig> back = ContrastiveConfig::Parse(c.Serialize(), "config.txt");
@@ -30,6 +31,8 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_TRUE(back->random_starts);
   EXPECT_TRUE(back->mirror);
   EXPECT_TRUE(back->style_from_motion);
+  EXPECT_EQ(back->bottleneck_channels, 12);
+  EXPECT_EQ(back->bottleneck_pool, 2);
   EXPECT_DOUBLE_EQ(back->content_class_weight, 2.5);
   EXPECT_DOUBLE_EQ(back->content_balance, 0.5);
   EXPECT_DOUBLE_EQ(back->motion_class_weight, 1);
@@ -37,6 +40,28 @@ TEST(ContrastiveConfigTest, EveryFieldSurvivesSerializeAndParse) {
   EXPECT_DOUBLE_EQ(back->paired_weight, 2);
   EXPECT_DOUBLE_EQ(back->motion_rec_weight, 0.5);
   EXPECT_DOUBLE_EQ(back->own_rec_weight, 1.5);
+}
+
+TEST(ContrastiveConfigTest, TheBottleneckIsOfflineAndItsPoolNeedsChannels) {
+  ContrastiveConfig c;
+  c.dim = 162;
+  EXPECT_EQ(c.Serialize().find("bottleneck"), std::string::npos);  // Off: not written.
+  const std::string base = c.Serialize();
+  absl::StatusOr<ContrastiveConfig> live =
+      ContrastiveConfig::Parse(base + "live = 1\nbottleneck_channels = 8\n", "config.txt");
+  ASSERT_FALSE(live.ok());
+  EXPECT_NE(live.status().message().find("'bottleneck_channels' is for offline packages"),
+            std::string::npos)
+      << live.status();
+  absl::StatusOr<ContrastiveConfig> pool_alone =
+      ContrastiveConfig::Parse(base + "bottleneck_pool = 2\n", "config.txt");
+  ASSERT_FALSE(pool_alone.ok());
+  EXPECT_NE(pool_alone.status().message().find("needs 'bottleneck_channels'"), std::string::npos)
+      << pool_alone.status();
+  absl::StatusOr<ContrastiveConfig> zero_pool =
+      ContrastiveConfig::Parse(base + "bottleneck_channels = 8\nbottleneck_pool = 0\n", "c.txt");
+  ASSERT_FALSE(zero_pool.ok());
+  EXPECT_NE(zero_pool.status().message().find("c.txt:"), std::string::npos) << zero_pool.status();
 }
 
 TEST(ContrastiveConfigTest, ContentDetailRoundTrips) {

@@ -124,5 +124,35 @@ TEST(ContrastiveNetTest, StyleFromMotionGivesAStillClipOneCodeWhateverItsPose) {
   EXPECT_GT((pose_net->style(still_a) - pose_net->style(still_b)).abs().max().item<float>(), 1e-3);
 }
 
+TEST(ContrastiveNetTest, TheBottleneckKeepsTheCodesShapeAndSaysLessOfTheClip) {
+  torch::manual_seed(3);
+  ContrastiveConfig c = Tiny();
+  c.channels = 16, c.bottleneck_channels = 2, c.bottleneck_pool = 4;
+  ContrastiveNet net(c);
+  ASSERT_TRUE(net->bottleneck);
+  const torch::Tensor x = torch::randn({3, c.dim, c.window});
+  const torch::Tensor code = net->content(x);
+  ASSERT_EQ(code.sizes(), (std::vector<int64_t>{3, c.channels, c.window / 2}));
+  EXPECT_EQ(net->decode(code, net->style(x)).sizes(), x.sizes());
+  // Every step of the widened code is the same linear map of k numbers: a
+  // code of 16 channels spans only k = 2 dimensions.
+  const torch::Tensor steps = code.permute({0, 2, 1}).reshape({-1, c.channels});
+  const torch::Tensor centred = steps - steps.mean(0, true);
+  const torch::Tensor sv = torch::linalg_svdvals(centred);
+  EXPECT_GT(sv[1].item<float>(), 1e-3);
+  EXPECT_LT(sv[2].item<float>(), 1e-4 * sv[0].item<float>());
+  // Pooled over 4 of the 8 steps, the code varies slowly: one window's
+  // largest step-to-step change is well under that of the unpooled code.
+  c.bottleneck_pool = 1;
+  torch::manual_seed(3);
+  ContrastiveNet unpooled(c);
+  const auto jump = [](const torch::Tensor& t) {
+    return (t.slice(2, 1, t.size(2)) - t.slice(2, 0, t.size(2) - 1)).abs().mean().item<float>();
+  };
+  EXPECT_LT(jump(code), 0.7 * jump(unpooled->content(x)));
+  // Without the key there is no bottleneck module (older packages load as before).
+  EXPECT_FALSE(ContrastiveNet(Tiny())->bottleneck);
+}
+
 }  // namespace
 }  // namespace stylus::model

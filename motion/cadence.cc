@@ -16,19 +16,6 @@ namespace stylus::motion {
 
 namespace {
 
-// Joint positions per frame with Y up (as the contact detector reads them).
-std::vector<std::vector<Vec3>> YUpPositions(const Motion& clip, int up_axis) {
-  std::vector<std::vector<Vec3>> out(clip.num_frames);
-  for (int f = 0; f < clip.num_frames; ++f) {
-    out[f] = ForwardKinematics(clip.skeleton, PoseAt(clip, f)).positions;
-    for (Vec3& p : out[f]) {
-      if (up_axis == 2) p = {p.x, p.z, p.y};
-      if (up_axis == 0) p = {p.y, p.x, p.z};
-    }
-  }
-  return out;
-}
-
 // The step period from the feet, or nullopt when the clip does not step.
 std::optional<Cadence> StepCadence(const std::vector<std::vector<Vec3>>& positions,
                                    const HumanoidRoles& roles, double frame_time) {
@@ -65,7 +52,7 @@ std::optional<Cadence> StepCadence(const std::vector<std::vector<Vec3>>& positio
 absl::StatusOr<Cadence> FindCadence(const Motion& clip, const HumanoidRoles& roles) {
   const int frames = clip.num_frames;
   const double dt = clip.frame_time;
-  const std::vector<std::vector<Vec3>> positions = YUpPositions(clip, roles.up_axis);
+  const std::vector<std::vector<Vec3>> positions = GlobalPositionsYUp(clip, roles.up_axis);
   if (std::optional<Cadence> steps = StepCadence(positions, roles, dt)) return *steps;
   const int min_lag = std::max(2, static_cast<int>(std::lround(kMinPeriodS / dt)));
   const int max_lag = std::min(static_cast<int>(std::lround(kMaxPeriodS / dt)), (frames - 1) / 2);

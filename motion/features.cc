@@ -10,13 +10,17 @@ namespace {
 
 double WrapAngle(double a) { return std::remainder(a, 2 * kPi); }
 
-// Facing yaw from hip and shoulder lines: forward = across x up.
+}  // namespace
+
+// Forward = across x up.
 double FacingYaw(const std::vector<Vec3>& p, const HumanoidRoles& r) {
   Vec3 across = (p[r.left_hip] - p[r.right_hip]) + (p[r.left_shoulder] - p[r.right_shoulder]);
   across.y = 0;
   const Vec3 forward = Cross(across, Vec3{0, 1, 0});
   return std::atan2(forward.x, forward.z);
 }
+
+namespace {
 
 // Frame pose features into `row` (positions and rotations; the rotation
 // signs continue from `prev_q`, or CanonicalSign when `first`); returns

@@ -126,6 +126,10 @@ std::vector<Quat> FeatureRotations(const FeatureClip& features, int f);
 // The root's floor position and facing in frame `f` of a motion.
 RootStart RootAt(const Motion& motion, const HumanoidRoles& roles, int f);
 
+// The body's facing, radians about +Y (0 faces +Z), from world positions
+// with Y up: square to the hip and shoulder lines (left minus right).
+double FacingYaw(const std::vector<Vec3>& positions, const HumanoidRoles& roles);
+
 // The inverse of ExtractFeatures: a motion on `skeleton` (same channel layout)
 // whose root follows the integrated trajectory from `start`. Joints below the
 // pelvis keep the skeleton's offsets (bone lengths), quaternions are

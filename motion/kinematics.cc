@@ -30,6 +30,15 @@ std::vector<std::vector<Vec3>> GlobalPositions(const Motion& motion) {
   return out;
 }
 
+std::vector<std::vector<Vec3>> GlobalPositionsYUp(const Motion& motion, int up_axis) {
+  std::vector<std::vector<Vec3>> out = GlobalPositions(motion);
+  if (up_axis == 1) return out;
+  for (std::vector<Vec3>& frame : out) {
+    for (Vec3& p : frame) p = up_axis == 2 ? Vec3{p.x, p.z, -p.y} : Vec3{-p.y, p.x, p.z};
+  }
+  return out;
+}
+
 LocalPose LocalFromGlobal(const Skeleton& skeleton, const GlobalPose& global) {
   const int n = skeleton.num_joints();
   LocalPose l;

@@ -20,6 +20,11 @@ GlobalPose ForwardKinematics(const Skeleton& skeleton, const LocalPose& pose);
 // World positions of every joint in every frame: frames x joints.
 std::vector<std::vector<Vec3>> GlobalPositions(const Motion& motion);
 
+// GlobalPositions turned so that `up_axis` (0 X, 1 Y, 2 Z) points along +Y
+// (a rotation, so left and right stay as they are): what the contact
+// detector, the cadence and the gait curves read.
+std::vector<std::vector<Vec3>> GlobalPositionsYUp(const Motion& motion, int up_axis);
+
 // Local pose from world rotations and positions (the inverse of
 // ForwardKinematics): rotation_j = R_parent^-1 R_j, translation_j =
 // R_parent^-1 (p_j - p_parent).

@@ -29,6 +29,7 @@ int Eval(const Argv& argv);
 int Judge(const Argv& argv);
 int StyleMap(const Argv& argv);
 int Trajectories(const Argv& argv);
+int Gait(const Argv& argv);
 
 }  // namespace stylus::tool
 

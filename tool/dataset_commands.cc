@@ -16,14 +16,16 @@ namespace stylus::tool {
 
 int DatasetStats(const Argv& argv) {
   static const char kHelp[] =
-      "usage: stylus-tool dataset-stats DIR... [--norm-out FILE] [--seed N]\n\n"
+      "usage: stylus-tool dataset-stats DIR... [--norm-out FILE] [--seed N] [--held-out]\n\n"
       "Indexes the labelled clips (dataset-N_content_style_take.bvh) under each DIR,\n"
       "parses every one, and prints clip, frame and duration totals, counts per\n"
       "content and per style (train/test split by take, 10% held out), and the BVH\n"
       "parse speed. With --norm-out, also computes per-channel feature mean/std over\n"
-      "the training split and writes them to FILE. Exits 1 if any clip fails to parse.\n";
+      "the training split and writes them to FILE. Exits 1 if any clip fails to parse.\n"
+      "--held-out prints only the held-out clips' paths, one per line (what\n"
+      "stylus-tool eval pairs from), and reads nothing else.\n";
   int code = 0;
-  auto args = ParseOrExit("dataset-stats", argv, {{"norm-out", "seed"}, {}}, kHelp, &code);
+  auto args = ParseOrExit("dataset-stats", argv, {{"norm-out", "seed"}, {"held-out"}}, kHelp, &code);
   if (!args) return code;
   if (args->positional.empty()) {
     std::fprintf(stderr, "stylus-tool dataset-stats: expected at least one DIR\n\n%s", kHelp);
@@ -36,6 +38,10 @@ int DatasetStats(const Argv& argv) {
   absl::StatusOr<motion::DatasetIndex> index = motion::IndexDataset(args->positional, split);
   if (!index.ok()) return Fail("dataset-stats", index.status());
   for (const std::string& s : index->skipped) std::fprintf(stderr, "skipped %s\n", s.c_str());
+  if (args->switches.count("held-out") > 0) {
+    for (const motion::ClipEntry* clip : index->Split(true)) absl::PrintF("%s\n", clip->path);
+    return 0;
+  }
 
   struct Count {
     int train = 0, test = 0;

@@ -39,6 +39,8 @@ const Command kCommands[] = {
     {"style-map", stylus::tool::StyleMap, "plot style codes of labelled clips (PCA, SVG)"},
     {"trajectories", stylus::tool::Trajectories,
      "plot root paths of content clips and their transfers (SVG)"},
+    {"gait", stylus::tool::Gait,
+     "how transfers move: stride, foot lift, arm swing, bob (SVG, table)"},
 };
 
 void Usage(FILE* out) {

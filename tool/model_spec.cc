@@ -4,6 +4,7 @@
 
 #include "absl/strings/str_split.h"
 #include "model/family_registry.h"
+#include "motion/bvh.h"
 
 namespace stylus::tool {
 
@@ -19,6 +20,51 @@ absl::StatusOr<std::unique_ptr<model::StyleModel>> LoadModelSpec(const std::stri
     overrides.emplace_back(kv[0] == "kc" ? "kc_iters" : kv[0], kv[1]);
   }
   return model::LoadStyleModel(parts[0], overrides);
+}
+
+absl::StatusOr<std::vector<NamedModel>> LoadModelAndComparisons(
+    const std::string& spec, const std::vector<std::string>& compare) {
+  std::vector<NamedModel> out;
+  absl::StatusOr<std::unique_ptr<model::StyleModel>> main_model = LoadModelSpec(spec);
+  if (!main_model.ok()) return main_model.status();
+  out.push_back({spec, *std::move(main_model)});
+  for (const std::string& labelled : compare) {
+    const size_t eq = labelled.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      return absl::InvalidArgumentError("--compare wants LABEL=DIR, got '" + labelled + "'");
+    }
+    absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(labelled.substr(eq + 1));
+    if (!m.ok()) return m.status();
+    out.push_back({labelled.substr(0, eq), *std::move(m)});
+  }
+  return out;
+}
+
+absl::StatusOr<std::vector<motion::Motion>> TransferWithEach(const std::vector<NamedModel>& models,
+                                                             const motion::Motion& content,
+                                                             const motion::Motion& style,
+                                                             motion::PostProcessMode post) {
+  std::vector<motion::Motion> out;
+  for (const NamedModel& m : models) {
+    absl::StatusOr<model::StyleCode> code = m.model->EncodeStyle(style);
+    if (!code.ok()) return code.status();
+    absl::StatusOr<model::TransferResult> result = m.model->Transfer(content, *code, post);
+    if (!result.ok()) return result.status();
+    out.push_back(std::move(result->motion));
+  }
+  return out;
+}
+
+absl::StatusOr<std::pair<motion::Motion, motion::Motion>> ReadClipPair(const std::string& pair) {
+  const std::vector<std::string> files = absl::StrSplit(pair, ',');
+  if (files.size() != 2) {
+    return absl::InvalidArgumentError("--pair wants CONTENT.bvh,STYLE.bvh, got '" + pair + "'");
+  }
+  absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(files[0]);
+  if (!content.ok()) return content.status();
+  absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(files[1]);
+  if (!style.ok()) return style.status();
+  return std::make_pair(*std::move(content), *std::move(style));
 }
 
 }  // namespace stylus::tool

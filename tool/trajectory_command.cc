@@ -14,6 +14,7 @@
 #include "motion/files.h"
 #include "tool/cli_support.h"
 #include "tool/model_spec.h"
+#include "tool/svg_plot.h"
 
 namespace stylus::tool {
 namespace {
@@ -106,68 +107,39 @@ int Trajectories(const Argv& argv) {
   absl::StatusOr<motion::PostProcessMode> post =
       motion::ParsePostProcessMode(args->Get("postprocess", "none"));
   if (!post.ok()) return Fail("trajectories", post.status());
-  std::vector<std::pair<std::string, std::unique_ptr<model::StyleModel>>> models;
-  auto main_model = LoadModelSpec(args->Get("model"));
-  if (!main_model.ok()) return Fail("trajectories", main_model.status());
-  models.emplace_back(args->Get("model"), *std::move(main_model));
-  for (const std::string& spec : args->All("compare")) {
-    const size_t eq = spec.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      return Fail("trajectories",
-                  absl::InvalidArgumentError("--compare wants LABEL=DIR, got '" + spec + "'"));
-    }
-    auto m = LoadModelSpec(spec.substr(eq + 1));
-    if (!m.ok()) return Fail("trajectories", m.status());
-    models.emplace_back(spec.substr(0, eq), *std::move(m));
-  }
-  static const char* kColours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"};
+  absl::StatusOr<std::vector<NamedModel>> models =
+      LoadModelAndComparisons(args->Get("model"), args->All("compare"));
+  if (!models.ok()) return Fail("trajectories", models.status());
   const double size = 360;
   std::string body;
   int panel = 0;
   for (const std::string& pair : args->All("pair")) {
+    absl::StatusOr<std::pair<motion::Motion, motion::Motion>> clips = ReadClipPair(pair);
+    if (!clips.ok()) return Fail("trajectories", clips.status());
+    const auto& [content, style] = *clips;
     const std::vector<std::string> files = absl::StrSplit(pair, ',');
-    if (files.size() != 2) {
-      return Fail("trajectories", absl::InvalidArgumentError(
-                                      "--pair wants CONTENT.bvh,STYLE.bvh, got '" + pair + "'"));
-    }
-    absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(files[0]);
-    if (!content.ok()) return Fail("trajectories", content.status());
-    absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(files[1]);
-    if (!style.ok()) return Fail("trajectories", style.status());
-    const motion::HumanoidRoles& roles = models[0].second->data().roles;
-    std::vector<Path> paths = {RootPath(*content, roles, "content", "#000")};
-    for (size_t i = 0; i < models.size(); ++i) {
-      const model::StyleModel& m = *models[i].second;
-      absl::StatusOr<model::StyleCode> code = m.EncodeStyle(*style);
-      if (!code.ok()) return Fail("trajectories", code.status());
-      absl::StatusOr<model::TransferResult> out = m.Transfer(*content, *code, *post);
-      if (!out.ok()) return Fail("trajectories", out.status());
-      paths.push_back(RootPath(out->motion, roles, models[i].first, kColours[i % 5]));
-    }
+    const motion::HumanoidRoles& roles = (*models)[0].model->data().roles;
+    std::vector<Path> paths = {RootPath(content, roles, "content", "#000")};
+    absl::StatusOr<std::vector<motion::Motion>> outputs =
+        TransferWithEach(*models, content, style, *post);
+    if (!outputs.ok()) return Fail("trajectories", outputs.status());
+    for (size_t i = 0; i < models->size(); ++i)
+      paths.push_back(RootPath((*outputs)[i], roles, (*models)[i].label, ModelColour(i)));
     body += Panel(std::filesystem::path(files[0]).stem().string(),
                   std::filesystem::path(files[1]).stem().string(), paths, 10 + panel * (size + 20),
                   size);
     ++panel;
   }
   const double width = 20 + panel * (size + 20);
-  std::string legend;
-  double lx = 10;
   std::vector<std::pair<std::string, std::string>> keys = {{"content (dashed)", "#000"}};
-  for (size_t i = 0; i < models.size(); ++i) keys.push_back({models[i].first, kColours[i % 5]});
-  for (const auto& [label, colour] : keys) {
-    absl::StrAppendFormat(&legend,
-                          "<rect x='%.1f' y='%.1f' width='14' height='4' fill='%s'/>"
-                          "<text x='%.1f' y='%.1f' font-size='12'>%s</text>\n",
-                          lx, size + 54, colour, lx + 18, size + 60, label);
-    lx += 30 + 7.0 * label.size();
-  }
-  const std::string svg = absl::StrFormat(
-      "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' "
-      "font-family='sans-serif'>\n<rect width='100%%' height='100%%' fill='white'/>\n"
-      "<text x='10' y='%.0f' font-size='12' fill='#444'>Root trajectories seen from above "
-      "(postprocess %s)</text>\n%s%s</svg>\n",
-      std::max(width, lx + 10), size + 100, size + 92, motion::PostProcessModeName(*post), body,
-      legend);
+  for (size_t i = 0; i < models->size(); ++i) keys.push_back({(*models)[i].label, ModelColour(i)});
+  double right = 0;
+  const std::string legend = SvgLegend(keys, size + 54, &right);
+  const std::string svg = SvgDocument(
+      std::max(width, right + 10), size + 100,
+      absl::StrFormat("<text x='10' y='%.0f' font-size='12' fill='#444'>Root trajectories seen "
+                      "from above (postprocess %s)</text>\n%s%s",
+                      size + 92, motion::PostProcessModeName(*post), body, legend));
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), svg); !s.ok())
     return Fail("trajectories", s);
   absl::PrintF("wrote %s (%d panels)\n", args->Get("out"), panel);

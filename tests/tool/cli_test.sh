@@ -42,7 +42,7 @@ check "render bad size" 1 "--size must be WIDTHxHEIGHT" -- "$tool" render "$work
 check "dataset-stats missing dir" 1 "not a directory" -- "$tool" dataset-stats "$work/none"
 # Training and transfer on synthesized clips (a few iterations: the plumbing,
 # not the quality, which model_tests and the evaluation cover).
-for cmd in train transfer train-judges judge eval style-map trajectories; do
+for cmd in train transfer train-judges judge eval style-map trajectories gait; do
   check "$cmd --help" 0 "usage: stylus-tool $cmd" -- "$tool" "$cmd" --help
 done
 "$tool" synth --style proud,frames=40 -o "$work/proud.bvh" >/dev/null
@@ -299,6 +299,9 @@ if [ -d "$rigs" ]; then
     -o "$work/mixamo_out.bvh" --threads 1
   check "the output is on the mixamo rig" 0 "joints: 55 \(root 'mixamorig:Hips'\)" -- \
     "$tool" bvh-info "$work/mixamo_out.bvh"
+  check "gait on the mixamo rig" 0 "mixamo_55joints_30fps / walk_old \| [^|]*models/[^|]* \| 0\.[0-9]+ \| " -- "$tool" gait \
+    --model "$model" --pair "$rigs/mixamo_55joints_30fps.bvh,$src/samples/walk_old.bvh" \
+    -o "$work/gait_mixamo.svg" --threads 1
   printf '# the feet, by hand\nleft_foot = LeftAnkle\nright_foot = RightAnkle\n' > "$work/map.txt"
   check "rig-info --joint-map" 0 "left_foot +LeftAnkle +joint map" -- \
     "$tool" rig-info --model "$model" --joint-map "$work/map.txt" "$rigs/mocapbank_19joints_30fps.bvh"
@@ -331,10 +334,28 @@ else
 fi
 check "rig-info on a non-humanoid" 1 "not a humanoid rig that can be mapped: found no joint for" -- \
   "$tool" rig-info --model "$model" "$good"
+# gait: the curves and the table of how transfers move.
+check "gait" 0 "wrote .*gait.svg \(1 pairs\)" -- "$tool" gait --model "$model" \
+  --compare "no guard=$model:content_guard=0" --pair "$src/samples/walk_normal.bvh,$src/samples/walk_old.bvh" \
+  -o "$work/gait.svg" --threads 1
+check "gait tabulates content, style and each model" 0 \
+  "walk_normal / walk_old \| style \| 0\.[0-9]+ \| [0-9.]+ \|.*walk_normal / walk_old \| no guard \|" -- \
+  bash -c "'$tool' gait --model '$model' --compare 'no guard=$model:content_guard=0' \
+  --pair '$src/samples/walk_normal.bvh,$src/samples/walk_old.bvh' -o '$work/gait.svg' --threads 1 | tr -d '\n'"
+check "gait svg draws the four curves" 0 "stride: .*foot lift: .*arm swing: .*bob: .*<polyline" -- \
+  tr -d '\n' < "$work/gait.svg"
+check "gait bad pair" 1 "--pair wants CONTENT.bvh,STYLE.bvh" -- "$tool" gait --model "$model" \
+  --pair "$src/samples/walk_normal.bvh" -o "$work/gait2.svg"
+check "gait names a clip that is no humanoid" 1 "mixed_orders_crlf.bvh: .*humanoid" -- "$tool" gait \
+  --model "$model" --pair "$src/samples/walk_normal.bvh,$good" -o "$work/gait2.svg"
+check "gait --seconds below 0" 1 "--seconds must be 0 or more" -- "$tool" gait --model "$model" \
+  --pair "$src/samples/walk_normal.bvh,$src/samples/walk_old.bvh" -o "$work/gait2.svg" --seconds -1
 
 # eval on real held-out pairs writes its charts next to the report.
 bandai=${STYLUS_DATA:-$src/../shared/data/bandai}
 if [ -d "$bandai/dataset-2" ]; then
+  check "dataset-stats --held-out lists the held-out clips" 0 "^.*/dataset-2_walk_normal_[0-9]+\.bvh$" -- \
+    "$tool" dataset-stats --held-out "$bandai/dataset-2"
   check "eval writes charts" 0 "!\[report_accuracy.png\]\(report_accuracy.png\)" -- "$tool" eval \
     --model "$model" --judges "$judges" --data "$bandai/dataset-2" --pairs-per-content 1 \
     --out "$work/eval/report.md" --threads 2

@@ -15,6 +15,7 @@
 #include "motion/cadence.h"
 #include "motion/contacts.h"
 #include "motion/dataset.h"
+#include "motion/gait.h"
 #include "motion/kinematics.h"
 #include "motion/metrics.h"
 
@@ -28,6 +29,24 @@ struct Verdict {
   std::string style, content;
   bool style_right = false, content_right = false;
 };
+
+// A stepping clip's gait figures (kGaitFigures), or nullopt when it does not
+// step.
+std::optional<std::array<double, 5>> GaitFigures(const motion::Motion& clip,
+                                                 const motion::HumanoidRoles& roles) {
+  absl::StatusOr<motion::GaitSummary> g = motion::SummarizeGait(clip, roles);
+  if (!g.ok() || !g->cadence || g->cadence->source != motion::Cadence::Source::kSteps)
+    return std::nullopt;
+  return std::array<double, 5>{g->cadence->period_s, g->stride, g->foot_lift, g->arm_swing,
+                               g->bob};
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
 
 }  // namespace
 
@@ -79,6 +98,8 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
   const size_t n_rows = report.rows.size();
   std::vector<std::vector<std::vector<double>>> embeddings(n_rows);
   const motion::HumanoidRoles& roles = models[0].model->data().roles;
+  // Per row and gait figure: each pair's share of the content-to-style gap.
+  std::vector<std::array<std::vector<double>, 5>> gait_shares(n_rows);
   int done = 0;
   for (size_t pair = 0; pair < pairs.size(); ++pair) {
     const EvalPair& p = pairs[pair];
@@ -152,8 +173,19 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       content_features = *std::move(c);
       style_features = *std::move(s);
     }
+    const std::optional<std::array<double, 5>> content_gait = GaitFigures(*content, roles),
+                                                style_gait = GaitFigures(*style, roles);
     for (size_t r = 0; r < n_rows; ++r) {
       const motion::Motion& out = outputs[r];
+      if (content_gait && style_gait) {
+        const std::optional<std::array<double, 5>> g = GaitFigures(out, roles);
+        for (int k = 0; k < 5; ++k) {
+          const double c = (*content_gait)[k], gap = (*style_gait)[k] - c;
+          if (std::abs(gap) < 0.1 * std::max(c, (*style_gait)[k])) continue;
+          // An output that stopped stepping keeps nothing of either gait.
+          gait_shares[r][k].push_back(g ? std::clamp(((*g)[k] - c) / gap, -1.0, 2.0) : 0.0);
+        }
+      }
       absl::StatusOr<Verdict> v = verdict(judges, out);
       if (!v.ok()) return v.status();
       EvalRow& row = report.rows[r];
@@ -231,6 +263,10 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     row.d_s /= row.pairs;
     row.d_c /= row.pairs;
     row.trajectory_error /= row.pairs;
+    for (int k = 0; k < 5; ++k) {
+      row.gait_toward_style[k] = Median(gait_shares[r][k]);
+      row.gait_pairs[k] = static_cast<int>(gait_shares[r][k].size());
+    }
     if (features && real.size() >= 2 && embeddings[r].size() >= 2) {
       row.fmd = FrechetDistance(embeddings[r], real);
       std::tie(row.kid, row.kid_std) = KernelInceptionDistance(embeddings[r], real, 10, 100, 11);
@@ -430,6 +466,20 @@ std::string EvalReport::Markdown() const {
     for (const EvalRow& r : rows) {
       absl::StrAppendFormat(&s, "| %s | %.3f | %.3f | %.3f | %.3f |\n", r.name, r.style_accuracy,
                             r.source_style, r.motion_style_accuracy, r.motion_source_style);
+    }
+  }
+  if (!rows.empty() && rows[0].gait_pairs[1] > 0) {
+    s += "\nGait (stylus-tool gait's figures), over the pairs whose content and style clips "
+         "both step: how far each output's figure moved from the content clip's towards the "
+         "style clip's (median share of the gap: 0 the content's, 1 the style's; over the pairs "
+         "whose clips differ by 10% or more in it; pairs in brackets):\n\n| output |";
+    for (const char* f : kGaitFigures) absl::StrAppend(&s, " ", f, " |");
+    s += "\n| --- | --- | --- | --- | --- | --- |\n";
+    for (const EvalRow& r : rows) {
+      absl::StrAppend(&s, "| ", r.name, " |");
+      for (int k = 0; k < 5; ++k)
+        absl::StrAppendFormat(&s, " %.2f (%d) |", r.gait_toward_style[k], r.gait_pairs[k]);
+      s += "\n";
     }
   }
   s += "\nKinematics (means over pairs; feet measured where the content clip's feet are "

@@ -4,6 +4,7 @@
 #ifndef STYLUS_EVAL_EVALUATION_H_
 #define STYLUS_EVAL_EVALUATION_H_
 
+#include <array>
 #include <functional>
 #include <map>
 #include <string>
@@ -71,7 +72,19 @@ struct EvalRow {
   // cadence, and their mean ratio (output duration / content duration).
   int time_warped = 0;
   double time_warp_ratio = 0;
+  // Gait (motion/gait.h) over the pairs whose content and style clips both
+  // step (walks, runs): for each figure (kGaitFigures), how far the output
+  // moved from the content clip's value towards the style clip's, as the
+  // median over pairs of (output - content) / (style - content), clamped to
+  // [-1, 2] (0: the content's, 1: the style's), and over how many pairs:
+  // those whose two clips differ by 10% or more in that figure.
+  std::array<double, 5> gait_toward_style = {};
+  std::array<int, 5> gait_pairs = {};
 };
+
+// The gait figures of EvalRow::gait_toward_style, in order.
+inline constexpr const char* kGaitFigures[5] = {"step period", "stride", "foot lift",
+                                                "arm swing", "bob"};
 
 // A model to evaluate; `postprocess` adds a second row with `full`
 // post-processing. With `own_style`, each content clip is restyled with its

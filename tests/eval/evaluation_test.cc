@@ -92,6 +92,27 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
   // about real clips scores them low there.
   EXPECT_NE(report->Markdown().find("| model, post-processing full |"), std::string::npos);
   EXPECT_NE(report->Markdown().find("foot skating"), std::string::npos);
+  // Gait: clips too short to take two steps are left out of it.
+  EXPECT_EQ(report->rows[3].gait_pairs[1], 0);
+  EXPECT_EQ(report->Markdown().find("| output | step period | stride |"), std::string::npos);
+  // Longer walks and runs step, and old and proud differ in stride and arm
+  // swing: the baselines sit at either end of each gap.
+  const std::string stepping = testing::TinyLabelledDataset("eval_tiny_steps", 120);
+  absl::StatusOr<std::vector<EvalPair>> stepping_pairs = MakeEvalPairs({stepping}, 2);
+  ASSERT_TRUE(stepping_pairs.ok()) << stepping_pairs.status();
+  absl::StatusOr<EvalReport> gait =
+      Evaluate({{"model", model->get(), true}}, **judges, nullptr, {}, *stepping_pairs);
+  ASSERT_TRUE(gait.ok()) << gait.status();
+  const EvalRow &identity_gait = gait->rows[gait->identity_row],
+                &copy_style = gait->rows[gait->identity_row + 1];
+  EXPECT_GT(identity_gait.gait_pairs[1] + identity_gait.gait_pairs[3], 0);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(copy_style.gait_pairs[k], identity_gait.gait_pairs[k]) << kGaitFigures[k];
+    if (identity_gait.gait_pairs[k] == 0) continue;
+    EXPECT_DOUBLE_EQ(identity_gait.gait_toward_style[k], 0.0) << kGaitFigures[k];
+    EXPECT_DOUBLE_EQ(copy_style.gait_toward_style[k], 1.0) << kGaitFigures[k];
+  }
+  EXPECT_NE(gait->Markdown().find("| output | step period | stride |"), std::string::npos);
   // Verdicts: one per pair and row; the identity row's judged labels are the
   // judges' verdicts on the content clips themselves, and its accuracy counts
   // exactly the verdicts that match.

@@ -11,9 +11,9 @@
 
 namespace stylus::testing {
 
-// dataset-9_{walk,run}_{old,proud}_00{1,2}.bvh, synthesized into a fresh
-// directory `name` under the test's temporary directory.
-inline std::string TinyLabelledDataset(const std::string& name) {
+// dataset-9_{walk,run}_{old,proud}_00{1,2}.bvh, `frames` long, synthesized
+// into a fresh directory `name` under the test's temporary directory.
+inline std::string TinyLabelledDataset(const std::string& name, int frames = 48) {
   namespace fs = std::filesystem;
   const std::string dir = ::testing::TempDir() + "/" + name;
   fs::remove_all(dir);
@@ -21,7 +21,8 @@ inline std::string TinyLabelledDataset(const std::string& name) {
   for (const char* content : {"walk", "run"}) {
     for (const char* style : {"old", "proud"}) {
       for (int take = 1; take <= 2; ++take) {
-        std::string spec = std::string(style) + ",frames=48,turn=" + std::to_string(take * 10);
+        std::string spec = std::string(style) + ",frames=" + std::to_string(frames) +
+                           ",turn=" + std::to_string(take * 10);
         if (std::string(content) == "run") spec += ",gait=run,speed=300,stride=240";
         const std::string path =
             dir + "/dataset-9_" + content + "_" + style + "_00" + std::to_string(take) + ".bvh";

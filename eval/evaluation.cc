@@ -34,11 +34,11 @@ struct Verdict {
 // step.
 std::optional<std::array<double, 5>> GaitFigures(const motion::Motion& clip,
                                                  const motion::HumanoidRoles& roles) {
-  absl::StatusOr<motion::GaitSummary> g = motion::SummarizeGait(clip, roles);
-  if (!g.ok() || !g->cadence || g->cadence->source != motion::Cadence::Source::kSteps)
-    return std::nullopt;
-  return std::array<double, 5>{g->cadence->period_s, g->stride, g->foot_lift, g->arm_swing,
-                               g->bob};
+  absl::StatusOr<motion::Gait> gait = motion::MeasureGait(clip, roles);
+  if (!gait.ok()) return std::nullopt;
+  const motion::GaitSummary& g = gait->summary;
+  if (!g.cadence || g.cadence->source != motion::Cadence::Source::kSteps) return std::nullopt;
+  return std::array<double, 5>{g.cadence->period_s, g.stride, g.foot_lift, g.arm_swing, g.bob};
 }
 
 double Median(std::vector<double> v) {
@@ -178,7 +178,10 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     for (size_t r = 0; r < n_rows; ++r) {
       const motion::Motion& out = outputs[r];
       if (content_gait && style_gait) {
-        const std::optional<std::array<double, 5>> g = GaitFigures(out, roles);
+        // The baselines' rows are the two clips themselves.
+        const std::optional<std::array<double, 5>> g = r + 2 == n_rows   ? content_gait
+                                                       : r + 1 == n_rows ? style_gait
+                                                                         : GaitFigures(out, roles);
         for (int k = 0; k < 5; ++k) {
           const double c = (*content_gait)[k], gap = (*style_gait)[k] - c;
           if (std::abs(gap) < 0.1 * std::max(c, (*style_gait)[k])) continue;
@@ -474,7 +477,9 @@ std::string EvalReport::Markdown() const {
          "style clip's (median share of the gap: 0 the content's, 1 the style's; over the pairs "
          "whose clips differ by 10% or more in it; pairs in brackets):\n\n| output |";
     for (const char* f : kGaitFigures) absl::StrAppend(&s, " ", f, " |");
-    s += "\n| --- | --- | --- | --- | --- | --- |\n";
+    s += "\n| --- |";
+    for (size_t k = 0; k < std::size(kGaitFigures); ++k) s += " --- |";
+    s += "\n";
     for (const EvalRow& r : rows) {
       absl::StrAppend(&s, "| ", r.name, " |");
       for (int k = 0; k < 5; ++k)

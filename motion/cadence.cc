@@ -50,9 +50,13 @@ std::optional<Cadence> StepCadence(const std::vector<std::vector<Vec3>>& positio
 }  // namespace
 
 absl::StatusOr<Cadence> FindCadence(const Motion& clip, const HumanoidRoles& roles) {
-  const int frames = clip.num_frames;
-  const double dt = clip.frame_time;
-  const std::vector<std::vector<Vec3>> positions = GlobalPositionsYUp(clip, roles.up_axis);
+  return FindCadence(GlobalPositionsYUp(clip, roles.up_axis), clip.frame_time, roles);
+}
+
+absl::StatusOr<Cadence> FindCadence(const std::vector<std::vector<Vec3>>& positions,
+                                    double frame_time, const HumanoidRoles& roles) {
+  const int frames = static_cast<int>(positions.size());
+  const double dt = frame_time;
   if (std::optional<Cadence> steps = StepCadence(positions, roles, dt)) return *steps;
   const int min_lag = std::max(2, static_cast<int>(std::lround(kMinPeriodS / dt)));
   const int max_lag = std::min(static_cast<int>(std::lround(kMaxPeriodS / dt)), (frames - 1) / 2);

@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "motion/humanoid.h"
@@ -42,6 +43,10 @@ inline constexpr double kMinPeriodS = 0.25, kMaxPeriodS = 2.5, kMinCadenceStreng
 // kMinCadenceStrength. NOT_FOUND when the clip neither steps nor repeats (a
 // single punch, a bow) or is too short to show two periods.
 absl::StatusOr<Cadence> FindCadence(const Motion& clip, const HumanoidRoles& roles);
+// The same from the clip's joint positions per frame, Y up
+// (GlobalPositionsYUp), for a caller that has them already.
+absl::StatusOr<Cadence> FindCadence(const std::vector<std::vector<Vec3>>& positions,
+                                    double frame_time, const HumanoidRoles& roles);
 
 // How many times longer `to` takes per repeat than `from`. INVALID_ARGUMENT
 // when one steps and the other does not (a walk's steps and a wave's swings

@@ -33,7 +33,7 @@ double Ahead(const Vec3& p, const Vec3& pelvis, const Vec3& facing) {
 
 }  // namespace
 
-absl::StatusOr<GaitCurves> MeasureGaitCurves(const Motion& clip, const HumanoidRoles& roles) {
+absl::StatusOr<Gait> MeasureGait(const Motion& clip, const HumanoidRoles& roles) {
   if (clip.num_frames <= 0) return absl::InvalidArgumentError("the clip has no frames");
   if (roles.leg_length <= 0) return absl::InvalidArgumentError("the rig's legs have no length");
   const Skeleton& sk = clip.skeleton;
@@ -54,12 +54,17 @@ absl::StatusOr<GaitCurves> MeasureGaitCurves(const Motion& clip, const HumanoidR
   }
   const std::vector<std::vector<Vec3>> p = GlobalPositionsYUp(clip, roles.up_axis);
   const double unit = 1.0 / roles.leg_length;
-  GaitCurves c;
+  Gait g;
+  GaitCurves& c = g.curves;
   c.frame_time = clip.frame_time;
-  double lowest_foot = p[0][roles.left_ankle].y, mean_pelvis = 0;
-  for (const std::vector<Vec3>& frame : p) {
-    lowest_foot = std::min(lowest_foot, frame[roles.left_ankle].y);
-    mean_pelvis += frame[roles.pelvis].y / p.size();
+  double lowest_foot = p[0][roles.left_ankle].y, mean_pelvis = 0, path = 0;
+  for (size_t f = 0; f < p.size(); ++f) {
+    lowest_foot = std::min(lowest_foot, p[f][roles.left_ankle].y);
+    mean_pelvis += p[f][roles.pelvis].y / p.size();
+    if (f > 0) {
+      const Vec3 d = p[f][roles.pelvis] - p[f - 1][roles.pelvis];
+      path += std::hypot(d.x, d.z);
+    }
   }
   for (const std::vector<Vec3>& frame : p) {
     const Vec3& pelvis = frame[roles.pelvis];
@@ -70,32 +75,20 @@ absl::StatusOr<GaitCurves> MeasureGaitCurves(const Motion& clip, const HumanoidR
     c.hand_forward.push_back(unit * Ahead(frame[hand], pelvis, facing));
     c.pelvis_height.push_back(unit * (pelvis.y - mean_pelvis));
   }
-  return c;
-}
-
-absl::StatusOr<GaitSummary> SummarizeGait(const Motion& clip, const HumanoidRoles& roles) {
-  absl::StatusOr<GaitCurves> c = MeasureGaitCurves(clip, roles);
-  if (!c.ok()) return c.status();
-  GaitSummary s;
-  s.stride = Spread(c->foot_forward);
-  s.foot_lift = Spread(c->foot_height);
-  s.arm_swing = Spread(c->hand_forward);
-  s.bob = Spread(c->pelvis_height);
-  const std::vector<std::vector<Vec3>> p = GlobalPositionsYUp(clip, roles.up_axis);
-  double path = 0;
-  for (size_t f = 1; f < p.size(); ++f) {
-    const Vec3 d = p[f][roles.pelvis] - p[f - 1][roles.pelvis];
-    path += std::hypot(d.x, d.z);
-  }
+  GaitSummary& s = g.summary;
+  s.stride = Spread(c.foot_forward);
+  s.foot_lift = Spread(c.foot_height);
+  s.arm_swing = Spread(c.hand_forward);
+  s.bob = Spread(c.pelvis_height);
   const double duration = (clip.num_frames - 1) * clip.frame_time;
-  s.speed = duration > 0 ? path / roles.leg_length / duration : 0;
-  absl::StatusOr<Cadence> cadence = FindCadence(clip, roles);
+  s.speed = duration > 0 ? unit * path / duration : 0;
+  absl::StatusOr<Cadence> cadence = FindCadence(p, clip.frame_time, roles);
   if (cadence.ok()) {
     s.cadence = *cadence;
   } else if (!absl::IsNotFound(cadence.status())) {
     return cadence.status();
   }
-  return s;
+  return g;
 }
 
 }  // namespace stylus::motion

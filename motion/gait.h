@@ -36,14 +36,16 @@ struct GaitSummary {
   double speed = 0;  // The pelvis's mean speed along the floor, leg lengths per second.
 };
 
-// The curves of `clip`. The hand is the joint two below the left shoulder
-// (upper arm, forearm, hand), each step down to the child with the most
-// joints below it (past twist bones). INVALID_ARGUMENT for
-// an empty clip or when the left arm has no such joint.
-absl::StatusOr<GaitCurves> MeasureGaitCurves(const Motion& clip, const HumanoidRoles& roles);
+struct Gait {
+  GaitCurves curves;
+  GaitSummary summary;
+};
 
-// The curves' spreads, the cadence and the speed.
-absl::StatusOr<GaitSummary> SummarizeGait(const Motion& clip, const HumanoidRoles& roles);
+// The curves of `clip`, their spreads, its cadence and its speed. The hand
+// is the joint two below the left shoulder (upper arm, forearm, hand), each
+// step down to the child with the most joints below it (past twist bones).
+// INVALID_ARGUMENT for an empty clip or when the left arm has no such joint.
+absl::StatusOr<Gait> MeasureGait(const Motion& clip, const HumanoidRoles& roles);
 
 }  // namespace stylus::motion
 

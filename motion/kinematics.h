@@ -21,8 +21,8 @@ GlobalPose ForwardKinematics(const Skeleton& skeleton, const LocalPose& pose);
 std::vector<std::vector<Vec3>> GlobalPositions(const Motion& motion);
 
 // GlobalPositions turned so that `up_axis` (0 X, 1 Y, 2 Z) points along +Y
-// (a rotation, so left and right stay as they are): what the contact
-// detector, the cadence and the gait curves read.
+// (a rotation, so left and right stay as they are): what the cadence and the
+// gait curves read.
 std::vector<std::vector<Vec3>> GlobalPositionsYUp(const Motion& motion, int up_axis);
 
 // Local pose from world rotations and positions (the inverse of

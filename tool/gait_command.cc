@@ -7,7 +7,6 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "absl/strings/str_split.h"
 #include "model/runtime.h"
 #include "motion/files.h"
 #include "motion/gait.h"
@@ -27,6 +26,7 @@ struct Series {
   motion::GaitSummary summary;
 };
 
+// One curve of GaitCurves and its panel's title.
 struct Measure {
   const char* title;
   std::vector<double> motion::GaitCurves::*curve;
@@ -39,25 +39,26 @@ const Measure kMeasures[] = {
 };
 constexpr double kPanelW = 280, kPanelH = 140, kGap = 24, kRowTitle = 34, kRowH = kPanelH + 60;
 
-absl::StatusOr<Series> Measured(const motion::Motion& clip, std::string label, std::string colour,
-                                bool dashed) {
+// `clip` measured (its own rig's roles); errors start with `name`.
+absl::StatusOr<Series> Measured(const motion::Motion& clip, const std::string& name,
+                                std::string label, std::string colour, bool dashed) {
   absl::StatusOr<motion::HumanoidRoles> roles = motion::HumanoidRolesOf(clip);
-  if (!roles.ok()) return roles.status();
-  absl::StatusOr<motion::GaitCurves> curves = motion::MeasureGaitCurves(clip, *roles);
-  if (!curves.ok()) return curves.status();
-  absl::StatusOr<motion::GaitSummary> summary = motion::SummarizeGait(clip, *roles);
-  if (!summary.ok()) return summary.status();
-  return Series{std::move(label), std::move(colour), dashed, *std::move(curves),
-                *std::move(summary)};
+  absl::StatusOr<motion::Gait> gait =
+      roles.ok() ? motion::MeasureGait(clip, *roles) : absl::StatusOr<motion::Gait>(roles.status());
+  if (!gait.ok()) {
+    return absl::Status(gait.status().code(), absl::StrCat(name, ": ", gait.status().message()));
+  }
+  return Series{std::move(label), std::move(colour), dashed, std::move(gait->curves),
+                gait->summary};
 }
 
-// One panel: every series' curve on common axes, seconds across.
 // Frames of `s` within the first `seconds`.
 size_t Shown(const Series& s, double seconds) {
   const size_t n = s.curves.foot_forward.size();
   return std::min(n, static_cast<size_t>(seconds / s.curves.frame_time) + 1);
 }
 
+// One panel: every series' curve on common axes, seconds across.
 std::string Panel(const Measure& m, const std::vector<Series>& series, double seconds, double x0,
                   double y0) {
   double duration = 0, lo = 1e300, hi = -1e300;
@@ -158,28 +159,23 @@ int Gait(const Argv& argv) {
               "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
   int row = 0;
   for (const std::string& pair : args->All("pair")) {
-    absl::StatusOr<std::pair<motion::Motion, motion::Motion>> clips = ReadClipPair(pair);
+    absl::StatusOr<ClipPair> clips = ReadClipPair(pair);
     if (!clips.ok()) return Fail("gait", clips.status());
-    const auto& [content, style] = *clips;
-    const std::vector<std::string> files = absl::StrSplit(pair, ',');
-    const std::string content_name = std::filesystem::path(files[0]).stem().string();
-    const std::string style_name = std::filesystem::path(files[1]).stem().string();
+    const std::string content_name = std::filesystem::path(clips->content_path).stem().string();
+    const std::string style_name = std::filesystem::path(clips->style_path).stem().string();
     std::vector<Series> series;
-    for (auto [clip, label, colour, dashed] :
-         {std::tuple<const motion::Motion*, const char*, const char*, bool>{&content, "content",
-                                                                            "#000", true},
-          {&style, "style", "#999", false}}) {
-      absl::StatusOr<Series> s = Measured(*clip, label, colour, dashed);
-      if (!s.ok()) return Fail("gait", absl::Status(s.status().code(),
-                                                     absl::StrCat(files[clip == &style ? 1 : 0],
-                                                                  ": ", s.status().message())));
+    for (absl::StatusOr<Series> s :
+         {Measured(clips->content, clips->content_path, "content", "#000", true),
+          Measured(clips->style, clips->style_path, "style", "#999", false)}) {
+      if (!s.ok()) return Fail("gait", s.status());
       series.push_back(*std::move(s));
     }
     absl::StatusOr<std::vector<motion::Motion>> outputs =
-        TransferWithEach(*models, content, style, *post);
+        TransferWithEach(*models, clips->content, clips->style, *post);
     if (!outputs.ok()) return Fail("gait", outputs.status());
     for (size_t i = 0; i < models->size(); ++i) {
-      absl::StatusOr<Series> s = Measured((*outputs)[i], (*models)[i].label, ModelColour(i), false);
+      absl::StatusOr<Series> s = Measured((*outputs)[i], (*models)[i].label, (*models)[i].label,
+                                          ModelColour(i), false);
       if (!s.ok()) return Fail("gait", s.status());
       series.push_back(*std::move(s));
     }

@@ -109,8 +109,7 @@ int Train(const Argv& argv) {
       "(a new network: it cannot start from a package of another width).\n"
       "--bottleneck-channels K squeezes the content code through K channels\n"
       "(instance-normalized), averaged over --bottleneck-pool P of its steps: a\n"
-      "code that narrow says what is done and when, so how it is done (the legs'\n"
-      "and the pelvis's way of moving) comes from the style code (a new network;\n"
+      "code that says what is done and when, and less of how (a new network;\n"
       "offline packages only; default 0: off).\n"
 
       "--residual trains each transfer as the content window plus the change the\n"

@@ -55,7 +55,7 @@ absl::StatusOr<std::vector<motion::Motion>> TransferWithEach(const std::vector<N
   return out;
 }
 
-absl::StatusOr<std::pair<motion::Motion, motion::Motion>> ReadClipPair(const std::string& pair) {
+absl::StatusOr<ClipPair> ReadClipPair(const std::string& pair) {
   const std::vector<std::string> files = absl::StrSplit(pair, ',');
   if (files.size() != 2) {
     return absl::InvalidArgumentError("--pair wants CONTENT.bvh,STYLE.bvh, got '" + pair + "'");
@@ -64,7 +64,7 @@ absl::StatusOr<std::pair<motion::Motion, motion::Motion>> ReadClipPair(const std
   if (!content.ok()) return content.status();
   absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(files[1]);
   if (!style.ok()) return style.status();
-  return std::make_pair(*std::move(content), *std::move(style));
+  return ClipPair{*std::move(content), *std::move(style), files[0], files[1]};
 }
 
 }  // namespace stylus::tool

@@ -34,8 +34,12 @@ absl::StatusOr<std::vector<motion::Motion>> TransferWithEach(const std::vector<N
                                                              const motion::Motion& style,
                                                              motion::PostProcessMode post);
 
-// A --pair value, CONTENT.bvh,STYLE.bvh: both clips, read.
-absl::StatusOr<std::pair<motion::Motion, motion::Motion>> ReadClipPair(const std::string& pair);
+// A --pair value, CONTENT.bvh,STYLE.bvh: both clips, read, with their paths.
+struct ClipPair {
+  motion::Motion content, style;
+  std::string content_path, style_path;
+};
+absl::StatusOr<ClipPair> ReadClipPair(const std::string& pair);
 
 }  // namespace stylus::tool
 

@@ -7,9 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "absl/strings/str_split.h"
 #include "model/runtime.h"
-#include "motion/bvh.h"
 #include "motion/features.h"
 #include "motion/files.h"
 #include "tool/cli_support.h"
@@ -114,10 +112,9 @@ int Trajectories(const Argv& argv) {
   std::string body;
   int panel = 0;
   for (const std::string& pair : args->All("pair")) {
-    absl::StatusOr<std::pair<motion::Motion, motion::Motion>> clips = ReadClipPair(pair);
+    absl::StatusOr<ClipPair> clips = ReadClipPair(pair);
     if (!clips.ok()) return Fail("trajectories", clips.status());
-    const auto& [content, style] = *clips;
-    const std::vector<std::string> files = absl::StrSplit(pair, ',');
+    const motion::Motion &content = clips->content, &style = clips->style;
     const motion::HumanoidRoles& roles = (*models)[0].model->data().roles;
     std::vector<Path> paths = {RootPath(content, roles, "content", "#000")};
     absl::StatusOr<std::vector<motion::Motion>> outputs =
@@ -125,8 +122,8 @@ int Trajectories(const Argv& argv) {
     if (!outputs.ok()) return Fail("trajectories", outputs.status());
     for (size_t i = 0; i < models->size(); ++i)
       paths.push_back(RootPath((*outputs)[i], roles, (*models)[i].label, ModelColour(i)));
-    body += Panel(std::filesystem::path(files[0]).stem().string(),
-                  std::filesystem::path(files[1]).stem().string(), paths, 10 + panel * (size + 20),
+    body += Panel(std::filesystem::path(clips->content_path).stem().string(),
+                  std::filesystem::path(clips->style_path).stem().string(), paths, 10 + panel * (size + 20),
                   size);
     ++panel;
   }

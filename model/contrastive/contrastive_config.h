@@ -52,10 +52,10 @@ struct ContrastiveConfig : GuardKeys {
   // Offline only: the content code squeezed through `bottleneck_channels`
   // channels (0: off), instance-normalized there, and averaged over
   // `bottleneck_pool` of its steps (1: every step; the code runs at half the
-  // frame rate), then widened again for the generator. A narrow code can
-  // say what is done and when (the action and its phase) but not the
-  // clip's own way of doing it, so the generator has to take that from the
-  // style code: the legs and pelvis move as the style moves
+  // frame rate), then widened again for the generator: a code that can say
+  // what is done and when (the action and its phase), and less of the
+  // clip's own way of doing it. Measured from scratch, it keeps the action
+  // better but does not give the legs the style's gait
   // (docs/notes/motion_style.md "A content bottleneck").
   int bottleneck_channels = 0;
   int bottleneck_pool = 1;

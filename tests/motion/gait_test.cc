@@ -16,9 +16,9 @@ namespace {
 Motion Walk(const std::string& spec) { return *Synthesize(*ParseSynthStyle(spec)); }
 
 GaitSummary Summary(const Motion& clip) {
-  absl::StatusOr<GaitSummary> s = SummarizeGait(clip, *HumanoidRolesOf(clip));
-  EXPECT_TRUE(s.ok()) << s.status();
-  return s.ok() ? *s : GaitSummary{};
+  absl::StatusOr<Gait> g = MeasureGait(clip, *HumanoidRolesOf(clip));
+  EXPECT_TRUE(g.ok()) << g.status();
+  return g.ok() ? g->summary : GaitSummary{};
 }
 
 TEST(GaitTest, EachKnobOfASynthesizedWalkMovesItsOwnFigure) {
@@ -63,13 +63,13 @@ TEST(GaitTest, AClipThatDoesNotMoveHasFlatCurvesAndNoCadence) {
   EXPECT_NEAR(s.bob, 0, 1e-9);
   EXPECT_NEAR(s.speed, 0, 1e-9);
   EXPECT_FALSE(s.cadence.has_value());
-  absl::StatusOr<GaitCurves> curves = MeasureGaitCurves(still, *HumanoidRolesOf(still));
-  ASSERT_TRUE(curves.ok());
-  EXPECT_EQ(curves->foot_forward.size(), 60u);
+  absl::StatusOr<Gait> gait = MeasureGait(still, *HumanoidRolesOf(still));
+  ASSERT_TRUE(gait.ok());
+  EXPECT_EQ(gait->curves.foot_forward.size(), 60u);
   Motion empty = walk;
   empty.num_frames = 0;
   empty.values.clear();
-  EXPECT_EQ(MeasureGaitCurves(empty, *HumanoidRolesOf(walk)).status().code(),
+  EXPECT_EQ(MeasureGait(empty, *HumanoidRolesOf(walk)).status().code(),
             absl::StatusCode::kInvalidArgument);
 }
 

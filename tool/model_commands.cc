@@ -31,7 +31,7 @@ int Train(const Argv& argv) {
       "         [--iters N] [--batch 16] [--lr 1e-4] [--alpha A] [--beta B] [--gamma C]\n"
       "         [--no-nce] [--no-tri] [--same-view] [--style-from-motion] [--seed S] [--resume]\n"
       "         [--random-starts] [--mirror] [--residual] [--channels 144]\n"
-      "         [--bottleneck-channels K [--bottleneck-pool 1]]\n"
+      "         [--bottleneck-channels K [--bottleneck-pool 1]] [--style-filter-taps K]\n"
       "         [--content-weight W] [--dynamics-weight W] [--smooth-sigma S] [--threads N]\n"
       "         [--teacher PACKAGE [--teacher-weight 1] [--teacher-strength 1]]\n"
       "         [--guided [--class-weight 1] [--cycle-weight 1] [--pair-gan]\n"
@@ -111,6 +111,11 @@ int Train(const Argv& argv) {
       "(instance-normalized), averaged over --bottleneck-pool P of its steps: a\n"
       "code that says what is done and when, and less of how (a new network;\n"
       "offline packages only; default 0: off).\n"
+      "--style-filter-taps K (odd) filters each generator channel over time with\n"
+      "K weights the style code chooses, so a style can delay, smooth or sharpen\n"
+      "a joint's motion, not only scale it (offline packages only; default 0:\n"
+      "off). With --init-from a package without it, the filter starts as none.\n"
+      "Measured: it moves the raw output's steps, not the motion-only judge.\n"
 
       "--residual trains each transfer as the content window plus the change the\n"
       "style makes in the generator's output, G(Ec(x), s) - G(Ec(x), Es(x)), and\n"
@@ -176,6 +181,7 @@ int Train(const Argv& argv) {
                     "channels",
                     "bottleneck-channels",
                     "bottleneck-pool",
+                    "style-filter-taps",
                     "lookahead",
                     "dilation-growth",
                     "window",
@@ -331,10 +337,18 @@ int Train(const Argv& argv) {
     return Fail("train", absl::InvalidArgumentError("--bottleneck-pool needs --bottleneck-channels"));
   }
   c.bottleneck_channels = *bottleneck, c.bottleneck_pool = *pool;
-  c.live = args->switches.count("live") > 0;
-  if (c.live && c.bottleneck_channels > 0) {
+  absl::StatusOr<int> taps = args->GetInt("style-filter-taps", 0);
+  if (!taps.ok() || *taps < 0 || *taps > 31 || (*taps > 0 && *taps % 2 == 0)) {
     return Fail("train", absl::InvalidArgumentError(
-                             "--bottleneck-channels is for offline packages, not with --live"));
+                             "--style-filter-taps must be an odd number in [1, 31] (or 0: off)"));
+  }
+  c.style_filter_taps = *taps;
+  c.live = args->switches.count("live") > 0;
+  if (c.live && (c.bottleneck_channels > 0 || c.style_filter_taps > 0)) {
+    return Fail("train", absl::InvalidArgumentError(
+                             c.bottleneck_channels > 0
+                                 ? "--bottleneck-channels is for offline packages, not with --live"
+                                 : "--style-filter-taps is for offline packages, not with --live"));
   }
   if (c.live) c.window = 64, c.hop = 32;
   absl::StatusOr<int> lookahead = args->GetInt("lookahead", c.lookahead),

@@ -28,6 +28,36 @@
 namespace stylus::model {
 namespace {
 
+// --init-from: loads the package in `dir` into a network of its own
+// configuration, then copies each of its tensors into `net` by name (shapes
+// checked). Tensors that only `net` has (a style filter the package lacks)
+// keep their initial values. INVALID_ARGUMENT naming the package when a
+// shared tensor has another shape or one of its tensors has no place in `net`.
+absl::Status LoadInitWeights(const std::string& dir, ContrastiveNet& net,
+                             const std::function<void(const std::string&)>& log) {
+  absl::StatusOr<ContrastiveConfig> theirs_config = ContrastiveConfig::Read(dir);
+  if (!theirs_config.ok()) return theirs_config.status();
+  ContrastiveNet from(*theirs_config);
+  if (absl::Status s = LoadWeights(from, dir + "/weights.pt"); !s.ok()) return s;
+  torch::NoGradGuard no_grad;
+  auto mine = net->named_parameters();
+  for (const auto& t : from->named_parameters()) {
+    torch::Tensor* m = mine.find(t.key());
+    if (m == nullptr || m->sizes() != t.value().sizes()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("--init-from ", dir, ": its '", t.key(),
+                       m == nullptr ? "' has no place in this network"
+                                    : "' has another shape than this network's"));
+    }
+    m->copy_(t.value());
+  }
+  if (from->named_parameters().size() < mine.size()) {
+    LogLine(log, absl::StrCat("initialized ", from->named_parameters().size(), " of ", mine.size(),
+                              " tensors from ", dir, "; the rest start afresh"));
+  }
+  return absl::OkStatus();
+}
+
 struct Trainer {
   explicit Trainer(const ContrastiveTrainOptions& options) : opt(options), config(options.config) {}
 
@@ -388,7 +418,7 @@ struct Trainer {
                          ": its norm.txt differs from this data's statistics (trained on other "
                          "data); fine-tune on the data it was trained on"));
       }
-      if (absl::Status s = LoadWeights(net, opt.init_from + "/weights.pt"); !s.ok()) return s;
+      if (absl::Status s = LoadInitWeights(opt.init_from, net, opt.log); !s.ok()) return s;
       Log("initialized from " + opt.init_from);
     }
     disc = Discriminator(config);

@@ -25,6 +25,7 @@ std::string ContrastiveConfig::Serialize() const {
     put("bottleneck_channels", absl::StrCat(bottleneck_channels));
     put("bottleneck_pool", absl::StrCat(bottleneck_pool));
   }
+  if (style_filter_taps > 0) put("style_filter_taps", absl::StrCat(style_filter_taps));
   if (live) {
     put("live", "1");
     put("lookahead", absl::StrCat(lookahead));
@@ -111,6 +112,12 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "style_from_motion") return e.Bool(&c.style_from_motion);
     if (key == "bottleneck_channels") return e.Int(&c.bottleneck_channels, 0, 4096);
     if (key == "bottleneck_pool") return e.Int(&c.bottleneck_pool, 1, 64);
+    if (key == "style_filter_taps") {
+      absl::Status s = e.Int(&c.style_filter_taps, 0, 31);
+      if (s.ok() && c.style_filter_taps > 0 && c.style_filter_taps % 2 == 0)
+        s = e.Error("style_filter_taps must be odd (or 0: off)");
+      return s;
+    }
     if (key == "lookahead") return e.Int(&c.lookahead, 1, 2);
     if (key == "frame_residual") return e.Bool(&c.frame_residual);
     if (key == "dilation_growth") return e.Int(&c.dilation_growth, 1, 4);
@@ -188,6 +195,10 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
   if (c.bottleneck_channels > 0 && c.live) {
     return absl::InvalidArgumentError(
         source + ": 'bottleneck_channels' is for offline packages (not with live = 1)");
+  }
+  if (c.style_filter_taps > 0 && c.live) {
+    return absl::InvalidArgumentError(
+        source + ": 'style_filter_taps' is for offline packages (not with live = 1)");
   }
   if (c.bottleneck_pool > 1 && c.bottleneck_channels == 0) {
     return absl::InvalidArgumentError(source +

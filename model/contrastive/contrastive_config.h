@@ -59,6 +59,15 @@ struct ContrastiveConfig : GuardKeys {
   // (docs/notes/motion_style.md "A content bottleneck").
   int bottleneck_channels = 0;
   int bottleneck_pool = 1;
+  // Offline only: after its AdaIN blocks the generator filters each of its
+  // channels over time with a kernel of `style_filter_taps` steps (odd; 0:
+  // off) that the style code chooses (StyleFilter, contrastive_net.h). AdaIN
+  // scales and shifts a channel; it cannot delay, smooth or sharpen it, so
+  // with AdaIN alone the timing between joints is the content's. Measured:
+  // the raw output's steps move towards the style's pace, the motion-only
+  // judge does not (docs/notes/motion_style.md "A style-chosen temporal
+  // filter").
+  int style_filter_taps = 0;
   // Inference keys (InferenceKeys(), with the guard's of GuardKeys; may be
   // set at load time). With `keep_path`, a transfer's root trajectory and
   // foot contacts are the content clip's (the style restyles the body along

@@ -90,6 +90,24 @@ torch::Tensor AdaInBlockImpl::forward(const torch::Tensor& x, const torch::Tenso
   return x + y;
 }
 
+StyleFilterImpl::StyleFilterImpl(int c, int k) : channels(c), taps(k) {
+  kernels = register_module("kernels", nn::Linear(c, c * k));
+  torch::NoGradGuard no_grad;
+  kernels->weight.zero_();
+  kernels->bias.zero_();
+}
+
+torch::Tensor StyleFilterImpl::forward(const torch::Tensor& x, const torch::Tensor& style) {
+  const int64_t b = x.size(0), t = x.size(2);
+  // One group per (window, channel): each window filtered with its own code's kernels.
+  const torch::Tensor w = kernels->forward(style).reshape({b * channels, 1, taps});
+  const torch::Tensor padded =
+      F::pad(x.reshape({1, b * channels, t}),
+             F::PadFuncOptions({taps / 2, taps / 2}).mode(torch::kReplicate));
+  const torch::Tensor y = F::conv1d(padded, w, F::Conv1dFuncOptions().groups(b * channels));
+  return x + y.reshape({b, channels, t});
+}
+
 GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) {
   mlp = register_module("mlp",
                         nn::Sequential(nn::Linear(c.channels, c.channels),
@@ -97,6 +115,8 @@ GeneratorImpl::GeneratorImpl(const ContrastiveConfig& c) : channels(c.channels) 
                                        nn::Linear(c.channels, 4 * 4 * c.channels)));
   blocks = register_module("blocks", nn::ModuleList());
   for (int i = 0; i < 4; ++i) blocks->push_back(AdaInBlock(c.channels, c.res_kernel));
+  if (c.style_filter_taps > 0)
+    filter = register_module("filter", StyleFilter(c.channels, c.style_filter_taps));
   up_conv = register_module("up_conv", Conv(c.channels, c.channels, 7));
   out_conv = register_module("out_conv", Conv(c.channels, c.dim, 7));
 }
@@ -106,6 +126,7 @@ torch::Tensor GeneratorImpl::forward(const torch::Tensor& content, const torch::
   torch::Tensor x = content;
   for (size_t i = 0; i < blocks->size(); ++i)
     x = blocks[i]->as<AdaInBlock>()->forward(x, params[i]);
+  if (filter) x = filter->forward(x, style);
   x = F::interpolate(
       x, F::InterpolateFuncOptions().scale_factor(std::vector<double>{2.0}).mode(torch::kNearest));
   x = LeakyRelu(up_conv->forward(x));

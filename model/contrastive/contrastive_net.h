@@ -60,12 +60,28 @@ struct AdaInBlockImpl : torch::nn::Module {
 };
 TORCH_MODULE(AdaInBlock);
 
+// A per-channel temporal filter chosen by the style code (config
+// `style_filter_taps`): x plus x convolved, channel by channel, with `taps`
+// weights that a linear map of the style code gives (edges held). The map
+// starts at zero, so a fresh filter passes x unchanged and a package
+// fine-tuned with it starts from its own output.
+struct StyleFilterImpl : torch::nn::Module {
+  StyleFilterImpl(int channels, int taps);
+  // x: (B, C, T); style: (B, C_style).
+  torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& style);
+  torch::nn::Linear kernels{nullptr};
+  int channels, taps;
+};
+TORCH_MODULE(StyleFilter);
+
 // 4 AdaIN residual blocks on the content code, AdaIN parameters from an MLP on
-// the style code, then upsampling back to T frames and an output conv to d.
+// the style code, (with style_filter_taps) the style filter, then upsampling
+// back to T frames and an output conv to d.
 struct GeneratorImpl : torch::nn::Module {
   explicit GeneratorImpl(const ContrastiveConfig& c);
   torch::Tensor forward(const torch::Tensor& content, const torch::Tensor& style);
   torch::nn::Sequential mlp{nullptr};
+  StyleFilter filter{nullptr};
   torch::nn::ModuleList blocks;
   torch::nn::Conv1d up_conv{nullptr}, out_conv{nullptr};
   int channels;

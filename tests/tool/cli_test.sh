@@ -170,6 +170,21 @@ check "train --init-from a missing package" 1 "--init-from: .*nowhere/norm.txt: 
 check "train --init-from" 0 "initialized from $work/model" -- "$tool" train --data "$work/old.bvh" \
   --data "$work/proud.bvh" --out "$work/tuned" --iters 2 --batch 2 --threads 1 --init-from "$work/model" \
   --smooth-sigma 3 --residual
+check "train --style-filter-taps from a package without it" 0 "initialized [0-9]+ of [0-9]+ tensors from $work/model; the rest start afresh" -- \
+  "$tool" train --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/filtered" --iters 2 \
+  --batch 2 --threads 1 --init-from "$work/model" --style-filter-taps 5
+check "train --style-filter-taps in the package" 0 "^style_filter_taps = 5$" -- \
+  cat "$work/filtered/config.txt"
+check "the filtered package transfers" 0 "wrote .*filtered_out.bvh" -- "$tool" transfer \
+  --model "$work/filtered" --content "$work/old.bvh" --style "$work/proud.bvh" \
+  -o "$work/filtered_out.bvh" --threads 1
+check "train --init-from a filtered package into one without" 1 "--init-from .*filtered: its 'generator.filter.kernels.weight' has no place in this network" -- \
+  "$tool" train --data "$work/old.bvh" --data "$work/proud.bvh" --out "$work/unfiltered" --iters 2 \
+  --batch 2 --threads 1 --init-from "$work/filtered"
+check "train --style-filter-taps even" 1 "--style-filter-taps must be an odd number" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/filtered2" --style-filter-taps 4
+check "train --style-filter-taps with --live" 1 "--style-filter-taps is for offline packages, not with --live" -- \
+  "$tool" train --data "$work/old.bvh" --out "$work/filtered2" --live --style-filter-taps 5
 check "train --smooth-sigma in the package" 0 "^smooth_sigma = 3$" -- cat "$work/tuned/config.txt"
 check "train --residual in the package" 0 "^residual = 1$" -- cat "$work/tuned/config.txt"
 check "the residual package transfers" 0 "wrote .*tuned_out.bvh" -- "$tool" transfer --model "$work/tuned" \

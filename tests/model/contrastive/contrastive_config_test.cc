@@ -64,6 +64,27 @@ TEST(ContrastiveConfigTest, TheBottleneckIsOfflineAndItsPoolNeedsChannels) {
   EXPECT_NE(zero_pool.status().message().find("c.txt:"), std::string::npos) << zero_pool.status();
 }
 
+TEST(ContrastiveConfigTest, TheStyleFilterIsOfflineOddAndRoundTrips) {
+  ContrastiveConfig c;
+  c.dim = 162;
+  EXPECT_EQ(c.Serialize().find("style_filter"), std::string::npos);  // Off: not written.
+  const std::string base = c.Serialize();
+  c.style_filter_taps = 9;
+  absl::StatusOr<ContrastiveConfig> back = ContrastiveConfig::Parse(c.Serialize(), "config.txt");
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->style_filter_taps, 9);
+  absl::StatusOr<ContrastiveConfig> even =
+      ContrastiveConfig::Parse(base + "style_filter_taps = 4\n", "c.txt");
+  ASSERT_FALSE(even.ok());
+  EXPECT_NE(even.status().message().find("must be odd"), std::string::npos) << even.status();
+  absl::StatusOr<ContrastiveConfig> live =
+      ContrastiveConfig::Parse(base + "live = 1\nstyle_filter_taps = 9\n", "config.txt");
+  ASSERT_FALSE(live.ok());
+  EXPECT_NE(live.status().message().find("'style_filter_taps' is for offline packages"),
+            std::string::npos)
+      << live.status();
+}
+
 TEST(ContrastiveConfigTest, ContentDetailRoundTrips) {
   ContrastiveConfig c;
   c.dim = 162, c.smooth_sigma = 3, c.content_detail = 0.5, c.detail_sigma = 2;

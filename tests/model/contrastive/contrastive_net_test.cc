@@ -154,5 +154,36 @@ TEST(ContrastiveNetTest, TheBottleneckKeepsTheCodesShapeAndSaysLessOfTheClip) {
   EXPECT_FALSE(ContrastiveNet(Tiny())->bottleneck);
 }
 
+TEST(ContrastiveNetTest, AFreshStyleFilterPassesTheGeneratorThroughThenFiltersByStyle) {
+  ContrastiveConfig c = Tiny();
+  c.style_filter_taps = 5;
+  torch::manual_seed(4);
+  ContrastiveNet plain(Tiny());
+  ContrastiveNet filtered(c);
+  ASSERT_TRUE(filtered->generator->filter);
+  EXPECT_FALSE(plain->generator->filter);  // Off without the key.
+  // The same weights but the filter's: a fresh filter changes nothing.
+  {
+    torch::NoGradGuard no_grad;
+    auto mine = filtered->named_parameters();
+    for (const auto& p : plain->named_parameters()) mine[p.key()].copy_(p.value());
+  }
+  const torch::Tensor x = torch::randn({2, c.dim, c.window});
+  const torch::Tensor code = plain->content(x), style = plain->style(x);
+  EXPECT_TRUE(torch::allclose(plain->decode(code, style), filtered->decode(code, style)));
+  // A kernel that the style code chooses: two codes now filter the same
+  // content differently over time.
+  {
+    torch::NoGradGuard no_grad;
+    filtered->generator->filter->kernels->weight.normal_(0, 0.3);
+  }
+  const torch::Tensor a = filtered->decode(code, torch::zeros_like(style)),
+                      b = filtered->decode(code, style);
+  const torch::Tensor a_plain = plain->decode(code, torch::zeros_like(style)),
+                      b_plain = plain->decode(code, style);
+  EXPECT_GT(((a - b) - (a_plain - b_plain)).abs().max().item<float>(), 1e-3);
+  EXPECT_EQ(a.sizes(), x.sizes());
+}
+
 }  // namespace
 }  // namespace stylus::model

@@ -29,31 +29,26 @@ namespace stylus::model {
 namespace {
 
 // --init-from: loads the package in `dir` into a network of its own
-// configuration, then copies each of its tensors into `net` by name (shapes
-// checked). Tensors that only `net` has (a style filter the package lacks)
-// keep their initial values. INVALID_ARGUMENT naming the package when a
-// shared tensor has another shape or one of its tensors has no place in `net`.
+// configuration and copies its tensors into `net` by name (CopyTensorsByName);
+// tensors only `net` has (a style filter the package lacks) start afresh.
+// INVALID_ARGUMENT naming the package and the tensor when one of its tensors
+// has another shape or no place in `net`.
 absl::Status LoadInitWeights(const std::string& dir, ContrastiveNet& net,
                              const std::function<void(const std::string&)>& log) {
-  absl::StatusOr<ContrastiveConfig> theirs_config = ContrastiveConfig::Read(dir);
-  if (!theirs_config.ok()) return theirs_config.status();
-  ContrastiveNet from(*theirs_config);
+  absl::StatusOr<ContrastiveConfig> theirs = ContrastiveConfig::Read(dir);
+  if (!theirs.ok()) return theirs.status();
+  ContrastiveNet from(*theirs);
   if (absl::Status s = LoadWeights(from, dir + "/weights.pt"); !s.ok()) return s;
-  torch::NoGradGuard no_grad;
-  auto mine = net->named_parameters();
-  for (const auto& t : from->named_parameters()) {
-    torch::Tensor* m = mine.find(t.key());
-    if (m == nullptr || m->sizes() != t.value().sizes()) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("--init-from ", dir, ": its '", t.key(),
-                       m == nullptr ? "' has no place in this network"
-                                    : "' has another shape than this network's"));
-    }
-    m->copy_(t.value());
+  const std::string source = "--init-from " + dir;
+  absl::StatusOr<TensorCopy> copy = CopyTensorsByName(from, net, source);
+  if (!copy.ok()) return copy.status();
+  if (!copy->unplaced.empty()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(source, ": its '", copy->unplaced[0], "' has no place in this network"));
   }
-  if (from->named_parameters().size() < mine.size()) {
-    LogLine(log, absl::StrCat("initialized ", from->named_parameters().size(), " of ", mine.size(),
-                              " tensors from ", dir, "; the rest start afresh"));
+  if (copy->copied < copy->total) {
+    LogLine(log, absl::StrCat("initialized ", copy->copied, " of ", copy->total, " tensors from ",
+                              dir, "; the rest start afresh"));
   }
   return absl::OkStatus();
 }

@@ -89,25 +89,14 @@ struct CyclicTrainer {
     if (!source.ok()) return source.status();
     CyclicNet from(*source, width);
     if (absl::Status s = LoadWeights(from, dir + "/weights.pt"); !s.ok()) return s;
-    torch::NoGradGuard no_grad;
-    const auto theirs = from->named_parameters();
-    int copied = 0, total = 0;
-    for (auto& mine : net->named_parameters()) {
-      ++total;
-      const torch::Tensor* t = theirs.find(mine.key());
-      if (t == nullptr) continue;
-      if (t->sizes() != mine.value().sizes()) {
-        return absl::InvalidArgumentError(
-            absl::StrCat(dir, ": its '", mine.key(), "' has another shape than this network's"));
-      }
-      mine.value().copy_(*t);
-      ++copied;
-    }
-    if (copied == 0) {
+    absl::StatusOr<TensorCopy> copy = CopyTensorsByName(from, net, dir);
+    if (!copy.ok()) return copy.status();
+    if (copy->copied == 0) {
       return absl::InvalidArgumentError(
           absl::StrCat(dir, ": no tensor of its network is in this one"));
     }
-    LogLine(opt.log, absl::StrCat("initialized ", copied, " of ", total, " tensors from ", dir));
+    LogLine(opt.log,
+            absl::StrCat("initialized ", copy->copied, " of ", copy->total, " tensors from ", dir));
     return absl::OkStatus();
   }
 

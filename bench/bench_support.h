@@ -135,7 +135,12 @@ struct ServerProcess {
     for (int i = 0; i < 300 && port == 0; ++i) {
       std::ifstream f(port_file);
       if (!(f >> port)) port = 0;
-      if (port == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      if (port != 0) break;
+      if (waitpid(pid, nullptr, WNOHANG) == pid) {  // It exited: it will not come up.
+        pid = -1;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     std::remove(port_file.c_str());
     if (port == 0) Kill();

@@ -8,7 +8,9 @@
 #   STYLUS_THREADS         compute threads
 #   STYLUS_METRICS_LISTEN  e.g. 0.0.0.0:9464
 #   STYLUS_TLS_CERT, STYLUS_TLS_KEY, STYLUS_TLS_CLIENT_CA   PEM files
-#   STYLUS_AUTH_TOKENS     tokens file (SIGHUP re-reads it)
+#   STYLUS_AUTH_TOKENS     tokens file (re-read when it changes)
+#   STYLUS_ADMIN_TOKENS    admin tokens file (LoadModel/UnloadModel)
+#   STYLUS_MAX_MEMORY_MB, STYLUS_MAX_MESSAGE_MB   memory bounds
 #   STYLUS_LOG_FORMAT      text or json (default json in the image)
 #   STYLUS_SHUTDOWN_GRACE_S
 set -eu
@@ -25,6 +27,9 @@ add --tls-cert "${STYLUS_TLS_CERT:-}"
 add --tls-key "${STYLUS_TLS_KEY:-}"
 add --tls-client-ca "${STYLUS_TLS_CLIENT_CA:-}"
 add --auth-tokens "${STYLUS_AUTH_TOKENS:-}"
+add --admin-tokens "${STYLUS_ADMIN_TOKENS:-}"
+add --max-memory-mb "${STYLUS_MAX_MEMORY_MB:-}"
+add --max-message-mb "${STYLUS_MAX_MESSAGE_MB:-}"
 add --shutdown-grace-s "${STYLUS_SHUTDOWN_GRACE_S:-}"
 # The values are paths, addresses and numbers: word splitting is safe.
 # shellcheck disable=SC2086

@@ -39,6 +39,11 @@ absl::Status StyleSchedule::Add(StyleChange change, int64_t earliest) {
                                                    queued_.back().from_frame,
                                                    ": send changes in frame order"));
   }
+  if (static_cast<int>(queued_.size()) >= kMaxQueuedChanges) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "style change: ", kMaxQueuedChanges,
+        " changes already wait for later frames; send a change closer to when it is due"));
+  }
   queued_.push_back(std::move(change));
   return absl::OkStatus();
 }

@@ -34,8 +34,9 @@ class StyleSchedule {
   // generated) takes effect from `earliest`. INVALID_ARGUMENT for a change
   // with neither a code nor a strength, a code of another size, a strength
   // outside [0, 1], a negative fade, or a frame before a change already
-  // queued.
+  // queued; RESOURCE_EXHAUSTED when kMaxQueuedChanges wait already.
   absl::Status Add(StyleChange change, int64_t earliest);
+  static constexpr int kMaxQueuedChanges = 64;
 
   // The code and strength at frame `t` (t never decreasing from one call to
   // the next). `changed` is true when either differs from the previous

@@ -103,31 +103,54 @@ void LogCall(const std::string& rpc, const CallOrigin& origin, const CallOutcome
              double ms) {
   const std::string status =
       outcome.status.ok() ? "OK" : std::string(absl::StatusCodeToString(outcome.status.code()));
-  const std::string model = outcome.model.empty() ? "-" : outcome.model;
+  // What a client sent may be in the model id and the message: capped, and
+  // (in text) with its control characters escaped, so that it cannot forge
+  // or flood a line.
+  const std::string model = outcome.model.empty() ? "-" : Capped(outcome.model);
+  const std::string message = Capped(std::string(outcome.status.message()));
+  const std::string note = Capped(outcome.note);
   const auto level = outcome.status.ok() ? spdlog::level::info : spdlog::level::warn;
   if (json_logs) {
     std::string fields = absl::StrFormat(
         "%c\"rpc\":\"%s\",\"model\":\"%s\",\"frames\":%d,\"ms\":%.1f,\"status\":\"%s\"",
         kFieldsMark, JsonEscape(rpc), JsonEscape(model), outcome.frames, ms, status);
     if (!outcome.status.ok()) {
-      absl::StrAppend(&fields, ",\"message\":\"", JsonEscape(std::string(outcome.status.message())),
-                      "\"");
+      absl::StrAppend(&fields, ",\"message\":\"", JsonEscape(message), "\"");
     }
-    if (!outcome.note.empty())
-      absl::StrAppend(&fields, ",\"note\":\"", JsonEscape(outcome.note), "\"");
+    if (!note.empty()) absl::StrAppend(&fields, ",\"note\":\"", JsonEscape(note), "\"");
     absl::StrAppend(&fields, ",\"request_id\":\"", JsonEscape(origin.request_id), "\",\"peer\":\"",
-                    JsonEscape(origin.peer), "\"");
+                    JsonEscape(Capped(origin.peer)), "\"");
     spdlog::log(level, "{}", fields);
     return;
   }
-  std::string line = absl::StrFormat("rpc=%s model=%s frames=%d ms=%.1f status=%s", rpc, model,
-                                     outcome.frames, ms, status);
-  if (!outcome.status.ok()) {
-    absl::StrAppend(&line, " message=\"", std::string(outcome.status.message()), "\"");
-  }
-  if (!outcome.note.empty()) absl::StrAppend(&line, " ", outcome.note);
-  absl::StrAppend(&line, " request_id=", origin.request_id, " peer=", origin.peer);
+  std::string line = absl::StrFormat("rpc=%s model=%s frames=%d ms=%.1f status=%s", rpc,
+                                     TextEscape(model), outcome.frames, ms, status);
+  if (!outcome.status.ok()) absl::StrAppend(&line, " message=\"", TextEscape(message), "\"");
+  if (!note.empty()) absl::StrAppend(&line, " ", TextEscape(note));
+  absl::StrAppend(&line, " request_id=", origin.request_id, " peer=", TextEscape(Capped(origin.peer)));
   spdlog::log(level, "{}", line);
+}
+
+std::string Capped(const std::string& text) {
+  if (text.size() <= kMaxLoggedField) return text;
+  return absl::StrCat(text.substr(0, kMaxLoggedField), "...(", text.size(), " bytes)");
+}
+
+std::string TextEscape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      out += absl::StrFormat("\\x%02x", u);
+    } else if (c == '\\' || c == '"') {
+      out += '\\';
+      out += c;
+    } else {
+      out += c;
+    }
+  }
+  return out;
 }
 
 namespace {

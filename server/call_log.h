@@ -52,6 +52,15 @@ struct CallOutcome {
 void LogCall(const std::string& rpc, const CallOrigin& origin, const CallOutcome& outcome,
              double ms);
 
+// The longest client-supplied field a log line holds (model id, message,
+// note, peer); a longer one is cut there and its size noted.
+inline constexpr size_t kMaxLoggedField = 512;
+std::string Capped(const std::string& text);
+
+// `text` for a text log line: control characters as \xNN, backslashes and
+// quotes escaped, so that no client string starts a line of its own.
+std::string TextEscape(const std::string& text);
+
 // `text` as a JSON string literal's contents (quotes, backslashes and
 // control characters escaped; other bytes kept).
 std::string JsonEscape(const std::string& text);

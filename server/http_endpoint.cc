@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <vector>
 
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
@@ -17,14 +18,28 @@ namespace stylus::server {
 namespace {
 
 constexpr size_t kMaxRequest = 8192;
-constexpr int kRequestTimeoutMs = 2000;
+constexpr int kRequestTimeoutMs = 1000;
+constexpr size_t kMaxClients = 64;
+constexpr int kSendTimeoutMs = 1000;
 
+// Sends `data` on a non-blocking socket, giving up after kSendTimeoutMs (a
+// client that does not read its answer).
 void SendAll(int fd, const std::string& data) {
   size_t sent = 0;
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(kSendTimeoutMs);
   while (sent < data.size()) {
-    const ssize_t n = send(fd, data.data() + sent, data.size() - sent, MSG_NOSIGNAL);
-    if (n <= 0) return;
-    sent += static_cast<size_t>(n);
+    const ssize_t n = send(fd, data.data() + sent, data.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n > 0) {
+      sent += static_cast<size_t>(n);
+      continue;
+    }
+    if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK) return;
+    const int left = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                          deadline - std::chrono::steady_clock::now())
+                                          .count());
+    pollfd p{fd, POLLOUT, 0};
+    if (left <= 0 || poll(&p, 1, left) <= 0) return;
   }
 }
 
@@ -79,31 +94,62 @@ HttpEndpoint::~HttpEndpoint() {
 }
 
 void HttpEndpoint::Loop() {
+  // Every connection is served from this one loop, none waited for: a
+  // client that sends nothing (or half a request) holds only its slot until
+  // its deadline, and never delays another's scrape.
+  struct Client {
+    int fd;
+    std::string request;
+    std::chrono::steady_clock::time_point deadline;
+  };
+  std::vector<Client> clients;
   while (!stopping_) {
-    pollfd p{fd_, POLLIN, 0};
-    if (poll(&p, 1, 100) <= 0) continue;  // Wakes to check stopping_.
-    const int client = accept4(fd_, nullptr, nullptr, SOCK_CLOEXEC);
-    if (client < 0) continue;
-    Answer(client);
-    close(client);
+    std::vector<pollfd> polled;
+    polled.push_back({fd_, POLLIN, 0});
+    for (const Client& c : clients) polled.push_back({c.fd, POLLIN, 0});
+    const int n = poll(polled.data(), polled.size(), 50);  // Wakes to check stopping_ and deadlines.
+    const auto now = std::chrono::steady_clock::now();
+    std::vector<Client> open;
+    for (size_t i = 0; i < clients.size(); ++i) {
+      Client& c = clients[i];
+      bool keep = now < c.deadline;
+      if (keep && n > 0 && (polled[i + 1].revents & (POLLIN | POLLHUP | POLLERR))) {
+        char buf[2048];
+        const ssize_t got = recv(c.fd, buf, sizeof(buf), MSG_DONTWAIT);
+        if (got <= 0) {
+          keep = false;
+        } else {
+          c.request.append(buf, static_cast<size_t>(got));
+          if (c.request.find("\r\n\r\n") != std::string::npos) {
+            Answer(c.fd, c.request);
+            keep = false;
+          } else if (c.request.size() > kMaxRequest) {
+            keep = false;
+          }
+        }
+      }
+      if (keep) {
+        open.push_back(std::move(c));
+      } else {
+        close(c.fd);
+      }
+    }
+    clients = std::move(open);
+    if (n > 0 && (polled[0].revents & POLLIN)) {
+      const int client = accept4(fd_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
+      if (client >= 0) {
+        if (clients.size() >= kMaxClients) {  // The oldest goes.
+          close(clients.front().fd);
+          clients.erase(clients.begin());
+        }
+        clients.push_back({client, "", now + std::chrono::milliseconds(kRequestTimeoutMs)});
+      }
+    }
   }
+  for (const Client& c : clients) close(c.fd);
 }
 
-void HttpEndpoint::Answer(int client) {
-  std::string request;
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::milliseconds(kRequestTimeoutMs);
-  while (request.find("\r\n\r\n") == std::string::npos) {
-    const int left = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(
-                                          deadline - std::chrono::steady_clock::now())
-                                          .count());
-    pollfd p{client, POLLIN, 0};
-    if (left <= 0 || poll(&p, 1, left) <= 0 || request.size() > kMaxRequest) return;
-    char buf[2048];
-    const ssize_t n = recv(client, buf, sizeof(buf), 0);
-    if (n <= 0) return;
-    request.append(buf, static_cast<size_t>(n));
-  }
+void HttpEndpoint::Answer(int client, const std::string& request) {
   const size_t line_end = request.find("\r\n");
   const std::string line = request.substr(0, line_end);
   const size_t sp1 = line.find(' '), sp2 = line.find(' ', sp1 + 1);

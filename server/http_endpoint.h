@@ -1,10 +1,12 @@
 // A minimal HTTP/1.x endpoint for Prometheus scrapes: one thread accepts
 // connections on "host:port" (port 0 picks a free one), answers GET of one
 // path with what `body` returns (text/plain), 404 for any other path, 405
-// for other methods, and closes each connection after its answer. A client
-// that sends no complete request head within 2 s, or one over 8 KiB, is
-// dropped. (prometheus-cpp's own HTTP server cannot start threads once
-// LibTorch is loaded in the process.)
+// for other methods, and closes each connection after its answer.
+// Connections are served concurrently from one poll loop: a client that sends
+// no complete request head within 1 s, or one over 8 KiB, is dropped, and
+// idle connections never delay another's scrape; past 64 open connections
+// the oldest is dropped. (prometheus-cpp's own HTTP server cannot start
+// threads once LibTorch is loaded in the process.)
 //
 // Thread-safety: the body callback runs on the endpoint's thread.
 #ifndef STYLUS_SERVER_HTTP_ENDPOINT_H_
@@ -34,7 +36,7 @@ class HttpEndpoint {
  private:
   HttpEndpoint(int fd, int port, std::string path, std::function<std::string()> body);
   void Loop();
-  void Answer(int client);
+  void Answer(int client, const std::string& request);
 
   const int fd_;
   const int port_;

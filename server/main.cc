@@ -18,12 +18,14 @@ constexpr char kHelp[] =
     "                     [--max-streams N] [--max-message-mb N] [--max-stream-frames N]\n"
     "                     [--max-batch N] [--max-queue-delay-us N] [--batch-unary]\n"
     "                     [--metrics-listen ADDR] [--auth-tokens FILE]\n"
+    "                     [--admin-tokens FILE] [--reflection]\n"
     "                     [--tls-cert FILE --tls-key FILE [--tls-client-ca FILE]]\n"
     "                     [--max-clip-frames N] [--max-joints N] [--max-unary-calls N]\n"
     "                     [--max-saved-styles N] [--stream-idle-timeout-s S]\n"
+    "                     [--max-styles N] [--max-stream-backlog N] [--max-memory-mb N]\n"
     "                     [--shutdown-grace-s S] [--port-file FILE] [--log-format F]\n\n"
-    "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService),\n"
-    "grpc.health.v1 and server reflection. Loads every model package under\n"
+    "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService)\n"
+    "and grpc.health.v1. Loads every model package under\n"
     "--models (default: models) at start-up.\n\n"
     "  --listen ADDR          default localhost:50051; port 0 picks a free port\n"
     "  --threads N            compute threads (default 2)\n"
@@ -38,8 +40,14 @@ constexpr char kHelp[] =
     "  --batch-unary          batch unary Transfer/Interpolate passes too (off:\n"
     "                         on a CPU, parallel calls are faster; docs/service.md)\n"
     "  --auth-tokens FILE     calls need 'authorization: Bearer TOKEN' with a token\n"
-    "                         from FILE (one per line; re-read on SIGHUP); health\n"
-    "                         checks stay open\n"
+    "                         from FILE (one per line; re-read on SIGHUP and when\n"
+    "                         it changes; a file with no valid token revokes\n"
+    "                         all); health checks stay open\n"
+    "  --admin-tokens FILE    LoadModel/UnloadModel need a token from FILE (which\n"
+    "                         also serves); with --auth-tokens and without this,\n"
+    "                         nobody loads models after start-up\n"
+    "  --reflection           serve grpc.reflection (the API's description, to\n"
+    "                         any caller; off by default)\n"
     "  --tls-cert FILE        serve TLS with this PEM certificate (chain)...\n"
     "  --tls-key FILE         ...and its PEM private key (default: plain text,\n"
     "                         for localhost or a trusted network only)\n"
@@ -47,16 +55,26 @@ constexpr char kHelp[] =
     "                         signed by a CA in this PEM file\n"
     "  --metrics-listen ADDR  serve Prometheus metrics at http://ADDR/metrics\n"
     "                         (e.g. 0.0.0.0:9464; off by default)\n"
-    "  --max-message-mb N     largest request or response (default 64)\n"
+    "  --max-message-mb N     largest request or response (default 32, at most\n"
+    "                         1024)\n"
     "  --max-stream-frames N  frames per stream (default 108000, 1 h at 30 fps)\n"
     "  --max-clip-frames N    frames per clip in a unary call (default 36000)\n"
     "  --max-joints N         joints per skeleton (default 256)\n"
     "  --max-unary-calls N    unary calls waiting or running; more are refused\n"
     "                         RESOURCE_EXHAUSTED (default 64)\n"
     "  --max-saved-styles N   style names saved per model (default 1000)\n"
+    "  --max-styles N         styles in one Interpolate call or blend (default 16)\n"
+    "  --max-stream-backlog N output frames a stream holds for a client that does\n"
+    "                         not read them; past this it stops reading the\n"
+    "                         client's frames until it reads (default 128)\n"
+    "  --max-memory-mb N      memory for gRPC's buffers, and for the requests and\n"
+    "                         working data of unary calls in progress; a call\n"
+    "                         that does not fit is refused RESOURCE_EXHAUSTED\n"
+    "                         (default 2048; 0: unbounded)\n"
     "  --stream-idle-timeout-s S\n"
-    "                         close a stream whose client sends nothing for S\n"
-    "                         seconds (default 120; 0: never)\n"
+    "                         close a stream whose client sends nothing, or reads\n"
+    "                         nothing it is sent, for S seconds (default 120; 0:\n"
+    "                         never)\n"
     "  --shutdown-grace-s S   on SIGINT/SIGTERM, how long in-flight calls may\n"
     "                         run on (default 10)\n"
     "  --port-file FILE       write the bound port there once serving\n"
@@ -90,6 +108,10 @@ int main(int argc, char** argv) {
       options.batch_unary = true;
       continue;
     }
+    if (arg == "--reflection") {
+      options.reflection = true;
+      continue;
+    }
     if (i + 1 >= argc) return Usage(arg + " needs a value");
     const std::string value = argv[++i];
     auto to_int = [&](int* out) { return absl::SimpleAtoi(value, out) && *out > 0; };
@@ -112,6 +134,14 @@ int main(int argc, char** argv) {
       ok = absl::SimpleAtoi(value, &options.max_queue_delay_us) && options.max_queue_delay_us >= 0;
     } else if (arg == "--auth-tokens") {
       options.auth_tokens = value;
+    } else if (arg == "--admin-tokens") {
+      options.admin_tokens = value;
+    } else if (arg == "--max-styles") {
+      ok = absl::SimpleAtoi(value, &options.max_styles) && options.max_styles >= 2;
+    } else if (arg == "--max-stream-backlog") {
+      ok = to_int(&options.max_stream_backlog);
+    } else if (arg == "--max-memory-mb") {
+      ok = absl::SimpleAtoi(value, &options.max_memory_mb) && options.max_memory_mb >= 0;
     } else if (arg == "--tls-cert") {
       options.tls_cert = value;
     } else if (arg == "--tls-key") {
@@ -121,7 +151,8 @@ int main(int argc, char** argv) {
     } else if (arg == "--metrics-listen") {
       options.metrics_listen = value;
     } else if (arg == "--max-message-mb") {
-      ok = to_int(&options.max_message_mb);
+      ok = to_int(&options.max_message_mb) &&
+           options.max_message_mb <= stylus::server::kMaxMessageMb;
     } else if (arg == "--max-stream-frames") {
       ok = absl::SimpleAtoi(value, &options.max_stream_frames) && options.max_stream_frames > 0;
     } else if (arg == "--max-clip-frames") {
@@ -178,12 +209,8 @@ int main(int argc, char** argv) {
   std::thread waiter([&] {
     int sig = 0;
     while (sigwait(&signals, &sig) == 0 && sig == SIGHUP) {
-      const absl::StatusOr<int> tokens = (*server)->ReloadTokens();
-      if (tokens.ok()) {
-        spdlog::info("received SIGHUP; {} token(s) in force", *tokens);
-      } else {
-        spdlog::warn("received SIGHUP; tokens unchanged: {}", tokens.status().ToString());
-      }
+      spdlog::info("received SIGHUP: reading the token files again");
+      (void)(*server)->ReloadTokens();  // Logs what is in force.
     }
     spdlog::info("received {}; finishing in-flight calls (up to {} s)",
                  sig == SIGINT ? "SIGINT" : "SIGTERM", grace_s);

@@ -22,53 +22,37 @@ void Describe(const HostedModel& m, const std::string& default_id, v1::ModelInfo
 
 }  // namespace
 
-grpc::ServerUnaryReactor* ModelServiceImpl::ListModels(grpc::CallbackServerContext* ctx,
-                                                       const grpc::ByteBuffer* request,
-                                                       grpc::ByteBuffer* response) {
-  return RunUnary<v1::ListModelsRequest, v1::ListModelsResponse>(
-      service_, ctx, kModelService, "ListModels", request, response,
+ModelServiceImpl::ModelServiceImpl(ServiceContext* service)
+    : CallbackService(service, kModelService) {
+  ServeUnary(MakeUnaryMethod<v1::ListModelsRequest, v1::ListModelsResponse>(
+      service_, kModelService, "ListModels", Access::kServe,
       [this](const v1::ListModelsRequest&, v1::ListModelsResponse* response) {
         const std::string def = service_->registry->default_id();
         for (const HostedModel& m : service_->registry->List())
           Describe(m, def, response->add_models());
         return CallOutcome{absl::OkStatus(), "", 0};
-      });
-}
-
-grpc::ServerUnaryReactor* ModelServiceImpl::GetModel(grpc::CallbackServerContext* ctx,
-                                                     const grpc::ByteBuffer* request,
-                                                     grpc::ByteBuffer* response) {
-  return RunUnary<v1::GetModelRequest, v1::ModelInfo>(
-      service_, ctx, kModelService, "GetModel", request, response,
+      }));
+  ServeUnary(MakeUnaryMethod<v1::GetModelRequest, v1::ModelInfo>(
+      service_, kModelService, "GetModel", Access::kServe,
       [this](const v1::GetModelRequest& request, v1::ModelInfo* response) {
         absl::StatusOr<HostedModel> m = service_->registry->Get(request.model());
         if (!m.ok()) return CallOutcome{m.status(), request.model(), 0};
         Describe(*m, service_->registry->default_id(), response);
         return CallOutcome{absl::OkStatus(), m->id, 0};
-      });
-}
-
-grpc::ServerUnaryReactor* ModelServiceImpl::LoadModel(grpc::CallbackServerContext* ctx,
-                                                      const grpc::ByteBuffer* request,
-                                                      grpc::ByteBuffer* response) {
-  return RunUnary<v1::LoadModelRequest, v1::ModelInfo>(
-      service_, ctx, kModelService, "LoadModel", request, response,
+      }));
+  ServeUnary(MakeUnaryMethod<v1::LoadModelRequest, v1::ModelInfo>(
+      service_, kModelService, "LoadModel", Access::kAdmin,
       [this](const v1::LoadModelRequest& request, v1::ModelInfo* response) {
         absl::StatusOr<HostedModel> m = service_->registry->Load(request.model());
         if (!m.ok()) return CallOutcome{m.status(), request.model(), 0};
         Describe(*m, service_->registry->default_id(), response);
         return CallOutcome{absl::OkStatus(), m->id, 0};
-      });
-}
-
-grpc::ServerUnaryReactor* ModelServiceImpl::UnloadModel(grpc::CallbackServerContext* ctx,
-                                                        const grpc::ByteBuffer* request,
-                                                        grpc::ByteBuffer* response) {
-  return RunUnary<v1::UnloadModelRequest, v1::UnloadModelResponse>(
-      service_, ctx, kModelService, "UnloadModel", request, response,
+      }));
+  ServeUnary(MakeUnaryMethod<v1::UnloadModelRequest, v1::UnloadModelResponse>(
+      service_, kModelService, "UnloadModel", Access::kAdmin,
       [this](const v1::UnloadModelRequest& request, v1::UnloadModelResponse*) {
         return CallOutcome{service_->registry->Unload(request.model()), request.model(), 0};
-      });
+      }));
 }
 
 }  // namespace stylus::server

@@ -10,6 +10,7 @@
 #include <google/protobuf/message.h>
 #include <grpcpp/support/byte_buffer.h>
 
+#include <functional>
 #include <string>
 
 #include "absl/status/status.h"
@@ -39,9 +40,17 @@ class StreamRequests {
  public:
   StreamRequests() : arena_(Options(block_, sizeof(block_))) {}
   // The request in `bytes`, or INVALID_ARGUMENT as ParseMessage says, naming
-  // the request "`what` `index`" (a name built only on an error).
-  absl::StatusOr<const Message*> Parse(const grpc::ByteBuffer& bytes, int64_t index,
-                                       const char* what) {
+  // the request "`what` `index`" (a name built only on an error). `check`,
+  // when given, vets the bytes first (the request budget) and is told the
+  // same name.
+  absl::StatusOr<const Message*> Parse(
+      const grpc::ByteBuffer& bytes, int64_t index, const char* what,
+      const std::function<absl::Status(const grpc::ByteBuffer&, const std::string&)>& check =
+          nullptr) {
+    if (check) {
+      absl::Status s = check(bytes, absl::StrCat(what, " ", index));
+      if (!s.ok()) return s;
+    }
     arena_.Reset();
     Message* m = google::protobuf::Arena::CreateMessage<Message>(&arena_);
     absl::Status s = ParseInto(bytes, m);

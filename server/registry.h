@@ -48,8 +48,9 @@ class ModelRegistry {
   // INVALID_ARGUMENT for an id that is not of that form; the package's own
   // error otherwise.
   absl::StatusOr<HostedModel> Load(const std::string& id);
-  // NOT_FOUND if not loaded. Unloading the default leaves no default until
-  // another model is loaded (requests without a model then get NOT_FOUND).
+  // NOT_FOUND if not loaded; FAILED_PRECONDITION for the default model,
+  // which stays loaded for as long as the server runs (calls that name no
+  // model use it).
   absl::Status Unload(const std::string& id);
 
  private:

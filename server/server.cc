@@ -4,7 +4,9 @@
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 
+#include <algorithm>
 #include <chrono>
+#include <optional>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
@@ -16,6 +18,43 @@
 #include "spdlog/spdlog.h"
 
 namespace stylus::server {
+namespace {
+
+// gRPC's synchronous threads (only reflection uses them).
+constexpr int kMaxSyncThreads = 8;
+constexpr int kMaxReadChunk = 256 * 1024;
+constexpr int kStreamWindow = 512 * 1024;
+
+// Reflection on one server or off: linking gRPC's reflection library adds
+// its plugin to every server a process builds, so it is taken out unless
+// asked for.
+class ReflectionOption : public grpc::ServerBuilderOption {
+ public:
+  explicit ReflectionOption(bool on) : on_(on) {}
+  void UpdateArguments(grpc::ChannelArguments*) override {}
+  void UpdatePlugins(std::vector<std::unique_ptr<grpc::ServerBuilderPlugin>>* plugins) override {
+    const std::string name = grpc::reflection::ProtoServerReflectionPlugin().name();
+    plugins->erase(std::remove_if(plugins->begin(), plugins->end(),
+                                  [&](const auto& p) { return p->name() == name; }),
+                   plugins->end());
+    if (on_) plugins->push_back(std::make_unique<grpc::reflection::ProtoServerReflectionPlugin>());
+  }
+
+ private:
+  const bool on_;
+};
+
+// A token file read again: what is in force now, loudly when nothing is.
+void LogReload(const TokenAuth& auth, const absl::StatusOr<int>& n, const char* why) {
+  if (n.ok()) {
+    spdlog::info("{} {}: {} token(s) in force", auth.path(), why, *n);
+  } else {
+    spdlog::error("{} {}: {}; EVERY TOKEN FROM IT IS REVOKED until it holds valid tokens",
+                  auth.path(), why, std::string(n.status().message()));
+  }
+}
+
+}  // namespace
 
 struct StylusServer::Impl {
   std::unique_ptr<ModelRegistry> registry;
@@ -23,6 +62,13 @@ struct StylusServer::Impl {
   // With --metrics-listen; outlives what it reads and what counts into it.
   std::unique_ptr<Metrics> metrics;
   std::unique_ptr<TokenAuth> auth;                   // With auth_tokens.
+  std::unique_ptr<TokenAuth> admin_auth;             // With admin_tokens.
+  std::unique_ptr<RequestBudget> budget;
+  std::unique_ptr<MemoryPool> call_memory;           // With max_memory_mb.
+  // Re-reads the token files when they change (a mounted Secret changes
+  // without a signal); stops at shutdown.
+  std::thread token_watch;
+  absl::Notification stop_watching;
   std::unique_ptr<model::PassBatcher> pass_batcher;  // With max_batch > 0; outlives the executor.
   std::unique_ptr<Executor> executor;
   std::unique_ptr<StepBatcher> batcher;  // With max_batch > 0.
@@ -51,6 +97,18 @@ struct StylusServer::Impl {
     return s;
   }
   absl::Notification done;
+
+  // Reloads each token file that changed, once a second, until shutdown.
+  void WatchTokens() {
+    while (!stop_watching.WaitForNotificationWithTimeout(absl::Seconds(1))) {
+      for (TokenAuth* a : {auth.get(), admin_auth.get()}) {
+        if (a == nullptr) continue;
+        const std::optional<absl::StatusOr<int>> n = a->ReloadIfChanged();
+        if (!n.has_value()) continue;
+        LogReload(*a, *n, "changed");
+      }
+    }
+  }
 };
 
 StylusServer::StylusServer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -64,8 +122,13 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   if (options.threads < 1 || options.max_streams < 1 || options.max_message_mb < 1 ||
       options.max_stream_frames < 1 || options.max_batch < 0 || options.max_queue_delay_us < 0 ||
       options.max_clip_frames < 1 || options.max_joints < 1 || options.max_unary_calls < 1 ||
-      options.max_saved_styles < 1 || !(options.stream_idle_timeout_s >= 0)) {
+      options.max_saved_styles < 1 || !(options.stream_idle_timeout_s >= 0) ||
+      options.max_styles < 2 || options.max_stream_backlog < 1 || options.max_memory_mb < 0) {
     return absl::InvalidArgumentError("threads, stream, call and message limits must be positive");
+  }
+  if (options.max_message_mb > kMaxMessageMb) {
+    return absl::InvalidArgumentError(absl::StrCat("--max-message-mb ", options.max_message_mb,
+                                                   " is over the largest, ", kMaxMessageMb));
   }
   absl::StatusOr<ServerTransport> transport =
       MakeServerTransport({options.tls_cert, options.tls_key, options.tls_client_ca});
@@ -76,6 +139,34 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
     if (!auth.ok()) return auth.status();
     impl->auth = *std::move(auth);
     impl->context.auth = impl->auth.get();
+  }
+  if (!options.admin_tokens.empty()) {
+    absl::StatusOr<std::unique_ptr<TokenAuth>> admin = TokenAuth::Load(options.admin_tokens);
+    if (!admin.ok()) return admin.status();
+    impl->admin_auth = *std::move(admin);
+    impl->context.admin_auth = impl->admin_auth.get();
+  }
+  RequestBudget::Options budget;
+  budget.entries = {
+      {"stylus.v1.Clip.frames", options.max_clip_frames, "--max-clip-frames"},
+      {"stylus.v1.InterpolateRequest.schedule", options.max_clip_frames, "--max-clip-frames"},
+      {"stylus.v1.Skeleton.joints", options.max_joints, "--max-joints"},
+      {"stylus.v1.Frame.rotations", options.max_joints, "--max-joints"},
+      {"stylus.v1.Frame.translations", options.max_joints, "--max-joints"},
+      {"stylus.v1.Skeleton.joint_map", 64, "roles in a joint map"},
+      {"stylus.v1.Joint.channels", 6, "BVH channels per joint"},
+      {"stylus.v1.Joint.end_sites", 16, "end sites per joint"},
+      {"stylus.v1.InterpolateRequest.styles", options.max_styles, "--max-styles"},
+      {"stylus.v1.Weights.values", options.max_styles, "--max-styles"},
+      {"stylus.v1.StyleBlend.styles", options.max_styles, "--max-styles"},
+      {"stylus.v1.StyleBlend.weights", options.max_styles, "--max-styles"},
+  };
+  if (absl::Status s = RequestBudget::Validate(budget); !s.ok()) return s;
+  impl->budget = std::make_unique<RequestBudget>(budget);
+  impl->context.budget = impl->budget.get();
+  if (options.max_memory_mb > 0) {
+    impl->call_memory = std::make_unique<MemoryPool>(options.max_memory_mb << 20);
+    impl->context.call_memory = impl->call_memory.get();
   }
   model::SetComputeThreads(options.torch_threads);
   absl::StatusOr<std::unique_ptr<ModelRegistry>> registry =
@@ -111,15 +202,34 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   impl->context.limits.max_clip_frames = options.max_clip_frames;
   impl->context.limits.max_joints = options.max_joints;
   impl->context.limits.max_unary_calls = options.max_unary_calls;
+  impl->context.limits.max_styles = options.max_styles;
+  impl->context.limits.max_stream_backlog = options.max_stream_backlog;
   impl->context.limits.stream_idle_timeout =
       std::chrono::milliseconds(static_cast<int64_t>(options.stream_idle_timeout_s * 1000));
   impl->model_service = std::make_unique<ModelServiceImpl>(&impl->context);
   impl->style_service = std::make_unique<StyleServiceImpl>(&impl->context);
 
   grpc::EnableDefaultHealthCheckService(true);
-  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
+  builder.SetOption(std::make_unique<ReflectionOption>(options.reflection));
+  if (options.max_memory_mb > 0) {
+    // gRPC's own buffers (connections, messages being read or written) and
+    // its synchronous threads (reflection's) within bounds.
+    grpc::ResourceQuota quota("stylus-server");
+    quota.Resize(static_cast<size_t>(options.max_memory_mb) << 20);
+    quota.SetMaxThreads(kMaxSyncThreads);
+    builder.SetResourceQuota(quota);
+  }
   builder.AddListeningPort(options.listen, transport->credentials, &impl->port);
+  // gRPC's TCP reads grow up to 4 MiB a read; data for a call already
+  // refused (no token) is read and dropped, so a smaller read is what such
+  // a call costs. Large requests still arrive at full speed on loopback.
+  builder.AddChannelArgument(GRPC_ARG_TCP_MAX_READ_CHUNK_SIZE, kMaxReadChunk);
+  // Likewise what a client may send ahead of the server's reading (a
+  // stream's flow-control window): gRPC's bandwidth probe would grow it to
+  // megabytes, all taken in even for a call refused at once.
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_BDP_PROBE, 0);
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, kStreamWindow);
   builder.SetMaxReceiveMessageSize(options.max_message_mb * 1024 * 1024);
   builder.SetMaxSendMessageSize(options.max_message_mb * 1024 * 1024);
   builder.RegisterService(impl->model_service.get());
@@ -146,9 +256,18 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
         "--tls-key (docs/service.md \"TLS\")",
         options.listen);
   }
-  spdlog::info("access: {}", impl->auth != nullptr
-                                 ? absl::StrCat("bearer tokens from ", options.auth_tokens)
-                                 : std::string("open (no --auth-tokens)"));
+  spdlog::info("access: {}; models loaded and unloaded by {}",
+               impl->auth != nullptr ? absl::StrCat("bearer tokens from ", options.auth_tokens)
+                                     : std::string("open (no --auth-tokens)"),
+               impl->admin_auth != nullptr
+                   ? absl::StrCat("admin tokens from ", options.admin_tokens)
+                   : impl->auth != nullptr ? std::string("nobody (no --admin-tokens)")
+                                           : std::string("anyone (no tokens)"));
+  if (options.reflection) spdlog::info("reflection on (--reflection): the API is described to any caller");
+  if (impl->auth != nullptr || impl->admin_auth != nullptr) {
+    Impl* raw = impl.get();
+    impl->token_watch = std::thread([raw] { raw->WatchTokens(); });
+  }
   if (impl->metrics != nullptr) {
     spdlog::info("metrics at http://{}/metrics (port {})", options.metrics_listen,
                  impl->metrics->port());
@@ -162,7 +281,10 @@ absl::StatusOr<int> StylusServer::ReloadTokens() {
   if (impl_->auth == nullptr) {
     return absl::FailedPreconditionError("the server was started without --auth-tokens");
   }
-  return impl_->auth->Reload();
+  absl::StatusOr<int> n = impl_->auth->Reload();
+  LogReload(*impl_->auth, n, "re-read");
+  if (impl_->admin_auth != nullptr) LogReload(*impl_->admin_auth, impl_->admin_auth->Reload(), "re-read");
+  return n;
 }
 
 int StylusServer::metrics_port() const {
@@ -242,6 +364,8 @@ void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
     impl_->shut_down = true;
   }
   impl_->server->GetHealthCheckService()->SetServingStatus(false);
+  impl_->stop_watching.Notify();
+  if (impl_->token_watch.joinable()) impl_->token_watch.join();
   ServiceContext& context = impl_->context;
   context.refusing_calls = true;
   // Streams stop taking frames, return the ones they took and end; unary
@@ -257,9 +381,15 @@ void StylusServer::Shutdown(std::chrono::system_clock::time_point deadline) {
     absl::MutexLock lock(&impl_->mu);
     impl_->workers_gone = true;
   }
-  impl_->batcher.reset();
+  // The batcher takes no more steps (a queued stream task that submits
+  // one is refused and ends its stream) and runs what it holds; then the
+  // executor runs what it accepted; only then do both go, since those
+  // tasks still reach the batcher through the context.
+  if (impl_->batcher != nullptr) impl_->batcher->Stop();
   impl_->executor->Shutdown();
   impl_->executor.reset();
+  context.batcher = nullptr;
+  impl_->batcher.reset();
   WaitForSessionsGone(context);
   spdlog::info("shut down");
   impl_->done.Notify();

@@ -13,6 +13,9 @@
 
 namespace stylus::server {
 
+// The largest --max-message-mb (gRPC counts message sizes in an int).
+inline constexpr int kMaxMessageMb = 1024;
+
 struct ServerOptions {
   std::string models_dir = "models";
   std::string default_model;               // "<name>/<version>"; empty: the first found.
@@ -35,17 +38,30 @@ struct ServerOptions {
   // When not empty, calls need "authorization: Bearer TOKEN" with a token
   // from this file (server/token_auth.h); health checks stay open.
   std::string auth_tokens;
+  // When not empty, LoadModel and UnloadModel need a token from this file
+  // (which also serves); without it, a server with auth_tokens loads no
+  // models after start-up (server/service_context.h CheckAccess).
+  std::string admin_tokens;
+  // Serves grpc.reflection (the API's description) when set; it runs on
+  // gRPC's synchronous threads, at most max_sync_threads of them.
+  bool reflection = false;
   // TLS (server/tls.h): certificate and key; with client_ca, mutual TLS.
   // Empty: plain text.
   std::string tls_cert;
   std::string tls_key;
   std::string tls_client_ca;
-  int max_message_mb = 64;
+  int max_message_mb = 32;  // At most kMaxMessageMb.
   int64_t max_stream_frames = 30 * 60 * 60;
   // Limits that protect the process (docs/service.md "Limits").
   int64_t max_clip_frames = 36000;     // Per clip in a unary call.
   int max_joints = 256;                // Per skeleton.
   int max_unary_calls = 64;            // Waiting or running; more: RESOURCE_EXHAUSTED.
+  int max_styles = 16;                 // Styles per Interpolate call or blend.
+  int max_stream_backlog = 128;        // Output frames a stream holds for a client not reading.
+  // Memory gRPC may use for connections and messages in flight (its
+  // ResourceQuota), and the working memory unary calls may reserve (each
+  // reserves its estimate before it runs); 0: unbounded.
+  int64_t max_memory_mb = 2048;
   int max_saved_styles = 1000;         // Names saved per model.
   double stream_idle_timeout_s = 120;  // 0: streams may wait forever.
 };
@@ -72,8 +88,10 @@ class StylusServer {
   int port() const;
   // The metrics port bound, 0 without metrics.
   int metrics_port() const;
-  // Reads the tokens file again (SIGHUP); the tokens in force, or the error
-  // (the old tokens stay). FAILED_PRECONDITION without --auth-tokens.
+  // Reads the token files again (SIGHUP; they are also re-read when they
+  // change): the serving tokens in force, or the error (FAILED_PRECONDITION
+  // without --auth-tokens). A file that cannot be read or holds no valid
+  // token revokes every token it held.
   absl::StatusOr<int> ReloadTokens();
   // What is running now; not to be called while Shutdown runs.
   ServerLoad load() const;

@@ -1,6 +1,7 @@
 #include "server/service_context.h"
 
 #include <chrono>
+#include <string>
 
 #include "absl/strings/str_cat.h"
 #include "server/status.h"
@@ -8,25 +9,6 @@
 #include "wire/wire.h"
 
 namespace stylus::server {
-
-namespace {
-
-// The metrics of a finished unary call.
-void CountUnary(Metrics* metrics, const char* grpc_service, const std::string& rpc,
-                const CallOutcome& outcome, double seconds) {
-  if (metrics == nullptr) return;
-  const Metrics::Rpc* series = metrics->Series(grpc_service, rpc, "unary");
-  metrics->CallHandled(series, outcome.status.code(), seconds);
-  if (!outcome.status.ok()) return;
-  metrics->MessageSent(series);
-  if (outcome.model_seconds > 0) metrics->ModelSeconds(outcome.model, outcome.model_seconds);
-  if (outcome.frames > 0 && outcome.model_seconds > 0) {
-    metrics->Frames(outcome.model, "unary", outcome.frames);
-  }
-  if (outcome.guard_backoff) metrics->GuardBackoff(outcome.model);
-}
-
-}  // namespace
 
 void MarkAnswered(ServiceContext* service) {
   service->last_answer_ns.store(std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -53,78 +35,73 @@ absl::StatusOr<motion::Motion> ReadClip(const ServiceContext& service, const v1:
   return wire::ClipFromProto(clip, what);
 }
 
-absl::Status CheckToken(const ServiceContext& service, const grpc::CallbackServerContext* ctx) {
-  if (service.auth == nullptr) return absl::OkStatus();
+namespace {
+
+absl::string_view Authorization(const grpc::CallbackServerContext* ctx, bool* present) {
   const auto& metadata = ctx->client_metadata();
   const auto it = metadata.find("authorization");
-  const absl::string_view value = it == metadata.end()
-                                      ? absl::string_view()
-                                      : absl::string_view(it->second.data(), it->second.size());
-  if (service.auth->Allows(value)) return absl::OkStatus();
-  return absl::UnauthenticatedError(
-      it == metadata.end()
-          ? "this server needs a token: send the metadata 'authorization: Bearer TOKEN' "
-            "(stylus --token, $STYLUS_TOKEN)"
-          : "the token is not one this server accepts");
+  *present = it != metadata.end();
+  return *present ? absl::string_view(it->second.data(), it->second.size()) : absl::string_view();
 }
 
-grpc::ServerUnaryReactor* RunUnaryCall(ServiceContext* service, grpc::CallbackServerContext* ctx,
-                                       const char* grpc_service, const std::string& rpc,
-                                       const absl::Status& parsed,
-                                       std::function<CallOutcome()> work) {
-  grpc::ServerUnaryReactor* reactor = ctx->DefaultReactor();
-  const CallOrigin origin = IdentifyCall(ctx);
-  const auto start = std::chrono::steady_clock::now();
-  Metrics* metrics = service->metrics;
-  if (metrics != nullptr) {
-    const Metrics::Rpc* series = metrics->Series(grpc_service, rpc, "unary");
-    metrics->CallStarted(series);
-    metrics->MessageReceived(series);
+}  // namespace
+
+absl::Status CheckAccess(const ServiceContext& service, const grpc::CallbackServerContext* ctx,
+                         Access access) {
+  if (service.auth == nullptr && service.admin_auth == nullptr) return absl::OkStatus();
+  bool present = false;
+  const absl::string_view value = Authorization(ctx, &present);
+  const bool admin = service.admin_auth != nullptr && service.admin_auth->Allows(value);
+  if (admin) return absl::OkStatus();
+  const bool serving = service.auth == nullptr || service.auth->Allows(value);
+  if (access == Access::kServe && serving) return absl::OkStatus();
+  if (access == Access::kAdmin && present && service.auth != nullptr && serving) {
+    return absl::PermissionDeniedError(
+        service.admin_auth != nullptr
+            ? "loading and unloading models needs an admin token (--admin-tokens); this token "
+              "may only serve"
+            : "loading and unloading models needs an admin token, and this server has none "
+              "(start it with --admin-tokens FILE); its models are the ones it started with");
   }
-  absl::Status refused = CheckToken(*service, ctx);
-  if (refused.ok()) refused = parsed;
-  if (refused.ok() && service->refusing_calls.load()) {
-    refused = absl::UnavailableError("the server is shutting down");
+  if (!present) {
+    return absl::UnauthenticatedError(
+        "this server needs a token: send the metadata 'authorization: Bearer TOKEN' "
+        "(stylus --token, $STYLUS_TOKEN)");
   }
-  // Counted from here until the call is answered; over the cap, refused.
-  const int calls = service->unary_calls.fetch_add(1) + 1;
-  if (refused.ok() && calls > service->limits.max_unary_calls) {
-    refused = absl::ResourceExhaustedError(
-        absl::StrCat("the server already has ", service->limits.max_unary_calls,
-                     " calls waiting or running (--max-unary-calls); retry with backoff"));
+  return absl::UnauthenticatedError("the token is not one this server accepts");
+}
+
+absl::Status CheckRequestBudget(const ServiceContext& service, const grpc::ByteBuffer& bytes,
+                                const google::protobuf::Descriptor* type,
+                                const std::string& what) {
+  if (service.budget == nullptr) return absl::OkStatus();
+  return service.budget->Check(bytes, type, what);
+}
+
+absl::StatusOr<MemoryHold> ReserveCall(const ServiceContext& service,
+                                       const grpc::ByteBuffer& bytes,
+                                       const google::protobuf::Descriptor* type) {
+  int64_t parse = 0;
+  if (service.budget != nullptr) {
+    if (absl::Status s = service.budget->Check(bytes, type, "the request", &parse); !s.ok())
+      return s;
   }
-  if (!refused.ok()) {
-    service->unary_calls.fetch_sub(1);
-    const CallOutcome outcome{refused, "", 0};
-    LogCall(rpc, origin, outcome, 0);
-    CountUnary(metrics, grpc_service, rpc, outcome, 0);
-    reactor->Finish(ToGrpcStatus(outcome.status));
-    return reactor;
+  const int64_t need =
+      parse + static_cast<int64_t>(bytes.Length()) * (1 + kWorkingBytesPerRequestByte);
+  if (service.call_memory != nullptr && need > service.call_memory->capacity()) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "this call would need about ", need >> 20, " MB to serve, more than this server gives "
+        "all calls together (--max-memory-mb ", service.call_memory->capacity() >> 20,
+        "): send a shorter clip, or stream it"));
   }
-  auto run = [service, ctx, reactor, rpc, origin, start, metrics, grpc_service,
-              work = std::move(work)] {
-    CallOutcome outcome;
-    if (ctx->IsCancelled()) {
-      outcome.status = absl::CancelledError("cancelled or past its deadline before it ran");
-    } else {
-      outcome = work();
-    }
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    LogCall(rpc, origin, outcome, ms);
-    CountUnary(metrics, grpc_service, rpc, outcome, ms / 1000);
-    MarkAnswered(service);  // Before the count drops, so shutdown's wait sees it.
-    service->unary_calls.fetch_sub(1);
-    reactor->Finish(ToGrpcStatus(outcome.status));
-  };
-  if (!service->executor->Submit(run)) {
-    service->unary_calls.fetch_sub(1);
-    CallOutcome outcome{absl::UnavailableError("the server is shutting down"), "", 0};
-    LogCall(rpc, origin, outcome, 0);
-    CountUnary(metrics, grpc_service, rpc, outcome, 0);
-    reactor->Finish(ToGrpcStatus(outcome.status));
+  MemoryHold hold(service.call_memory, need);
+  if (!hold.ok()) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "the server's memory for calls in progress is in use (--max-memory-mb ",
+        service.call_memory->capacity() >> 20, "; this call needs about ", need >> 20,
+        " MB): retry with backoff, or send a shorter clip"));
   }
-  return reactor;
+  return hold;
 }
 
 }  // namespace stylus::server

@@ -20,6 +20,7 @@
 #include "server/open_streams.h"
 #include "server/raw_message.h"
 #include "server/registry.h"
+#include "server/request_budget.h"
 #include "server/step_batcher.h"
 #include "server/style_bank.h"
 #include "server/token_auth.h"
@@ -32,8 +33,12 @@ struct CallLimits {
   int64_t max_clip_frames = 36000;  // Frames per clip in a unary call (20 min at 30 fps).
   int max_joints = 256;             // Joints per skeleton, in any call or stream.
   int max_unary_calls = 64;         // Unary calls accepted and not yet answered.
-  // A stream waiting this long for the client's next message is closed
-  // (0: never).
+  int max_styles = 16;              // Styles in one Interpolate call or one blend.
+  // Output frames a stream may hold for a client that does not read them;
+  // past this the stream stops reading the client's frames until it reads.
+  int max_stream_backlog = 128;
+  // A stream waiting this long for the client's next message, or for it to
+  // read the stream's output, is closed (0: never).
   std::chrono::milliseconds stream_idle_timeout{120000};
 };
 
@@ -47,10 +52,14 @@ struct ServiceContext {
   model::PassBatcher* pass_batcher = nullptr;
   Metrics* metrics = nullptr;  // With --metrics-listen.
   TokenAuth* auth = nullptr;   // With --auth-tokens: calls need a token.
+  TokenAuth* admin_auth = nullptr;  // With --admin-tokens: loading models needs one of these.
+  const RequestBudget* budget = nullptr;  // What reading a request may cost.
+  MemoryPool* call_memory = nullptr;      // What unary calls in progress may hold.
   int max_streams = 16;
   int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
   CallLimits limits;
-  std::atomic<int> open_streams{0};
+  std::atomic<int> open_streams{0};      // Stream sessions alive (shutdown waits for 0).
+  std::atomic<int> admitted_streams{0};  // Of those, let in (counted against max_streams).
   OpenStreams streams;  // Drained at shutdown.
   std::atomic<int> unary_calls{0};  // Accepted and not yet answered.
   // Set when shutdown begins: new unary calls end UNAVAILABLE unrun.
@@ -76,42 +85,36 @@ absl::Status CheckJoints(const ServiceContext& service, int joints, const std::s
 inline constexpr char kStyleService[] = "stylus.v1.StyleService";
 inline constexpr char kModelService[] = "stylus.v1.ModelService";
 
-// Runs `work` on the executor and finishes the call with its status: the
-// unary pattern of every StyleService/ModelService method. A call whose
-// client has gone or whose deadline has passed before the work starts is not
-// computed. UNAVAILABLE when the executor no longer accepts work (shutdown).
-// OK, or UNAUTHENTICATED when the server wants a token and the call has no
-// valid one (the token is never logged).
-absl::Status CheckToken(const ServiceContext& service, const grpc::CallbackServerContext* ctx);
+// Who may make a call: serving calls (transfers, streams, style and model
+// queries) or administration (LoadModel, UnloadModel).
+enum class Access { kServe, kAdmin };
 
-// Runs a unary call: `parsed` is how its request parsed (server/raw_message.h);
-// when it is not OK the call ends with it, unrun. Counted in the metrics (when
-// on) under `grpc_service` and `rpc`. A call without a valid token (when
-// tokens are on) ends UNAUTHENTICATED unrun.
-grpc::ServerUnaryReactor* RunUnaryCall(ServiceContext* service, grpc::CallbackServerContext* ctx,
-                                       const char* grpc_service, const std::string& rpc,
-                                       const absl::Status& parsed,
-                                       std::function<CallOutcome()> work);
+// OK when the call's `authorization` metadata lets it in for `access`
+// (the token is never logged):
+// - no --auth-tokens and no --admin-tokens: everyone may do everything;
+// - serving calls need a token from --auth-tokens or --admin-tokens (open
+//   when only --admin-tokens is given);
+// - administration needs a token from --admin-tokens; with tokens on and
+//   none of those, PERMISSION_DENIED for a serving token.
+// UNAUTHENTICATED for no token or an unknown one.
+absl::Status CheckAccess(const ServiceContext& service, const grpc::CallbackServerContext* ctx,
+                         Access access);
 
-// The unary pattern with typed messages: parses `raw_request` as a Request,
-// runs `work` on it, and serializes its Response into `raw_response` when
-// the call succeeds.
-template <class Request, class Response>
-grpc::ServerUnaryReactor* RunUnary(
-    ServiceContext* service, grpc::CallbackServerContext* ctx, const char* grpc_service,
-    const std::string& rpc, const grpc::ByteBuffer* raw_request, grpc::ByteBuffer* raw_response,
-    std::function<CallOutcome(const Request& request, Response* response)> work) {
-  // Shared: std::function needs a copyable callable.
-  auto messages = std::make_shared<std::pair<Request, Response>>();
-  const absl::Status parsed = ParseMessage(*raw_request, "the request", &messages->first);
-  return RunUnaryCall(service, ctx, grpc_service, rpc, parsed,
-                      [messages, raw_response, work = std::move(work)] {
-                        CallOutcome out = work(messages->first, &messages->second);
-                        if (out.status.ok())
-                          out.status = SerializeMessage(messages->second, raw_response);
-                        return out;
-                      });
-}
+// The request budget's check of `bytes` as a `type` (server/request_budget.h).
+absl::Status CheckRequestBudget(const ServiceContext& service, const grpc::ByteBuffer& bytes,
+                                const google::protobuf::Descriptor* type, const std::string& what);
+
+// What a unary call's request of `bytes` may take to serve, held from the
+// call's memory pool (--max-memory-mb) until the hold goes: the budget's
+// check first, then the parse's estimate plus the working memory the call's
+// frames need. RESOURCE_EXHAUSTED when the pool cannot hold it now.
+absl::StatusOr<MemoryHold> ReserveCall(const ServiceContext& service,
+                                       const grpc::ByteBuffer& bytes,
+                                       const google::protobuf::Descriptor* type);
+
+// Working memory a transfer needs per byte of its request, beyond the parsed
+// request (measured: docs/notes/operations.md "Memory per call").
+inline constexpr int64_t kWorkingBytesPerRequestByte = 20;
 
 }  // namespace stylus::server
 

@@ -13,12 +13,14 @@ StepBatcher::StepBatcher(Executor* executor, int max_batch, std::chrono::microse
   thread_ = std::thread([this] { Loop(); });
 }
 
-StepBatcher::~StepBatcher() {
+StepBatcher::~StepBatcher() { Stop(); }
+
+void StepBatcher::Stop() {
   {
     absl::MutexLock lock(&mu_);
     stopping_ = true;
   }
-  thread_.join();
+  if (thread_.joinable()) thread_.join();
 }
 
 bool StepBatcher::Submit(std::shared_ptr<const model::StyleModel> model,

@@ -35,8 +35,11 @@ class StepBatcher {
   // `metrics` (may be null) counts each batch's size.
   StepBatcher(Executor* executor, int max_batch, std::chrono::microseconds max_delay,
               Metrics* metrics = nullptr);
-  // Stops after the steps already submitted have run.
+  // Stop(), if it has not run yet.
   ~StepBatcher();
+  // Takes no more steps (Submit returns false from now on), runs the steps
+  // already submitted and joins the batcher's thread. Idempotent.
+  void Stop();
 
   // Runs every step `stream` has queued (a batchable stream, fed), in
   // batches with other streams' steps, then `done` with the status on the

@@ -30,14 +30,17 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
                     : nullptr),
         start_(std::chrono::steady_clock::now()) {
     if (series_ != nullptr) service_->metrics->CallStarted(series_);
-    if (service_->open_streams.fetch_add(1) >= service_->max_streams) {
-      outcome_.status = absl::ResourceExhaustedError(absl::StrCat(
-          "the server already runs its maximum of ", service_->max_streams, " streams"));
+    service_->open_streams.fetch_add(1);  // Every session, until Destroy.
+    // The caller first: a call without a valid token takes no stream slot.
+    if (absl::Status token = CheckAccess(*service_, ctx, Access::kServe); !token.ok()) {
+      outcome_.status = token;
       Finish(ToGrpcStatus(outcome_.status));
       return;
     }
-    if (absl::Status token = CheckToken(*service_, ctx); !token.ok()) {
-      outcome_.status = token;
+    admitted_ = true;
+    if (service_->admitted_streams.fetch_add(1) >= service_->max_streams) {
+      outcome_.status = absl::ResourceExhaustedError(absl::StrCat(
+          "the server already runs its maximum of ", service_->max_streams, " streams"));
       Finish(ToGrpcStatus(outcome_.status));
       return;
     }
@@ -82,7 +85,11 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     if (ok) {
       task = [this] {
         absl::StatusOr<const v1::StreamRequest*> parsed =
-            requests_.Parse(read_bytes_, messages_read_, "stream message");
+            requests_.Parse(read_bytes_, messages_read_, "stream message",
+                            [this](const grpc::ByteBuffer& bytes, const std::string& what) {
+                              return CheckRequestBudget(*service_, bytes,
+                                                        v1::StreamRequest::descriptor(), what);
+                            });
         if (!parsed.ok()) {
           absl::MutexLock lock(&mu_);
           Fail(parsed.status());
@@ -115,7 +122,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
         "stylus-frames-received); reconnect");
     // A task that runs now ends the stream when it is done (AfterTask); with
     // none, and a read waiting for the client, a task of its own does.
-    if (busy_ > 0 || !reading_) return;
+    if (busy_ > 0 || (!reading_ && !read_paused_)) return;
     ++busy_;
     if (!service_->executor->Submit([this] {
           if (!HandleEnd()) AfterTask();
@@ -126,6 +133,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
 
   void OnWriteDone(bool ok) override {
     const v1::StreamResponse* next = nullptr;
+    bool resume = false;
     {
       absl::MutexLock lock(&mu_);
       // Kept for a later frame: a response's storage is reused, not freed.
@@ -140,12 +148,27 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
         writing_ = true;
         next = &writes_.front();
       }
+      if (read_paused_ && ok) {
+        paused_since_ = std::chrono::steady_clock::now();  // The client reads: progress.
+        if (!failed_ && !finished_ && !draining_ && !ending_ &&
+            static_cast<int>(writes_.size()) <= service_->limits.max_stream_backlog / 2) {
+          // Read on, from a task of its own (AfterTask chooses what comes next).
+          read_paused_ = false;
+          resume = true;
+          ++busy_;
+        }
+      }
     }
-    if (next != nullptr) {
-      Write(*next);
-    } else {
-      MaybeFinishOutsideLock();
+    if (next != nullptr) Write(*next);
+    if (resume) {
+      if (!service_->executor->Submit([this] { AfterTask(); })) {
+        mu_.Lock();  // ReleaseLocked unlocks.
+        Fail(absl::UnavailableError("the server is shutting down"));
+        ReleaseLocked();
+      }
+      return;
     }
+    if (next == nullptr) MaybeFinishOutsideLock();
   }
 
   void OnCancel() override {
@@ -297,6 +320,14 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     // frame's when none has arrived yet).
     c.from_frame = streamer_->received() > 0 ? change.from_frame() - first_index_ : 0;
     c.fade_frames = change.fade_frames();
+    // A change no frame of this stream can reach would wait in it forever.
+    if (c.from_frame >= service_->max_stream_frames ||
+        c.fade_frames > service_->max_stream_frames) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "style change from frame ", change.from_frame(), " over ", change.fade_frames(),
+          " frames: past the last frame a stream may have (", service_->max_stream_frames,
+          ", --max-stream-frames)"));
+    }
     if (change.has_strength()) c.strength = change.strength();
     if (change.has_style()) {
       absl::StatusOr<model::StyleCode> code =
@@ -387,10 +418,19 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   void AfterTask() {
     bool read = false;
     bool end = false;
+    bool paused = false;
     const v1::StreamResponse* write = nullptr;
     {
       absl::MutexLock lock(&mu_);
       if (!failed_ && !ending_ && !finished_) (draining_ ? end : read) = true;
+      if (read && static_cast<int>(writes_.size()) >= service_->limits.max_stream_backlog) {
+        // Back-pressure: the client does not read what it is sent, so its
+        // next frames wait in its own send buffer, not here. OnWriteDone
+        // reads on once it has read half of the backlog.
+        read = false;
+        paused = read_paused_ = true;
+        paused_since_ = std::chrono::steady_clock::now();
+      }
       if (!writing_ && !writes_.empty() && !failed_ && !finished_) {
         writing_ = true;
         write = &writes_.front();
@@ -415,7 +455,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     // A drain that began after the choice to read found this task busy and
     // left the end to it: end now, unless the read has already completed and
     // queued a task of its own (busy_ > 1), whose AfterTask ends the stream.
-    if (read && draining_ && busy_ == 1 && !ending_ && !failed_ && !finished_) {
+    if ((read || paused) && draining_ && busy_ == 1 && !ending_ && !failed_ && !finished_) {
       mu_.Unlock();
       if (!HandleEnd()) AfterTask();
       return;
@@ -463,6 +503,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   void OnIdleAlarm(bool fired) {
     bool destroy = false;
     bool finish = false;
+    bool cancel = false;
     {
       absl::MutexLock lock(&mu_);
       alarm_set_ = false;
@@ -471,20 +512,29 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
       } else if (fired && !finished_ && !failed_) {
         const auto now = std::chrono::steady_clock::now();
         const bool waiting = reading_ && busy_ == 0;
+        const bool stalled = read_paused_ && busy_ == 0;
+        const double timeout_s =
+            std::chrono::duration<double>(service_->limits.stream_idle_timeout).count();
         if (waiting && now - waiting_since_ >= service_->limits.stream_idle_timeout) {
-          Fail(absl::DeadlineExceededError(absl::StrCat(
-              "no message from the client for ",
-              std::chrono::duration<double>(service_->limits.stream_idle_timeout).count(),
-              " s (--stream-idle-timeout-s): the stream is closed")));
+          Fail(absl::DeadlineExceededError(
+              absl::StrCat("no message from the client for ", timeout_s,
+                           " s (--stream-idle-timeout-s): the stream is closed")));
           finish = true;
+        } else if (stalled && now - paused_since_ >= service_->limits.stream_idle_timeout) {
+          // Its write may never complete: cancelling the call completes it.
+          Fail(absl::DeadlineExceededError(
+              absl::StrCat("the client read none of the stream's output for ", timeout_s,
+                           " s (--stream-idle-timeout-s): the stream is closed")));
+          finish = cancel = true;
         } else {
-          ArmIdleAlarmLocked(waiting ? waiting_since_ : now);
+          ArmIdleAlarmLocked(waiting ? waiting_since_ : stalled ? paused_since_ : now);
         }
       }
     }
     if (destroy) {
       Destroy();
     } else if (finish) {
+      if (cancel) ctx_->TryCancel();
       MaybeFinishOutsideLock();
     }
   }
@@ -524,6 +574,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     // Counted out last: once no stream is open, every stream's line is logged
     // (and shutdown's linger runs from the last stream's end).
     if (registered_) MarkAnswered(service_);
+    if (admitted_) service_->admitted_streams.fetch_sub(1);
     service_->open_streams.fetch_sub(1);
     delete this;
   }
@@ -563,6 +614,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   grpc::CallbackServerContext* const ctx_;
   const CallOrigin origin_;
   bool registered_ = false;  // In service_->streams (set in the constructor).
+  bool admitted_ = false;    // Let in, and counted in service_->admitted_streams.
   // The method's metric series (null without metrics).
   const Metrics::Rpc* const series_;
   const std::chrono::steady_clock::time_point start_;
@@ -597,6 +649,10 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   bool draining_ ABSL_GUARDED_BY(mu_) = false;  // Shutdown: no more frames taken.
   // A read is started and not done, since waiting_since_.
   bool reading_ ABSL_GUARDED_BY(mu_) = true;
+  // No read is started because the client has not read the backlog
+  // (--max-stream-backlog), since paused_since_ or its last read.
+  bool read_paused_ ABSL_GUARDED_BY(mu_) = false;
+  std::chrono::steady_clock::time_point paused_since_ ABSL_GUARDED_BY(mu_);
   std::chrono::steady_clock::time_point waiting_since_ ABSL_GUARDED_BY(mu_) = start_;
   grpc::Alarm idle_alarms_[2];
   int alarm_index_ ABSL_GUARDED_BY(mu_) = 0;     // The one set last.
@@ -611,9 +667,5 @@ grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* StartStreamSession(
   return new StreamSession(service, ctx);
 }
 
-grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* StyleServiceImpl::TransferStream(
-    grpc::CallbackServerContext* ctx) {
-  return StartStreamSession(service_, ctx);
-}
 
 }  // namespace stylus::server

@@ -5,6 +5,7 @@
 #include "motion/metrics.h"
 #include "server/postprocess_option.h"
 #include "server/services.h"
+#include "server/stream_session.h"
 #include "wire/wire.h"
 
 namespace stylus::server {
@@ -76,11 +77,9 @@ absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
   }
 }
 
-grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext* ctx,
-                                                     const grpc::ByteBuffer* request,
-                                                     grpc::ByteBuffer* response) {
-  return RunUnary<v1::TransferRequest, v1::TransferResponse>(
-      service_, ctx, kStyleService, "Transfer", request, response,
+UnaryMethod StyleServiceImpl::Transfer() {
+  return MakeUnaryMethod<v1::TransferRequest, v1::TransferResponse>(
+      service_, kStyleService, "Transfer", Access::kServe,
       [this](const v1::TransferRequest& request, v1::TransferResponse* response) {
         const auto t0 = std::chrono::steady_clock::now();
         CallOutcome out{absl::OkStatus(), request.model(), request.content().frames_size()};
@@ -126,11 +125,9 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Transfer(grpc::CallbackServerContext
       });
 }
 
-grpc::ServerUnaryReactor* StyleServiceImpl::EncodeStyle(grpc::CallbackServerContext* ctx,
-                                                        const grpc::ByteBuffer* request,
-                                                        grpc::ByteBuffer* response) {
-  return RunUnary<v1::EncodeStyleRequest, v1::EncodeStyleResponse>(
-      service_, ctx, kStyleService, "EncodeStyle", request, response,
+UnaryMethod StyleServiceImpl::EncodeStyle() {
+  return MakeUnaryMethod<v1::EncodeStyleRequest, v1::EncodeStyleResponse>(
+      service_, kStyleService, "EncodeStyle", Access::kServe,
       [this](const v1::EncodeStyleRequest& request, v1::EncodeStyleResponse* response) {
         CallOutcome out{absl::OkStatus(), request.model(), request.clip().frames_size()};
         absl::StatusOr<HostedModel> m = service_->registry->Get(request.model());
@@ -154,11 +151,9 @@ grpc::ServerUnaryReactor* StyleServiceImpl::EncodeStyle(grpc::CallbackServerCont
       });
 }
 
-grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerContext* ctx,
-                                                        const grpc::ByteBuffer* request,
-                                                        grpc::ByteBuffer* response) {
-  return RunUnary<v1::InterpolateRequest, v1::TransferResponse>(
-      service_, ctx, kStyleService, "Interpolate", request, response,
+UnaryMethod StyleServiceImpl::Interpolate() {
+  return MakeUnaryMethod<v1::InterpolateRequest, v1::TransferResponse>(
+      service_, kStyleService, "Interpolate", Access::kServe,
       [this](const v1::InterpolateRequest& request, v1::TransferResponse* response) {
         const auto t0 = std::chrono::steady_clock::now();
         CallOutcome out{absl::OkStatus(), request.model(), request.content().frames_size()};
@@ -200,11 +195,9 @@ grpc::ServerUnaryReactor* StyleServiceImpl::Interpolate(grpc::CallbackServerCont
       });
 }
 
-grpc::ServerUnaryReactor* StyleServiceImpl::ComputeMetrics(grpc::CallbackServerContext* ctx,
-                                                           const grpc::ByteBuffer* request,
-                                                           grpc::ByteBuffer* response) {
-  return RunUnary<v1::MetricsRequest, v1::MetricsResponse>(
-      service_, ctx, kStyleService, "ComputeMetrics", request, response,
+UnaryMethod StyleServiceImpl::ComputeMetrics() {
+  return MakeUnaryMethod<v1::MetricsRequest, v1::MetricsResponse>(
+      service_, kStyleService, "ComputeMetrics", Access::kServe,
       [this](const v1::MetricsRequest& request, v1::MetricsResponse* response) {
         CallOutcome out{absl::OkStatus(), "", request.output().frames_size()};
         absl::StatusOr<motion::Motion> output =
@@ -234,6 +227,16 @@ grpc::ServerUnaryReactor* StyleServiceImpl::ComputeMetrics(grpc::CallbackServerC
         }
         return out;
       });
+}
+
+StyleServiceImpl::StyleServiceImpl(ServiceContext* service)
+    : CallbackService(service, kStyleService) {
+  ServeUnary(Transfer());
+  ServeUnary(EncodeStyle());
+  ServeUnary(Interpolate());
+  ServeUnary(ComputeMetrics());
+  ServeStream("TransferStream",
+              [service](grpc::CallbackServerContext* ctx) { return StartStreamSession(service, ctx); });
 }
 
 }  // namespace stylus::server

@@ -31,7 +31,11 @@ struct ServerTransport {
 // for a file that cannot be read. Each message names the file and flag.
 absl::StatusOr<ServerTransport> MakeServerTransport(const TlsFiles& files);
 
-// True for an address only this machine can reach (localhost, 127.x, [::1]).
+// How often the TLS files are checked for changes.
+inline constexpr unsigned kCertRefreshS = 2;
+
+// True for an address only this machine can reach: localhost, an IPv4
+// address in 127.0.0.0/8, [::1], a unix socket.
 bool IsLoopbackAddress(const std::string& listen);
 
 }  // namespace stylus::server

@@ -1,5 +1,7 @@
 #include "server/token_auth.h"
 
+#include <sys/stat.h>
+
 #include <fstream>
 #include <utility>
 
@@ -55,12 +57,32 @@ absl::StatusOr<std::unique_ptr<TokenAuth>> TokenAuth::Load(const std::string& pa
   return auth;
 }
 
+std::string TokenAuth::Stamp(const std::string& path) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return "missing";
+  return absl::StrCat(st.st_dev, ":", st.st_ino, ":", st.st_size, ":", st.st_mtim.tv_sec, ".",
+                      st.st_mtim.tv_nsec, ":", st.st_ctim.tv_sec, ".", st.st_ctim.tv_nsec);
+}
+
 absl::StatusOr<int> TokenAuth::Reload() {
+  const std::string stamp = Stamp(path_);
   absl::StatusOr<std::vector<std::string>> tokens = Read(path_);
-  if (!tokens.ok()) return tokens.status();
   absl::MutexLock lock(&mu_);
+  stamp_ = stamp;
+  if (!tokens.ok()) {
+    tokens_.clear();
+    return tokens.status();
+  }
   tokens_ = *std::move(tokens);
   return static_cast<int>(tokens_.size());
+}
+
+std::optional<absl::StatusOr<int>> TokenAuth::ReloadIfChanged() {
+  {
+    absl::MutexLock lock(&mu_);
+    if (Stamp(path_) == stamp_) return std::nullopt;
+  }
+  return Reload();
 }
 
 bool TokenAuth::Allows(absl::string_view authorization) const {

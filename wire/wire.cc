@@ -171,6 +171,15 @@ absl::StatusOr<motion::Motion> ClipFromProto(const v1::Clip& clip, const std::st
   motion::Motion m;
   m.skeleton = *std::move(sk);
   m.frame_time = 1.0 / clip.fps();
+  // Counts before memory: the room for every frame is taken only once each
+  // frame is known to hold a rotation per joint.
+  for (const v1::Frame& f : clip.frames()) {
+    if (f.rotations_size() != m.skeleton.num_joints()) {
+      return absl::InvalidArgumentError(absl::StrCat(what, ": frame ", f.index(), " has ",
+                                                     f.rotations_size(), " rotations; the skeleton has ",
+                                                     m.skeleton.num_joints(), " joints"));
+    }
+  }
   m.values.reserve(static_cast<size_t>(clip.frames_size()) * m.skeleton.num_channels());
   std::vector<Vec3> prev(m.skeleton.num_joints());
   for (const v1::Frame& f : clip.frames()) {

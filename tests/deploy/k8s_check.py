@@ -2,7 +2,8 @@
 """Static checks of deploy/k8s: yamllint, `kubectl kustomize` renders the base
 and every overlay, and the rendered objects agree with the server:
 
-- every container has CPU and memory limits and requests;
+- every container has CPU and memory limits and requests, and its memory
+  limit holds the server (300 MB) and STYLUS_MAX_MEMORY_MB;
 - pods run as non-root, with no privilege escalation and a read-only root;
 - the gRPC probes (startup, readiness, liveness) use the port the server
   listens on (STYLUS_LISTEN in the flags ConfigMap) and the container's
@@ -75,6 +76,17 @@ def problems(objects):
                 p = c.get(probe, {}).get("grpc", {}).get("port")
                 if p != port:
                     found.append("%s: %s gRPC port %s, server listens on %s" % (name, probe, p, port))
+            # Memory: the server with its models (about 230 MB measured,
+            # 300 allowed) plus what its calls may hold (--max-memory-mb,
+            # 2048 by default) must fit the limit.
+            limit = res.get("limits", {}).get("memory", "0")
+            units = {"Ki": 1 / 1024, "Mi": 1, "Gi": 1024}
+            suffix = [f for u, f in units.items() if limit.endswith(u)]
+            limit_mb = float(limit[:-2]) * suffix[0] if suffix else float(limit or 0) / (1 << 20)
+            pool_mb = float(env.get("STYLUS_MAX_MEMORY_MB", "2048"))
+            if "command" not in c and (pool_mb <= 0 or pool_mb + 300 > limit_mb):
+                found.append("%s: memory limit %s MB < 300 MB + STYLUS_MAX_MEMORY_MB %s" %
+                             (name, limit_mb, pool_mb))
             grace = float(env.get("STYLUS_SHUTDOWN_GRACE_S", "10"))
             pre = c.get("lifecycle", {}).get("preStop", {}).get("exec", {}).get("command", [])
             pre_s = float(pre[1]) if len(pre) == 2 and pre[0] == "sleep" else 0
@@ -156,8 +168,13 @@ def no_limits(pod):
     del pod["containers"][0]["resources"]["limits"]
 
 
+def small_memory(pod):
+    pod["containers"][0]["resources"]["limits"]["memory"] = "512Mi"
+
+
 for name, change in (("a wrong probe port", wrong_probe), ("a grace shorter than the drain",
-                     short_grace), ("a container without limits", no_limits)):
+                     short_grace), ("a container without limits", no_limits),
+                     ("a memory limit below the server's bound", small_memory)):
     check("catches " + name, bool(broken(change)))
 
 print("%d failed" % len(failures))

@@ -60,5 +60,19 @@ TEST(StyleScheduleTest, LateChangesApplyFromTheNextFrameAndBadOnesAreRefused) {
   EXPECT_NE(out_of_order.message().find("frame order"), std::string::npos) << out_of_order;
 }
 
+// Changes waiting for later frames are capped: a client cannot queue
+// without bound.
+TEST(StyleScheduleTest, QueuedChangesAreCapped) {
+  StyleSchedule s(Code(0), 1);
+  for (int i = 0; i < StyleSchedule::kMaxQueuedChanges; ++i) {
+    ASSERT_TRUE(s.Add({100 + i, std::nullopt, 0.5, 0}, 0).ok()) << i;
+  }
+  const absl::Status over = s.Add({1000, std::nullopt, 0.5, 0}, 0);
+  EXPECT_EQ(over.code(), absl::StatusCode::kResourceExhausted);
+  // Once due, they leave the queue, and there is room again.
+  (void)s.Advance(100 + StyleSchedule::kMaxQueuedChanges);
+  EXPECT_TRUE(s.Add({1000, std::nullopt, 0.5, 0}, 0).ok());
+}
+
 }  // namespace
 }  // namespace stylus::model

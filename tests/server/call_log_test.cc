@@ -122,5 +122,17 @@ TEST_F(CallLogTest, AFailedCallsMessageIsEscapedIntoItsLine) {
   EXPECT_TRUE(found) << log_.str();
 }
 
+// Text lines too: a client's string cannot start a line of its own, and a
+// long one is cut.
+TEST(TextEscapeTest, ControlCharactersAreEscapedAndLongFieldsCut) {
+  EXPECT_EQ(server::TextEscape("a\nb\r\"c\"\\"), "a\\x0ab\\x0d\\\"c\\\"\\\\");
+  EXPECT_EQ(server::TextEscape("ok: /x"), "ok: /x");
+  const std::string big(1 << 20, 'x');
+  const std::string cut = server::Capped(big);
+  EXPECT_LE(cut.size(), server::kMaxLoggedField + 32);
+  EXPECT_NE(cut.find("(1048576 bytes)"), std::string::npos);
+  EXPECT_EQ(server::Capped("short"), "short");
+}
+
 }  // namespace
 }  // namespace stylus::testing

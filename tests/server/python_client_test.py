@@ -39,7 +39,8 @@ if os.path.exists(port_file):
     os.remove(port_file)
 log = open(os.path.join(work, "server.log"), "w")
 server = subprocess.Popen([server_bin, "--models", os.path.join(src, "models"), "--listen",
-                           "localhost:0", "--port-file", port_file], stdout=log, stderr=log)
+                           "localhost:0", "--port-file", port_file, "--reflection"],
+                          stdout=log, stderr=log)
 try:
     for _ in range(300):
         if os.path.exists(port_file) and open(port_file).read().strip():
@@ -54,7 +55,7 @@ try:
                                  response_deserializer=ident)
     check("health SERVING", health(b"", timeout=10) == b"\x08\x01")
 
-    # Server reflection: list_services (field 7) lists our services.
+    # Server reflection (--reflection): list_services (field 7) lists our services.
     reflect = channel.stream_stream("/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
                                     request_serializer=ident, response_deserializer=ident)
     reply = b"".join(reflect(iter([b"\x3a\x00"]), timeout=10))

@@ -73,17 +73,23 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   EXPECT_EQ(client().LoadModel("../etc").status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(client().LoadModel(testing::DefaultPackage() + "04").status().code(),
             absl::StatusCode::kNotFound);
-  ASSERT_TRUE(client().UnloadModel(testing::DefaultPackage()).ok());
+  // The default stays loaded: calls that name no model use it.
+  EXPECT_EQ(client().UnloadModel(testing::DefaultPackage()).code(),
+            absl::StatusCode::kFailedPrecondition);
   ASSERT_TRUE(client().UnloadModel("cyclic/v1").ok());
   ASSERT_TRUE(client().UnloadModel("cyclic/v2").ok());
   ASSERT_TRUE(client().UnloadModel("live/v1").ok());
-  EXPECT_EQ(client().UnloadModel(testing::DefaultPackage()).code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(client().UnloadModel("cyclic/v2").code(), absl::StatusCode::kNotFound);
   const motion::Motion clip = Sample("walk_normal.bvh");
-  EXPECT_EQ(client().Transfer(clip, {&clip, ""}).status().code(), absl::StatusCode::kNotFound);
-  auto loaded = client().LoadModel(testing::DefaultPackage());
-  ASSERT_TRUE(loaded.ok()) << loaded.status();
-  EXPECT_TRUE(loaded->is_default());
+  CallOptions cyclic;
+  cyclic.model = "cyclic";
+  EXPECT_EQ(client().Transfer(clip, {&clip, ""}, cyclic).status().code(),
+            absl::StatusCode::kNotFound);
   EXPECT_TRUE(client().Transfer(clip, {&clip, ""}).ok());
+  auto loaded = client().LoadModel("cyclic/v2");
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  EXPECT_FALSE(loaded->is_default());
+  EXPECT_TRUE(client().Transfer(clip, {&clip, ""}, cyclic).ok());
 }
 
 TEST_F(ServerTest, BothFamiliesServeSideBySide) {

@@ -143,6 +143,12 @@ TEST(TlsAddressTest, LoopbackAddressesAreTheOnlyOnesPlainTextIsQuietFor) {
   EXPECT_FALSE(server::IsLoopbackAddress("0.0.0.0:50051"));
   EXPECT_FALSE(server::IsLoopbackAddress("[::]:50051"));
   EXPECT_FALSE(server::IsLoopbackAddress("stylus.example.com:443"));
+  EXPECT_TRUE(server::IsLoopbackAddress("127.1.2.3:50051"));
+  // Host names that merely start like a loopback address are not one.
+  EXPECT_FALSE(server::IsLoopbackAddress("127.foo:50051"));
+  EXPECT_FALSE(server::IsLoopbackAddress("127.0.0.1.example.com:50051"));
+  EXPECT_FALSE(server::IsLoopbackAddress("localhost.example.com:50051"));
+  EXPECT_FALSE(server::IsLoopbackAddress("[::1].example:50051"));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <future>
+#include <optional>
 #include <sstream>
 
 #include "gtest/gtest.h"
@@ -31,14 +32,36 @@ TEST(TokenAuthTest, TheFileSaysWhichTokensGetIn) {
                          "Bearer # studio A", "Basic alpha"}) {
     EXPECT_FALSE((*auth)->Allows(no)) << no;
   }
-  // Reloaded: the new file's tokens; a broken file keeps the old ones.
+  // Reloaded: the new file's tokens; a file with no valid token revokes all.
   WriteTokens("tokens_a", "gamma\n");
   EXPECT_EQ(*(*auth)->Reload(), 1);
   EXPECT_FALSE((*auth)->Allows("Bearer alpha"));
   EXPECT_TRUE((*auth)->Allows("Bearer gamma"));
   WriteTokens("tokens_a", "# none\n");
   EXPECT_EQ((*auth)->Reload().status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_TRUE((*auth)->Allows("Bearer gamma"));
+  EXPECT_FALSE((*auth)->Allows("Bearer gamma"));
+  WriteTokens("tokens_a", "gamma\nbad token\n");
+  EXPECT_EQ((*auth)->Reload().status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_FALSE((*auth)->Allows("Bearer gamma"));
+  std::remove(path.c_str());
+  EXPECT_EQ((*auth)->Reload().status().code(), absl::StatusCode::kNotFound);
+  EXPECT_FALSE((*auth)->Allows("Bearer gamma"));
+}
+
+// A changed file is read again without a signal (a mounted Secret); an
+// unchanged one is not.
+TEST(TokenAuthTest, AChangedFileIsReadAgain) {
+  const std::string path = WriteTokens("tokens_watch", "alpha\n");
+  absl::StatusOr<std::unique_ptr<server::TokenAuth>> auth = server::TokenAuth::Load(path);
+  ASSERT_TRUE(auth.ok()) << auth.status();
+  EXPECT_FALSE((*auth)->ReloadIfChanged().has_value());
+  WriteTokens("tokens_watch", "beta-longer\n");
+  const std::optional<absl::StatusOr<int>> n = (*auth)->ReloadIfChanged();
+  ASSERT_TRUE(n.has_value());
+  EXPECT_EQ(**n, 1);
+  EXPECT_FALSE((*auth)->Allows("Bearer alpha"));
+  EXPECT_TRUE((*auth)->Allows("Bearer beta-longer"));
+  EXPECT_FALSE((*auth)->ReloadIfChanged().has_value());
 }
 
 TEST(TokenAuthTest, BadFilesAreClearErrors) {
@@ -114,6 +137,43 @@ TEST(TokenAuthServerTest, OnlyCallsWithAValidTokenGetIn) {
     }
   }
   EXPECT_EQ(counted, rejected) << text;
+}
+
+// Loading and unloading models is for admin tokens only; the default model
+// stays loaded.
+TEST(TokenAuthServerTest, OnlyAdminTokensLoadAndUnloadModels) {
+  server::ServerOptions options;
+  options.auth_tokens = WriteTokens("tokens_serving", "alpha\n");
+  options.admin_tokens = WriteTokens("tokens_admin", "root-1\n");
+  auto s = LiveServer::Start(options);
+  ASSERT_NE(s, nullptr);
+  auto client_with = [&](const std::string& token) {
+    ClientOptions o;
+    o.address = s->address;
+    o.token = token;
+    return std::make_unique<Client>(o);
+  };
+  auto serving = client_with("alpha"), admin = client_with("root-1"), none = client_with("");
+  EXPECT_EQ(serving->UnloadModel("cyclic/v1").code(), absl::StatusCode::kPermissionDenied);
+  EXPECT_EQ(serving->LoadModel("cyclic/v1").status().code(), absl::StatusCode::kPermissionDenied);
+  EXPECT_EQ(none->UnloadModel("cyclic/v1").code(), absl::StatusCode::kUnauthenticated);
+  EXPECT_TRUE(admin->ListModels().ok());  // An admin token serves too.
+  const absl::Status def = admin->UnloadModel(DefaultPackage());
+  EXPECT_EQ(def.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(def.message().find("default"), std::string::npos) << def;
+  ASSERT_TRUE(admin->UnloadModel("cyclic/v1").ok());
+  ASSERT_TRUE(admin->LoadModel("cyclic/v1").ok());
+  // Without --admin-tokens, a server with tokens loads nothing after start-up.
+  server::ServerOptions no_admin;
+  no_admin.auth_tokens = options.auth_tokens;
+  auto t = LiveServer::Start(no_admin);
+  ASSERT_NE(t, nullptr);
+  ClientOptions o;
+  o.address = t->address;
+  o.token = "alpha";
+  const absl::Status refused = Client(o).UnloadModel("cyclic/v1");
+  EXPECT_EQ(refused.code(), absl::StatusCode::kPermissionDenied);
+  EXPECT_NE(refused.message().find("--admin-tokens"), std::string::npos) << refused;
 }
 
 TEST(TokenAuthServerTest, ReloadWithoutTokensIsRefused) {

@@ -43,10 +43,11 @@ check "stream --change on an offline model" 1 "FAILED_PRECONDITION.*live model" 
 check "stream --change malformed" 1 "--change 30: expected FRAME:WHAT" -- "$cli" "${s[@]}" \
   stream --model live --content "$walk" --style "$old" --change 30
 check "model-info unknown" 1 "NOT_FOUND" -- "$cli" "${s[@]}" model-info --model nope/v1
-check "unload" 0 "unloaded $default" -- "$cli" "${s[@]}" unload --model $default
-check "transfer without models" 1 "NOT_FOUND: no default model" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/x.bvh"
-check "load" 0 "loaded $default \(default\)" -- "$cli" "${s[@]}" load --model $default
-check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model $default
+check "unload the default" 1 "FAILED_PRECONDITION: $default is the default model" -- "$cli" "${s[@]}" unload --model $default
+check "unload" 0 "unloaded cyclic/v1" -- "$cli" "${s[@]}" unload --model cyclic/v1
+check "transfer on an unloaded model" 1 "NOT_FOUND" -- "$cli" "${s[@]}" transfer --model cyclic/v1 --content "$walk" --style "$old" -o "$work/x.bvh"
+check "load" 0 "loaded cyclic/v1" -- "$cli" "${s[@]}" load --model cyclic/v1
+check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model cyclic/v1
 check "transfer --postprocess none" 0 "wrote" -- "$cli" "${s[@]}" transfer --postprocess none --content "$walk" --style "$old" -o "$work/raw.bvh"
 check "transfer" 0 "wrote .*out.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/out.bvh"
 check "transfer output is BVH" 0 "HIERARCHY" -- head -1 "$work/out.bvh"

@@ -5,6 +5,7 @@
 #   client.pem, client.key   signed by it, for client authentication
 #   other_ca.pem             a CA nobody trusts...
 #   other_client.pem/.key    ...and a client certificate it signed
+#   other_server.pem/.key    a server certificate it signed (a renewed one)
 # Usage: make_test_certs.sh DIR   (valid for two days)
 set -euo pipefail
 dir=${1:?usage: make_test_certs.sh DIR}
@@ -30,4 +31,6 @@ extendedKeyUsage=serverAuth"
 leaf client "stylus test client" ca "extendedKeyUsage=clientAuth"
 ca other_ca "Untrusted test CA"
 leaf other_client "untrusted client" other_ca "extendedKeyUsage=clientAuth"
+leaf other_server localhost other_ca "subjectAltName=DNS:localhost,IP:127.0.0.1
+extendedKeyUsage=serverAuth"
 rm -f ./*.csr ./*.ext ./*.srl

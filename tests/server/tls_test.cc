@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <thread>
 
 #include "tests/server/server_test_support.h"
 
@@ -134,6 +135,33 @@ TEST_F(TlsTest, BadTlsFilesAreRefusedAtStartNamingTheFlag) {
   absl::StatusOr<TlsOptions> none = ReadTlsFiles("", "", "");
   ASSERT_TRUE(none.ok());
   EXPECT_FALSE(none->enabled);
+}
+
+// A renewed certificate written over the server's files is served to new
+// connections without a restart.
+TEST_F(TlsTest, ACertificateWrittenOverItsFilesIsServedWithoutARestart) {
+  namespace fs = std::filesystem;
+  const auto copy = [](const std::string& from, const std::string& to) {
+    fs::copy_file(File(from), File(to + ".tmp"), fs::copy_options::overwrite_existing);
+    fs::rename(File(to + ".tmp"), File(to));
+  };
+  copy("server.pem", "live.pem");
+  copy("server.key", "live.key");
+  server::ServerOptions options;
+  options.tls_cert = File("live.pem");
+  options.tls_key = File("live.key");
+  std::unique_ptr<LiveServer> live = LiveServer::Start(options);
+  ASSERT_NE(live, nullptr);
+  ASSERT_TRUE(Connect(*live, "ca.pem").ListModels().ok());
+  copy("other_server.key", "live.key");
+  copy("other_server.pem", "live.pem");
+  bool renewed = false;
+  for (int i = 0; i < 40 && !renewed; ++i) {  // The files are checked every 2 s.
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    renewed = Connect(*live, "other_ca.pem").ListModels().ok();
+  }
+  EXPECT_TRUE(renewed);
+  EXPECT_FALSE(Connect(*live, "ca.pem").ListModels().ok());
 }
 
 TEST(TlsAddressTest, LoopbackAddressesAreTheOnlyOnesPlainTextIsQuietFor) {

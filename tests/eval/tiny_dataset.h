@@ -2,6 +2,8 @@
 #ifndef STYLUS_TESTS_EVAL_TINY_DATASET_H_
 #define STYLUS_TESTS_EVAL_TINY_DATASET_H_
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <string>
 
@@ -15,7 +17,9 @@ namespace stylus::testing {
 // into a fresh directory `name` under the test's temporary directory.
 inline std::string TinyLabelledDataset(const std::string& name, int frames = 48) {
   namespace fs = std::filesystem;
-  const std::string dir = ::testing::TempDir() + "/" + name;
+  // Per process: ctest runs each test in a process of its own, two at once,
+  // and one's remove_all must not pull the files from under the other.
+  const std::string dir = ::testing::TempDir() + "/" + name + "." + std::to_string(getpid());
   fs::remove_all(dir);
   fs::create_directories(dir);
   for (const char* content : {"walk", "run"}) {

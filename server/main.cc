@@ -151,8 +151,11 @@ int main(int argc, char** argv) {
     } else if (arg == "--metrics-listen") {
       options.metrics_listen = value;
     } else if (arg == "--max-message-mb") {
-      ok = to_int(&options.max_message_mb) &&
-           options.max_message_mb <= stylus::server::kMaxMessageMb;
+      ok = to_int(&options.max_message_mb);
+      if (ok && options.max_message_mb > stylus::server::kMaxMessageMb) {
+        return Usage(absl::StrCat("--max-message-mb: ", value, " is over the largest, ",
+                                  stylus::server::kMaxMessageMb));
+      }
     } else if (arg == "--max-stream-frames") {
       ok = absl::SimpleAtoi(value, &options.max_stream_frames) && options.max_stream_frames > 0;
     } else if (arg == "--max-clip-frames") {

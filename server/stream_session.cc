@@ -33,20 +33,17 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     service_->open_streams.fetch_add(1);  // Every session, until Destroy.
     // The caller first: a call without a valid token takes no stream slot.
     if (absl::Status token = CheckAccess(*service_, ctx, Access::kServe); !token.ok()) {
-      outcome_.status = token;
-      Finish(ToGrpcStatus(outcome_.status));
+      Refuse(token);
       return;
     }
     admitted_ = true;
     if (service_->admitted_streams.fetch_add(1) >= service_->max_streams) {
-      outcome_.status = absl::ResourceExhaustedError(absl::StrCat(
-          "the server already runs its maximum of ", service_->max_streams, " streams"));
-      Finish(ToGrpcStatus(outcome_.status));
+      Refuse(absl::ResourceExhaustedError(absl::StrCat(
+          "the server already runs its maximum of ", service_->max_streams, " streams")));
       return;
     }
     if (!service_->streams.Add(this)) {
-      outcome_.status = absl::UnavailableError("the server is shutting down");
-      Finish(ToGrpcStatus(outcome_.status));
+      Refuse(absl::UnavailableError("the server is shutting down"));
       return;
     }
     registered_ = true;
@@ -195,6 +192,18 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
   }
 
  private:
+  // Ends the call from the constructor, before any operation: marked
+  // finished, so that a cancellation that follows does not finish it again.
+  void Refuse(const absl::Status& status) {
+    {
+      absl::MutexLock lock(&mu_);
+      failed_ = finished_ = true;
+      reading_ = false;
+      outcome_.status = status;
+    }
+    Finish(ToGrpcStatus(status));
+  }
+
   // Runs on the executor; at most one at a time per session. True when the
   // task continues in the batcher (AfterSteps ends it).
   bool Handle(const v1::StreamRequest& request) {

@@ -109,7 +109,8 @@ inline std::string HttpGet(int port, const std::string& path) {
 // length, the bytes (for requests crafted by hand).
 inline std::string WireField(int number, const std::string& body) {
   std::string out;
-  for (uint64_t v : {(static_cast<uint64_t>(number) << 3) | 2, static_cast<uint64_t>(body.size())}) {
+  for (uint64_t v :
+       {(static_cast<uint64_t>(number) << 3) | 2, static_cast<uint64_t>(body.size())}) {
     while (v >= 0x80) {
       out.push_back(static_cast<char>(v | 0x80));
       v >>= 7;

@@ -82,7 +82,8 @@ struct Probe {
 
 class Suite {
  public:
-  Suite(std::string server, std::string models) : server_(std::move(server)), models_(std::move(models)) {}
+  Suite(std::string server, std::string models)
+      : server_(std::move(server)), models_(std::move(models)) {}
 
   // `baseline`: without the flags an older server lacks (--admin-tokens),
   // to measure it against the same probes.
@@ -96,10 +97,16 @@ class Suite {
     std::remove(log_.c_str());
     setenv("STYLUS_SERVER_LOG", log_.c_str(), 1);
     metrics_port_ = FreePort();
-    std::vector<std::string> args = {"--models", models_, "--auth-tokens", tokens_,
+    std::vector<std::string> args = {"--models",
+                                     models_,
+                                     "--auth-tokens",
+                                     tokens_,
                                      "--metrics-listen",
                                      "127.0.0.1:" + std::to_string(metrics_port_),
-                                     "--stream-idle-timeout-s", "3", "--max-streams", "4"};
+                                     "--stream-idle-timeout-s",
+                                     "3",
+                                     "--max-streams",
+                                     "4"};
     if (!baseline) args.insert(args.end(), {"--admin-tokens", dir_ + "/admin"});
     if (!server_process_.Start(server_, args)) return false;
     channel_ = grpc::CreateChannel(server_process_.address(), grpc::InsecureChannelCredentials());
@@ -145,18 +152,30 @@ class Suite {
 
 std::string CodeName(grpc::StatusCode code) {
   switch (code) {
-    case grpc::OK: return "OK";
-    case grpc::CANCELLED: return "CANCELLED";
-    case grpc::INVALID_ARGUMENT: return "INVALID_ARGUMENT";
-    case grpc::DEADLINE_EXCEEDED: return "DEADLINE_EXCEEDED";
-    case grpc::NOT_FOUND: return "NOT_FOUND";
-    case grpc::PERMISSION_DENIED: return "PERMISSION_DENIED";
-    case grpc::RESOURCE_EXHAUSTED: return "RESOURCE_EXHAUSTED";
-    case grpc::FAILED_PRECONDITION: return "FAILED_PRECONDITION";
-    case grpc::UNIMPLEMENTED: return "UNIMPLEMENTED";
-    case grpc::UNAVAILABLE: return "UNAVAILABLE";
-    case grpc::UNAUTHENTICATED: return "UNAUTHENTICATED";
-    default: return "code " + std::to_string(static_cast<int>(code));
+    case grpc::OK:
+      return "OK";
+    case grpc::CANCELLED:
+      return "CANCELLED";
+    case grpc::INVALID_ARGUMENT:
+      return "INVALID_ARGUMENT";
+    case grpc::DEADLINE_EXCEEDED:
+      return "DEADLINE_EXCEEDED";
+    case grpc::NOT_FOUND:
+      return "NOT_FOUND";
+    case grpc::PERMISSION_DENIED:
+      return "PERMISSION_DENIED";
+    case grpc::RESOURCE_EXHAUSTED:
+      return "RESOURCE_EXHAUSTED";
+    case grpc::FAILED_PRECONDITION:
+      return "FAILED_PRECONDITION";
+    case grpc::UNIMPLEMENTED:
+      return "UNIMPLEMENTED";
+    case grpc::UNAVAILABLE:
+      return "UNAVAILABLE";
+    case grpc::UNAUTHENTICATED:
+      return "UNAUTHENTICATED";
+    default:
+      return "code " + std::to_string(static_cast<int>(code));
   }
 }
 
@@ -203,8 +222,8 @@ int main(int argc, char** argv) {
       return 0;
     }
   }
-  const std::string server = Flag(argc, argv, "--server",
-                                  std::string(STYLUS_BINARY_DIR) + "/server/stylus-server");
+  const std::string server =
+      Flag(argc, argv, "--server", std::string(STYLUS_BINARY_DIR) + "/server/stylus-server");
   const std::string models =
       Flag(argc, argv, "--models", std::string(STYLUS_SOURCE_DIR) + "/models");
   const std::string only = Flag(argc, argv, "--only", "");
@@ -238,7 +257,8 @@ int main(int argc, char** argv) {
     v1::TransferRequest warm;
     wire::ClipToProto(walk, warm.mutable_content());
     wire::ClipToProto(old, warm.mutable_style()->mutable_clip());
-    grpc::Status s = suite.Unary("/stylus.v1.StyleService/Transfer", warm.SerializeAsString(), kToken);
+    grpc::Status s =
+        suite.Unary("/stylus.v1.StyleService/Transfer", warm.SerializeAsString(), kToken);
     if (!s.ok()) std::fprintf(stderr, "hostile: warm-up transfer: %s\n", s.error_message().c_str());
     // And a refused one, a stream and a refused stream: first-use costs.
     (void)suite.Unary("/stylus.v1.StyleService/Transfer", warm.SerializeAsString(), "");
@@ -301,8 +321,8 @@ int main(int argc, char** argv) {
     grpc::Status s = suite.Unary("/stylus.v1.StyleService/Transfer", request, kToken);
     p->peak_mb = meter.PeakMb();
     p->got = CodeName(s.error_code());
-    p->pass = s.error_code() == grpc::INVALID_ARGUMENT &&
-              p->peak_mb <= 4 * request.size() / kMiB + 1.0;
+    p->pass =
+        s.error_code() == grpc::INVALID_ARGUMENT && p->peak_mb <= 4 * request.size() / kMiB + 1.0;
     p->note = "wire " + std::to_string(request.size() / 1024) + " KiB";
   });
   run("token_transfer_per_1000", "OK; working memory per 1000 frames", [&](Probe* p) {
@@ -322,18 +342,21 @@ int main(int argc, char** argv) {
     p->pass = s.ok();
     char note[128];
     std::snprintf(note, sizeof(note), "%d frames, wire %.1f MB: %.1f MB per 1000 frames",
-                  content.num_frames, request.size() / kMiB, p->peak_mb * 1000 / content.num_frames);
+                  content.num_frames, request.size() / kMiB,
+                  p->peak_mb * 1000 / content.num_frames);
     p->note = note;
   });
   run("interpolate_300k_names", "RESOURCE_EXHAUSTED (--max-styles)", [&](Probe* p) {
     std::string refs;
-    const std::string one = WireField(3, WireField(2, "a"));  // InterpolateRequest.styles = {name: "a"}
+    const std::string one =
+        WireField(3, WireField(2, "a"));  // InterpolateRequest.styles = {name: "a"}
     for (int i = 0; i < 300000; ++i) refs += one;
     PeakMeter meter(pid);
     grpc::Status s = suite.Unary("/stylus.v1.StyleService/Interpolate", refs, kToken);
     p->peak_mb = meter.PeakMb();
     p->got = CodeName(s.error_code());
-    p->pass = s.error_code() == grpc::RESOURCE_EXHAUSTED && p->peak_mb <= 4 * refs.size() / kMiB + 1;
+    p->pass =
+        s.error_code() == grpc::RESOURCE_EXHAUSTED && p->peak_mb <= 4 * refs.size() / kMiB + 1;
     p->note = "wire " + std::to_string(refs.size() / 1024) + " KiB";
   });
   run("stream_reads", "OK (the baseline: a client that reads)", [&](Probe* p) {
@@ -363,48 +386,51 @@ int main(int argc, char** argv) {
   });
   // Twice: memory that a first stream leaves behind would show in the second.
   for (const char* name : {"stream_never_reads", "stream_never_reads_again"})
-  run(name, "bounded, closed, memory back", [&](Probe* p) {
-    PeakMeter meter(pid);
-    OpenStream s;
-    std::atomic<int> sent{0};
-    std::atomic<bool> ended{false};
-    // A client whose transport takes in no more than 64 KiB it has not read
-    // (gRPC's own would take megabytes for it).
-    grpc::ChannelArguments args;
-    args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
-    args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 65536);
-    const bool opened = s.Open(grpc::CreateCustomChannel(suite.address(), grpc::InsecureChannelCredentials(), args),
-                               kToken, walk, old);
-    std::thread writer([&] {
-      for (int f = 0; opened && f < 8000; ++f) {
-        v1::StreamRequest r;
-        wire::FrameToProto(walk, f % walk.num_frames, f, r.mutable_frame());
-        if (!s.stream->Write(r)) break;
-        ++sent;
-      }
-      ended = true;
+    run(name, "bounded, closed, memory back", [&](Probe* p) {
+      PeakMeter meter(pid);
+      OpenStream s;
+      std::atomic<int> sent{0};
+      std::atomic<bool> ended{false};
+      // A client whose transport takes in no more than 64 KiB it has not read
+      // (gRPC's own would take megabytes for it).
+      grpc::ChannelArguments args;
+      args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
+      args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 65536);
+      const bool opened = s.Open(
+          grpc::CreateCustomChannel(suite.address(), grpc::InsecureChannelCredentials(), args),
+          kToken, walk, old);
+      std::thread writer([&] {
+        for (int f = 0; opened && f < 8000; ++f) {
+          v1::StreamRequest r;
+          wire::FrameToProto(walk, f % walk.num_frames, f, r.mutable_frame());
+          if (!s.stream->Write(r)) break;
+          ++sent;
+        }
+        ended = true;
+      });
+      // The server stops reading once its backlog is full; then, reading
+      // nothing for --stream-idle-timeout-s (3 s), the stream is closed.
+      std::this_thread::sleep_for(std::chrono::seconds(2));
+      const double held = meter.PeakMb();
+      const int sent_when_held = sent.load();
+      for (int i = 0; i < 100 && !ended; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      // Ended before its 8000 frames went: the server stopped reading and then
+      // closed the stream (a server that reads on takes all 8000).
+      const bool closed_by_server = ended.load() && sent.load() < 8000;
+      s.ctx.TryCancel();
+      writer.join();
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      p->peak_mb = meter.PeakMb();
+      const double after = meter.NowMb();
+      p->got = closed_by_server ? "closed" : sent.load() == 8000 ? "took all 8000" : "still open";
+      p->pass = opened && closed_by_server && sent_when_held < 8000 && held <= 16 && after <= 4;
+      char note[160];
+      std::snprintf(note, sizeof(note),
+                    "%d frames taken before it stopped reading; +%.1f MB held, +%.1f MB after",
+                    sent_when_held, held, after);
+      p->note = note;
     });
-    // The server stops reading once its backlog is full; then, reading
-    // nothing for --stream-idle-timeout-s (3 s), the stream is closed.
-    std::this_thread::sleep_for(std::chrono::seconds(2));
-    const double held = meter.PeakMb();
-    const int sent_when_held = sent.load();
-    for (int i = 0; i < 100 && !ended; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    // Ended before its 8000 frames went: the server stopped reading and then
-    // closed the stream (a server that reads on takes all 8000).
-    const bool closed_by_server = ended.load() && sent.load() < 8000;
-    s.ctx.TryCancel();
-    writer.join();
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    p->peak_mb = meter.PeakMb();
-    const double after = meter.NowMb();
-    p->got = closed_by_server ? "closed" : sent.load() == 8000 ? "took all 8000" : "still open";
-    p->pass = opened && closed_by_server && sent_when_held < 8000 && held <= 16 && after <= 4;
-    char note[160];
-    std::snprintf(note, sizeof(note), "%d frames taken before it stopped reading; +%.1f MB held, +%.1f MB after",
-                  sent_when_held, held, after);
-    p->note = note;
-  });
   run("style_changes_far_ahead", "capped; too far INVALID_ARGUMENT", [&](Probe* p) {
     PeakMeter meter(pid);
     grpc::StatusCode capped = grpc::OK, far = grpc::OK;
@@ -428,7 +454,8 @@ int main(int argc, char** argv) {
     }
     p->peak_mb = meter.PeakMb();
     p->got = CodeName(capped) + "/" + CodeName(far);
-    p->pass = capped == grpc::RESOURCE_EXHAUSTED && far == grpc::INVALID_ARGUMENT && p->peak_mb <= 16;
+    p->pass =
+        capped == grpc::RESOURCE_EXHAUSTED && far == grpc::INVALID_ARGUMENT && p->peak_mb <= 16;
   });
   // 200 reflection streams held open, without a token: on `server`
   // (reflection off: each ends UNIMPLEMENTED at once), and the threads that
@@ -444,8 +471,9 @@ int main(int argc, char** argv) {
     for (int i = 0; i < kStreams; ++i) {
       contexts.push_back(std::make_unique<grpc::ClientContext>());
       contexts.back()->set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
-      calls.push_back(stub.PrepareCall(
-          contexts.back().get(), "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo", &cq));
+      calls.push_back(
+          stub.PrepareCall(contexts.back().get(),
+                           "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo", &cq));
       calls.back()->StartCall(reinterpret_cast<void*>(static_cast<intptr_t>(i)));
     }
     void* tag;
@@ -487,7 +515,8 @@ int main(int argc, char** argv) {
     grpc::ClientContext ctx;
     ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
     grpc::CompletionQueue cq;
-    auto call = stub.PrepareCall(&ctx, "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo", &cq);
+    auto call = stub.PrepareCall(
+        &ctx, "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo", &cq);
     void* tag;
     bool ok;
     grpc::Status one;
@@ -529,18 +558,26 @@ int main(int argc, char** argv) {
     unload.set_model("cyclic/v1");
     PeakMeter meter(pid);
     const grpc::StatusCode serving_unload =
-        suite.Unary("/stylus.v1.ModelService/UnloadModel", unload.SerializeAsString(), kToken).error_code();
+        suite.Unary("/stylus.v1.ModelService/UnloadModel", unload.SerializeAsString(), kToken)
+            .error_code();
     const grpc::StatusCode serving_load =
-        suite.Unary("/stylus.v1.ModelService/LoadModel", load.SerializeAsString(), kToken).error_code();
+        suite.Unary("/stylus.v1.ModelService/LoadModel", load.SerializeAsString(), kToken)
+            .error_code();
     const grpc::StatusCode admin_default =
-        suite.Unary("/stylus.v1.ModelService/UnloadModel", unload_default.SerializeAsString(), kAdminToken).error_code();
+        suite
+            .Unary("/stylus.v1.ModelService/UnloadModel", unload_default.SerializeAsString(),
+                   kAdminToken)
+            .error_code();
     const grpc::StatusCode admin_unload =
-        suite.Unary("/stylus.v1.ModelService/UnloadModel", unload.SerializeAsString(), kAdminToken).error_code();
+        suite.Unary("/stylus.v1.ModelService/UnloadModel", unload.SerializeAsString(), kAdminToken)
+            .error_code();
     const grpc::StatusCode admin_load =
-        suite.Unary("/stylus.v1.ModelService/LoadModel", load.SerializeAsString(), kAdminToken).error_code();
+        suite.Unary("/stylus.v1.ModelService/LoadModel", load.SerializeAsString(), kAdminToken)
+            .error_code();
     p->peak_mb = meter.PeakMb();
     p->got = CodeName(serving_unload);
-    p->pass = serving_unload == grpc::PERMISSION_DENIED && serving_load == grpc::PERMISSION_DENIED &&
+    p->pass = serving_unload == grpc::PERMISSION_DENIED &&
+              serving_load == grpc::PERMISSION_DENIED &&
               admin_default == grpc::FAILED_PRECONDITION && admin_unload == grpc::OK &&
               admin_load == grpc::OK;
     p->note = "admin: default " + CodeName(admin_default) + ", unload " + CodeName(admin_unload) +
@@ -553,9 +590,11 @@ int main(int argc, char** argv) {
     huge.set_model(std::string(1 << 20, 'x'));
     PeakMeter meter(pid);
     const grpc::StatusCode a =
-        suite.Unary("/stylus.v1.ModelService/GetModel", forged.SerializeAsString(), kToken).error_code();
+        suite.Unary("/stylus.v1.ModelService/GetModel", forged.SerializeAsString(), kToken)
+            .error_code();
     const grpc::StatusCode b =
-        suite.Unary("/stylus.v1.ModelService/GetModel", huge.SerializeAsString(), kToken).error_code();
+        suite.Unary("/stylus.v1.ModelService/GetModel", huge.SerializeAsString(), kToken)
+            .error_code();
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     p->peak_mb = meter.PeakMb();
     std::ifstream log(suite.log_path());
@@ -566,7 +605,8 @@ int main(int argc, char** argv) {
       if (line.rfind("[error] forged", 0) == 0) forged_line = true;
     }
     p->got = CodeName(a) + "/" + CodeName(b);
-    p->pass = a == grpc::NOT_FOUND && b == grpc::INVALID_ARGUMENT && !forged_line && longest <= 2048;
+    p->pass =
+        a == grpc::NOT_FOUND && b == grpc::INVALID_ARGUMENT && !forged_line && longest <= 2048;
     p->note = "longest log line " + std::to_string(longest) + " bytes";
   });
   run("metrics_idle_sockets", "a scrape within 1 s", [&](Probe* p) {
@@ -642,7 +682,8 @@ int main(int argc, char** argv) {
 
   int passed = 0, failed = 0;
   for (const Probe& p : probes) (p.pass ? passed : failed)++;
-  std::printf("threads at start %ld, at the end %ld\n", threads_at_start, StatusField(pid, "Threads"));
+  std::printf("threads at start %ld, at the end %ld\n", threads_at_start,
+              StatusField(pid, "Threads"));
   // Flags that would overflow or mislead are refused at start-up.
   if (only.empty() || only == "message_size_flag") {
     ServerProcess bad;

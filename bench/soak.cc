@@ -26,10 +26,10 @@
 #include <grpcpp/grpcpp.h>
 #include <sys/types.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -311,7 +311,8 @@ struct Soak {
               if (!stream->Write(r)) return;
             }
           });
-          for (int i = 0; i < 50 && !stop; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+          for (int i = 0; i < 50 && !stop; ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
           ctx.TryCancel();
           writer.join();
           code = stream->Finish().error_code();
@@ -426,9 +427,9 @@ int Main(int argc, char** argv) {
   std::ofstream(tokens + ".serving") << kToken << "\n";
   std::ofstream(tokens + ".admin") << kAdminToken << "\n";
   ServerProcess server;
-  if (!server.Start(server_bin, {"--models", src + "/models", "--max-streams", "4096",
-                                 "--auth-tokens", tokens + ".serving", "--admin-tokens",
-                                 tokens + ".admin"})) {
+  if (!server.Start(server_bin,
+                    {"--models", src + "/models", "--max-streams", "4096", "--auth-tokens",
+                     tokens + ".serving", "--admin-tokens", tokens + ".admin"})) {
     std::fprintf(stderr, "soak: %s did not start\n", server_bin.c_str());
     return 1;
   }
@@ -489,9 +490,10 @@ int Main(int argc, char** argv) {
   {
     absl::MutexLock lock(&soak.tally.mu);
     const std::vector<double>& l = soak.tally.latency_ms;
-    std::printf("stream frame latency after warm-up: p50 %.1f ms, p99 %.1f ms, max %.1f ms (%zu frames)\n",
-                Percentile(l, 0.5), Percentile(l, 0.99), l.empty() ? 0.0 : *std::max_element(l.begin(), l.end()),
-                l.size());
+    std::printf(
+        "stream frame latency after warm-up: p50 %.1f ms, p99 %.1f ms, max %.1f ms (%zu frames)\n",
+        Percentile(l, 0.5), Percentile(l, 0.99),
+        l.empty() ? 0.0 : *std::max_element(l.begin(), l.end()), l.size());
   }
   const int code = server.Stop();
   std::remove((tokens + ".serving").c_str());

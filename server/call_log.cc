@@ -127,7 +127,8 @@ void LogCall(const std::string& rpc, const CallOrigin& origin, const CallOutcome
                                      TextEscape(model), outcome.frames, ms, status);
   if (!outcome.status.ok()) absl::StrAppend(&line, " message=\"", TextEscape(message), "\"");
   if (!note.empty()) absl::StrAppend(&line, " ", TextEscape(note));
-  absl::StrAppend(&line, " request_id=", origin.request_id, " peer=", TextEscape(Capped(origin.peer)));
+  absl::StrAppend(&line, " request_id=", origin.request_id,
+                  " peer=", TextEscape(Capped(origin.peer)));
   spdlog::log(level, "{}", line);
 }
 

@@ -107,7 +107,8 @@ void HttpEndpoint::Loop() {
     std::vector<pollfd> polled;
     polled.push_back({fd_, POLLIN, 0});
     for (const Client& c : clients) polled.push_back({c.fd, POLLIN, 0});
-    const int n = poll(polled.data(), polled.size(), 50);  // Wakes to check stopping_ and deadlines.
+    const int n =
+        poll(polled.data(), polled.size(), 50);  // Wakes to check stopping_ and deadlines.
     const auto now = std::chrono::steady_clock::now();
     std::vector<Client> open;
     for (size_t i = 0; i < clients.size(); ++i) {

@@ -213,10 +213,9 @@ int main(int argc, char** argv) {
     int sig = 0;
     while (sigwait(&signals, &sig) == 0 && sig == SIGHUP) {
       const absl::StatusOr<int> n = (*server)->ReloadTokens();  // Logs what is in force.
-      spdlog::info("received SIGHUP: {}",
-                   n.status().code() == absl::StatusCode::kFailedPrecondition
-                       ? "no token files to read (no --auth-tokens)"
-                       : "the token files were read again");
+      spdlog::info("received SIGHUP: {}", n.status().code() == absl::StatusCode::kFailedPrecondition
+                                              ? "no token files to read (no --auth-tokens)"
+                                              : "the token files were read again");
     }
     spdlog::info("received {}; finishing in-flight calls (up to {} s)",
                  sig == SIGINT ? "SIGINT" : "SIGTERM", grace_s);

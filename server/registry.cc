@@ -153,12 +153,14 @@ absl::StatusOr<HostedModel> ModelRegistry::Load(const std::string& id) {
 
 absl::Status ModelRegistry::Unload(const std::string& id) {
   absl::MutexLock lock(&mu_);
-  if (!models_.count(id)) return absl::NotFoundError(absl::StrCat("model '", id, "' is not loaded"));
+  if (!models_.count(id))
+    return absl::NotFoundError(absl::StrCat("model '", id, "' is not loaded"));
   if (default_id_ == id) {
     return absl::FailedPreconditionError(
-        absl::StrCat(id, " is the default model (--default-model or models/DEFAULT): calls that "
-                         "name no model use it, so it stays loaded; restart the server with "
-                         "another default to retire it"));
+        absl::StrCat(id,
+                     " is the default model (--default-model or models/DEFAULT): calls that "
+                     "name no model use it, so it stays loaded; restart the server with "
+                     "another default to retire it"));
   }
   models_.erase(id);
   return absl::OkStatus();

@@ -15,8 +15,8 @@ namespace {
 
 using google::protobuf::Descriptor;
 using google::protobuf::FieldDescriptor;
-using google::protobuf::io::CodedInputStream;
 using google::protobuf::internal::WireFormatLite;
+using google::protobuf::io::CodedInputStream;
 
 // Requests are parsed on an arena (server/unary_call.h): a message costs
 // its object's size, with no allocation header. What a heap allocation costs
@@ -98,8 +98,8 @@ class Scan {
     return ok;
   }
 
-  bool FieldBody(CodedInputStream* in, const FieldDescriptor* field,
-                 WireFormatLite::WireType wire, int64_t* count, int depth) {
+  bool FieldBody(CodedInputStream* in, const FieldDescriptor* field, WireFormatLite::WireType wire,
+                 int64_t* count, int depth) {
     const bool repeated = field->is_repeated();
     if (wire != WireFormatLite::WIRETYPE_LENGTH_DELIMITED) {
       if (!WireFormatLite::SkipField(in, WireFormatLite::MakeTag(field->number(), wire)))
@@ -191,7 +191,8 @@ absl::Status RequestBudget::Validate(const Options& options) {
     const FieldDescriptor* f =
         google::protobuf::DescriptorPool::generated_pool()->FindFieldByName(e.field);
     if (f == nullptr || !f->is_repeated()) {
-      return absl::InvalidArgumentError(absl::StrCat("request budget: no repeated field ", e.field));
+      return absl::InvalidArgumentError(
+          absl::StrCat("request budget: no repeated field ", e.field));
     }
   }
   return absl::OkStatus();
@@ -234,8 +235,8 @@ absl::Status RequestBudget::Check(const grpc::ByteBuffer& bytes, const Descripto
   const double allowed = options_.ratio * static_cast<double>(wire) + options_.slack;
   if (static_cast<double>(scan.cost()) > allowed) {
     return absl::InvalidArgumentError(absl::StrCat(
-        what, ": its ", wire, " bytes would take about ", scan.cost(),
-        " bytes to read, over ", options_.ratio,
+        what, ": its ", wire, " bytes would take about ", scan.cost(), " bytes to read, over ",
+        options_.ratio,
         "x their size: mostly empty or default entries (send values, not empty messages)"));
   }
   return absl::OkStatus();

@@ -64,7 +64,7 @@ struct StylusServer::Impl {
   std::unique_ptr<TokenAuth> auth;                   // With auth_tokens.
   std::unique_ptr<TokenAuth> admin_auth;             // With admin_tokens.
   std::unique_ptr<RequestBudget> budget;
-  std::unique_ptr<MemoryPool> call_memory;           // With max_memory_mb.
+  std::unique_ptr<MemoryPool> call_memory;  // With max_memory_mb.
   // Re-reads the token files when they change (a mounted Secret changes
   // without a signal); stops at shutdown.
   std::thread token_watch;
@@ -261,9 +261,10 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
                                      : std::string("open (no --auth-tokens)"),
                impl->admin_auth != nullptr
                    ? absl::StrCat("admin tokens from ", options.admin_tokens)
-                   : impl->auth != nullptr ? std::string("nobody (no --admin-tokens)")
-                                           : std::string("anyone (no tokens)"));
-  if (options.reflection) spdlog::info("reflection on (--reflection): the API is described to any caller");
+               : impl->auth != nullptr ? std::string("nobody (no --admin-tokens)")
+                                       : std::string("anyone (no tokens)"));
+  if (options.reflection)
+    spdlog::info("reflection on (--reflection): the API is described to any caller");
   if (impl->auth != nullptr || impl->admin_auth != nullptr) {
     Impl* raw = impl.get();
     impl->token_watch = std::thread([raw] { raw->WatchTokens(); });
@@ -283,7 +284,8 @@ absl::StatusOr<int> StylusServer::ReloadTokens() {
   }
   absl::StatusOr<int> n = impl_->auth->Reload();
   LogReload(*impl_->auth, n, "re-read");
-  if (impl_->admin_auth != nullptr) LogReload(*impl_->admin_auth, impl_->admin_auth->Reload(), "re-read");
+  if (impl_->admin_auth != nullptr)
+    LogReload(*impl_->admin_auth, impl_->admin_auth->Reload(), "re-read");
   return n;
 }
 

@@ -72,14 +72,12 @@ absl::Status CheckAccess(const ServiceContext& service, const grpc::CallbackServ
 }
 
 absl::Status CheckRequestBudget(const ServiceContext& service, const grpc::ByteBuffer& bytes,
-                                const google::protobuf::Descriptor* type,
-                                const std::string& what) {
+                                const google::protobuf::Descriptor* type, const std::string& what) {
   if (service.budget == nullptr) return absl::OkStatus();
   return service.budget->Check(bytes, type, what);
 }
 
-absl::StatusOr<MemoryHold> ReserveCall(const ServiceContext& service,
-                                       const grpc::ByteBuffer& bytes,
+absl::StatusOr<MemoryHold> ReserveCall(const ServiceContext& service, const grpc::ByteBuffer& bytes,
                                        const google::protobuf::Descriptor* type) {
   int64_t parse = 0;
   if (service.budget != nullptr) {
@@ -89,17 +87,18 @@ absl::StatusOr<MemoryHold> ReserveCall(const ServiceContext& service,
   const int64_t need =
       parse + static_cast<int64_t>(bytes.Length()) * (1 + kWorkingBytesPerRequestByte);
   if (service.call_memory != nullptr && need > service.call_memory->capacity()) {
-    return absl::ResourceExhaustedError(absl::StrCat(
-        "this call would need about ", need >> 20, " MB to serve, more than this server gives "
-        "all calls together (--max-memory-mb ", service.call_memory->capacity() >> 20,
-        "): send a shorter clip, or stream it"));
+    return absl::ResourceExhaustedError(absl::StrCat("this call would need about ", need >> 20,
+                                                     " MB to serve, more than this server gives "
+                                                     "all calls together (--max-memory-mb ",
+                                                     service.call_memory->capacity() >> 20,
+                                                     "): send a shorter clip, or stream it"));
   }
   MemoryHold hold(service.call_memory, need);
   if (!hold.ok()) {
-    return absl::ResourceExhaustedError(absl::StrCat(
-        "the server's memory for calls in progress is in use (--max-memory-mb ",
-        service.call_memory->capacity() >> 20, "; this call needs about ", need >> 20,
-        " MB): retry with backoff, or send a shorter clip"));
+    return absl::ResourceExhaustedError(
+        absl::StrCat("the server's memory for calls in progress is in use (--max-memory-mb ",
+                     service.call_memory->capacity() >> 20, "; this call needs about ", need >> 20,
+                     " MB): retry with backoff, or send a shorter clip"));
   }
   return hold;
 }

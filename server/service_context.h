@@ -52,7 +52,7 @@ struct ServiceContext {
   model::PassBatcher* pass_batcher = nullptr;
   Metrics* metrics = nullptr;  // With --metrics-listen.
   TokenAuth* auth = nullptr;   // With --auth-tokens: calls need a token.
-  TokenAuth* admin_auth = nullptr;  // With --admin-tokens: loading models needs one of these.
+  TokenAuth* admin_auth = nullptr;        // With --admin-tokens: loading models needs one of these.
   const RequestBudget* budget = nullptr;  // What reading a request may cost.
   MemoryPool* call_memory = nullptr;      // What unary calls in progress may hold.
   int max_streams = 16;
@@ -108,8 +108,7 @@ absl::Status CheckRequestBudget(const ServiceContext& service, const grpc::ByteB
 // call's memory pool (--max-memory-mb) until the hold goes: the budget's
 // check first, then the parse's estimate plus the working memory the call's
 // frames need. RESOURCE_EXHAUSTED when the pool cannot hold it now.
-absl::StatusOr<MemoryHold> ReserveCall(const ServiceContext& service,
-                                       const grpc::ByteBuffer& bytes,
+absl::StatusOr<MemoryHold> ReserveCall(const ServiceContext& service, const grpc::ByteBuffer& bytes,
                                        const google::protobuf::Descriptor* type);
 
 // Working memory a transfer needs per byte of its request, beyond the parsed

@@ -38,8 +38,8 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     }
     admitted_ = true;
     if (service_->admitted_streams.fetch_add(1) >= service_->max_streams) {
-      Refuse(absl::ResourceExhaustedError(absl::StrCat(
-          "the server already runs its maximum of ", service_->max_streams, " streams")));
+      Refuse(absl::ResourceExhaustedError(absl::StrCat("the server already runs its maximum of ",
+                                                       service_->max_streams, " streams")));
       return;
     }
     if (!service_->streams.Add(this)) {
@@ -81,12 +81,11 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     std::function<bool()> task;
     if (ok) {
       task = [this] {
-        absl::StatusOr<const v1::StreamRequest*> parsed =
-            requests_.Parse(read_bytes_, messages_read_, "stream message",
-                            [this](const grpc::ByteBuffer& bytes, const std::string& what) {
-                              return CheckRequestBudget(*service_, bytes,
-                                                        v1::StreamRequest::descriptor(), what);
-                            });
+        absl::StatusOr<const v1::StreamRequest*> parsed = requests_.Parse(
+            read_bytes_, messages_read_, "stream message",
+            [this](const grpc::ByteBuffer& bytes, const std::string& what) {
+              return CheckRequestBudget(*service_, bytes, v1::StreamRequest::descriptor(), what);
+            });
         if (!parsed.ok()) {
           absl::MutexLock lock(&mu_);
           Fail(parsed.status());
@@ -332,10 +331,10 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     // A change no frame of this stream can reach would wait in it forever.
     if (c.from_frame >= service_->max_stream_frames ||
         c.fade_frames > service_->max_stream_frames) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "style change from frame ", change.from_frame(), " over ", change.fade_frames(),
-          " frames: past the last frame a stream may have (", service_->max_stream_frames,
-          ", --max-stream-frames)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("style change from frame ", change.from_frame(), " over ",
+                       change.fade_frames(), " frames: past the last frame a stream may have (",
+                       service_->max_stream_frames, ", --max-stream-frames)"));
     }
     if (change.has_strength()) c.strength = change.strength();
     if (change.has_style()) {
@@ -675,6 +674,5 @@ grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* StartStreamSession(
     ServiceContext* service, grpc::CallbackServerContext* ctx) {
   return new StreamSession(service, ctx);
 }
-
 
 }  // namespace stylus::server

@@ -235,8 +235,9 @@ StyleServiceImpl::StyleServiceImpl(ServiceContext* service)
   ServeUnary(EncodeStyle());
   ServeUnary(Interpolate());
   ServeUnary(ComputeMetrics());
-  ServeStream("TransferStream",
-              [service](grpc::CallbackServerContext* ctx) { return StartStreamSession(service, ctx); });
+  ServeStream("TransferStream", [service](grpc::CallbackServerContext* ctx) {
+    return StartStreamSession(service, ctx);
+  });
 }
 
 }  // namespace stylus::server

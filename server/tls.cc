@@ -1,10 +1,9 @@
 #include "server/tls.h"
 
+#include <arpa/inet.h>
 #include <grpcpp/security/server_credentials.h>
 #include <grpcpp/security/tls_certificate_provider.h>
 #include <grpcpp/security/tls_credentials_options.h>
-
-#include <arpa/inet.h>
 #include <netinet/in.h>
 
 #include "absl/strings/match.h"

@@ -175,9 +175,9 @@ absl::StatusOr<motion::Motion> ClipFromProto(const v1::Clip& clip, const std::st
   // frame is known to hold a rotation per joint.
   for (const v1::Frame& f : clip.frames()) {
     if (f.rotations_size() != m.skeleton.num_joints()) {
-      return absl::InvalidArgumentError(absl::StrCat(what, ": frame ", f.index(), " has ",
-                                                     f.rotations_size(), " rotations; the skeleton has ",
-                                                     m.skeleton.num_joints(), " joints"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(what, ": frame ", f.index(), " has ", f.rotations_size(),
+                       " rotations; the skeleton has ", m.skeleton.num_joints(), " joints"));
     }
   }
   m.values.reserve(static_cast<size_t>(clip.frames_size()) * m.skeleton.num_channels());

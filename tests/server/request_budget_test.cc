@@ -76,7 +76,8 @@ TEST(RequestBudgetTest, LongStringsEmptyEntriesAndBadBytesAreRefused) {
   const server::RequestBudget budget = Budget();
   v1::GetModelRequest id;
   id.set_model(std::string(2000, 'x'));
-  absl::Status s = budget.Check(Bytes(id.SerializeAsString()), v1::GetModelRequest::descriptor(), "r");
+  absl::Status s =
+      budget.Check(Bytes(id.SerializeAsString()), v1::GetModelRequest::descriptor(), "r");
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("model: 2000 bytes"), std::string::npos) << s;
 

@@ -32,7 +32,8 @@ motion::Motion Repeat(const motion::Motion& m, int times) {
   motion::Motion out = m;
   out.num_frames = m.num_frames * times;
   out.values.clear();
-  for (int i = 0; i < times; ++i) out.values.insert(out.values.end(), m.values.begin(), m.values.end());
+  for (int i = 0; i < times; ++i)
+    out.values.insert(out.values.end(), m.values.begin(), m.values.end());
   return out;
 }
 

@@ -21,17 +21,6 @@ motion::Motion Head(const motion::Motion& m, int frames) {
   return out;
 }
 
-// `m` played `times` times over (positions jump back at each repeat: fine
-// for load, not for looks).
-motion::Motion Repeat(const motion::Motion& m, int times) {
-  motion::Motion out = m;
-  out.num_frames = m.num_frames * times;
-  out.values.clear();
-  for (int i = 0; i < times; ++i)
-    out.values.insert(out.values.end(), m.values.begin(), m.values.end());
-  return out;
-}
-
 TEST(LimitsTest, ClipsOverTheFrameCapAreRefusedBeforeAnyWork) {
   server::ServerOptions options;
   options.max_clip_frames = 100;

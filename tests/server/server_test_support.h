@@ -41,6 +41,17 @@ inline motion::Motion Sample(const std::string& name) {
   return *motion::ReadBvhFile(SourceDir() + "/samples/" + name);
 }
 
+// `m` played `times` times over (positions jump back at each repeat: fine
+// for load, not for looks).
+inline motion::Motion Repeat(const motion::Motion& m, int times) {
+  motion::Motion out = m;
+  out.num_frames = m.num_frames * times;
+  out.values.clear();
+  for (int i = 0; i < times; ++i)
+    out.values.insert(out.values.end(), m.values.begin(), m.values.end());
+  return out;
+}
+
 }  // namespace stylus::testing
 
 #endif  // STYLUS_TESTS_SERVER_SERVER_TEST_SUPPORT_H_

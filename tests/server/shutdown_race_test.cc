@@ -28,15 +28,6 @@ std::string DefaultOnlyModels() {
   return root.string();
 }
 
-motion::Motion Repeat(const motion::Motion& m, int times) {
-  motion::Motion out = m;
-  out.num_frames = m.num_frames * times;
-  out.values.clear();
-  for (int i = 0; i < times; ++i)
-    out.values.insert(out.values.end(), m.values.begin(), m.values.end());
-  return out;
-}
-
 TEST(ShutdownRaceTest, ALargeReplyBeingSentAtShutdownArrivesWhole) {
   const motion::Motion content = Repeat(Sample("walk_normal.bvh"), 26);  // 3120 frames.
   ASSERT_EQ(content.num_frames, 3120);

@@ -199,8 +199,6 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   }
   impl->context.max_streams = options.max_streams;
   impl->context.max_stream_frames = options.max_stream_frames;
-  impl->context.limits.max_clip_frames = options.max_clip_frames;
-  impl->context.limits.max_joints = options.max_joints;
   impl->context.limits.max_unary_calls = options.max_unary_calls;
   impl->context.limits.max_styles = options.max_styles;
   impl->context.limits.max_stream_backlog = options.max_stream_backlog;

@@ -16,25 +16,6 @@ void MarkAnswered(ServiceContext* service) {
                                     .count());
 }
 
-absl::Status CheckJoints(const ServiceContext& service, int joints, const std::string& what) {
-  if (joints <= service.limits.max_joints) return absl::OkStatus();
-  return absl::ResourceExhaustedError(absl::StrCat(what, ": ", joints,
-                                                   " joints, over this server's limit of ",
-                                                   service.limits.max_joints, " (--max-joints)"));
-}
-
-absl::StatusOr<motion::Motion> ReadClip(const ServiceContext& service, const v1::Clip& clip,
-                                        const std::string& what) {
-  if (absl::Status s = CheckJoints(service, clip.skeleton().joints_size(), what); !s.ok()) return s;
-  if (clip.frames_size() > service.limits.max_clip_frames) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat(what, ": ", clip.frames_size(), " frames, over this server's limit of ",
-                     service.limits.max_clip_frames,
-                     " per call (--max-clip-frames); split the clip or stream it"));
-  }
-  return wire::ClipFromProto(clip, what);
-}
-
 namespace {
 
 absl::string_view Authorization(const grpc::CallbackServerContext* ctx, bool* present) {

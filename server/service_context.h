@@ -28,10 +28,10 @@
 
 namespace stylus::server {
 
-// What one call may ask of the process (each a stylus-server flag).
+// What one call may ask of the process (each a stylus-server flag). The
+// counts and sizes within a request are the request budget's
+// (server/request_budget.h), checked before it is parsed.
 struct CallLimits {
-  int64_t max_clip_frames = 36000;  // Frames per clip in a unary call (20 min at 30 fps).
-  int max_joints = 256;             // Joints per skeleton, in any call or stream.
   int max_unary_calls = 64;         // Unary calls accepted and not yet answered.
   int max_styles = 16;              // Styles in one Interpolate call or one blend.
   // Output frames a stream may hold for a client that does not read them;
@@ -73,14 +73,6 @@ struct ServiceContext {
 
 // Records that a call has just been answered (ServiceContext::last_answer_ns).
 void MarkAnswered(ServiceContext* service);
-
-// A clip from a request, within the limits: RESOURCE_EXHAUSTED naming `what`,
-// the size and the flag for one over --max-clip-frames or --max-joints;
-// then the checks of wire::ClipFromProto.
-absl::StatusOr<motion::Motion> ReadClip(const ServiceContext& service, const v1::Clip& clip,
-                                        const std::string& what);
-// RESOURCE_EXHAUSTED when a skeleton of `joints` joints is over --max-joints.
-absl::Status CheckJoints(const ServiceContext& service, int joints, const std::string& what);
 
 inline constexpr char kStyleService[] = "stylus.v1.StyleService";
 inline constexpr char kModelService[] = "stylus.v1.ModelService";

@@ -299,10 +299,6 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
       return absl::InvalidArgumentError(
           absl::StrCat("config: fps must be a positive number, got ", config.fps()));
     }
-    if (absl::Status j = CheckJoints(*service_, config.skeleton().joints_size(), "config");
-        !j.ok()) {
-      return j;
-    }
     absl::StatusOr<motion::Skeleton> sk = wire::SkeletonFromProto(config.skeleton(), "config");
     if (!sk.ok()) return sk.status();
     absl::StatusOr<model::StyleCode> style =

@@ -36,7 +36,7 @@ absl::StatusOr<ContentCall> StartContentCall(const ServiceContext& service,
   absl::StatusOr<motion::PostProcessMode> mode = ToPostProcessMode(post);
   if (!mode.ok()) return mode.status();
   call.post = *mode;
-  absl::StatusOr<motion::Motion> clip = ReadClip(service, content, "content clip");
+  absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(content, "content clip");
   if (!clip.ok()) return clip.status();
   call.content = *std::move(clip);
   absl::StatusOr<motion::JointMap> map =
@@ -66,7 +66,7 @@ absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
     case v1::StyleRef::kName:
       return service.styles->Get(model.id, ref.name());
     case v1::StyleRef::kClip: {
-      absl::StatusOr<motion::Motion> clip = ReadClip(service, ref.clip(), what);
+      absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(ref.clip(), what);
       if (!clip.ok()) return clip.status();
       absl::StatusOr<motion::JointMap> map = wire::JointMapFromProto(ref.clip().skeleton(), what);
       if (!map.ok()) return map.status();
@@ -133,7 +133,7 @@ UnaryMethod StyleServiceImpl::EncodeStyle() {
         absl::StatusOr<HostedModel> m = service_->registry->Get(request.model());
         if (!m.ok()) return out.status = m.status(), out;
         out.model = m->id;
-        absl::StatusOr<motion::Motion> clip = ReadClip(*service_, request.clip(), "style clip");
+        absl::StatusOr<motion::Motion> clip = wire::ClipFromProto(request.clip(), "style clip");
         if (!clip.ok()) return out.status = clip.status(), out;
         absl::StatusOr<motion::JointMap> map =
             wire::JointMapFromProto(request.clip().skeleton(), "style clip");
@@ -201,11 +201,11 @@ UnaryMethod StyleServiceImpl::ComputeMetrics() {
       [this](const v1::MetricsRequest& request, v1::MetricsResponse* response) {
         CallOutcome out{absl::OkStatus(), "", request.output().frames_size()};
         absl::StatusOr<motion::Motion> output =
-            ReadClip(*service_, request.output(), "output clip");
+            wire::ClipFromProto(request.output(), "output clip");
         if (!output.ok()) return out.status = output.status(), out;
         std::optional<motion::Motion> content;
         if (request.has_content()) {
-          absl::StatusOr<motion::Motion> c = ReadClip(*service_, request.content(), "content clip");
+          absl::StatusOr<motion::Motion> c = wire::ClipFromProto(request.content(), "content clip");
           if (!c.ok()) return out.status = c.status(), out;
           content = *std::move(c);
         }
@@ -218,7 +218,7 @@ UnaryMethod StyleServiceImpl::ComputeMetrics() {
                  {"content_", request.has_content() ? &request.content() : nullptr},
                  {"style_", request.has_style() ? &request.style() : nullptr}}) {
           if (clip == nullptr) continue;
-          absl::StatusOr<motion::Motion> m = ReadClip(*service_, *clip, prefix + "clip");
+          absl::StatusOr<motion::Motion> m = wire::ClipFromProto(*clip, prefix + "clip");
           if (!m.ok()) return out.status = m.status(), out;
           absl::StatusOr<std::map<std::string, double>> own = motion::ComputeMetrics(*m, nullptr);
           if (!own.ok()) return out.status = own.status(), out;

@@ -2,7 +2,9 @@
 // one compute thread and with two, each also as a ratio to the baseline measured
 // in the same run: feature extraction plus motion reconstruction of the same
 // clip without the network (the part of a transfer that is not inference).
-// Any family. Usage: transfer_bench [MODEL_DIR] [--frames N] [--reps N] [--kc N]
+// A package with movement from examples is also timed with the network's
+// movement only (docs/movement.md): what taking the movement from the style
+// clip costs. Any family. Usage: transfer_bench [MODEL_DIR] [--frames N] [--reps N] [--kc N]
 // (--kc: a cyclic model's inference-time kinematic optimization steps).
 #include <algorithm>
 #include <chrono>
@@ -61,9 +63,11 @@ int main(int argc, char** argv) {
               kc >= 0 ? (", kc " + std::to_string(kc)).c_str() : "", frames, reps);
   std::printf("%-34s %10s %14s %10s\n", "stage", "threads", "s/1000 frames", "x baseline");
   stylus::model::TransferNote note;
+  stylus::model::MovementNote movement;
+  const bool moves = (*model)->moves_from_examples();
   for (int threads : {1, 2}) {
     stylus::model::SetComputeThreads(threads);
-    double base = 1e9, transfer = 1e9;
+    double base = 1e9, transfer = 1e9, network_only = 1e9;
     for (int r = 0; r < reps; ++r) {
       auto t0 = Clock::now();
       const auto f = *stylus::motion::ExtractFeatures(content, roles);
@@ -75,15 +79,33 @@ int main(int argc, char** argv) {
       const stylus::model::TransferResult result =
           *(*model)->Transfer(content, code, stylus::motion::PostProcessMode::kFull);
       note = result.note;
+      movement = result.movement;
       const stylus::motion::Motion& out = result.motion;
       transfer = std::min(transfer, Since(t0));
       if (out.num_frames != m.num_frames) return 1;
+      if (moves) {
+        t0 = Clock::now();
+        stylus::model::TransferOptions options(stylus::motion::PostProcessMode::kFull);
+        options.movement_from_examples = false;
+        const auto code2 = *(*model)->EncodeStyle(style_clip);
+        if (!(*model)->Transfer(content, code2, options).ok()) return 1;
+        network_only = std::min(network_only, Since(t0));
+      }
     }
     const double k = 1000.0 / frames;
     std::printf("%-34s %10d %14.4f %10.2f\n", "baseline (features + rebuild)", threads, base * k,
                 1.0);
     std::printf("%-34s %10d %14.4f %10.2f\n", "transfer (encode style + transfer)", threads,
                 transfer * k, transfer / base);
+    if (moves) {
+      std::printf("%-34s %10d %14.4f %10.2f   (with movement: %.2fx)\n",
+                  "transfer, network's movement", threads, network_only * k, network_only / base,
+                  transfer / network_only);
+    }
+  }
+  if (moves) {
+    std::printf("movement: %s\n", movement.applied ? (movement.kind + " from the " + movement.example).c_str()
+                                                    : ("the network's: " + movement.reason).c_str());
   }
   // A package's content guard makes a transfer again in each residual form
   // until its action reads right: say which form the timed transfer was.

@@ -24,6 +24,21 @@ namespace {
 
 std::string FileName(const std::string& p) { return std::filesystem::path(p).filename().string(); }
 
+// How far (leg lengths) any foot joint of `clip` goes below the floor of
+// `reference` (the lowest its foot joints reach); 0 when none does.
+double BelowFloor(const motion::Motion& clip, const motion::Motion& reference,
+                  const motion::HumanoidRoles& roles) {
+  const std::array<int, 4> feet = motion::FootJoints(roles);
+  double floor = 1e300, lowest = 1e300;
+  for (const auto& p : motion::GlobalPositions(reference)) {
+    for (int j : feet) floor = std::min(floor, p[j].y);
+  }
+  for (const auto& p : motion::GlobalPositions(clip)) {
+    for (int j : feet) lowest = std::min(lowest, p[j].y);
+  }
+  return std::max(0.0, floor - lowest) / std::max(roles.leg_length, 1e-9);
+}
+
 // One set of judges' labels for one output, and whether each is the pair's.
 struct Verdict {
   std::string style, content;
@@ -50,17 +65,57 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
+absl::StatusOr<PairKind> ParsePairKind(absl::string_view name) {
+  if (name == "cross-action") return PairKind::kCrossAction;
+  if (name == "same-action") return PairKind::kSameAction;
+  return absl::InvalidArgumentError(
+      absl::StrCat("unknown pair kind '", name, "': use cross-action or same-action"));
+}
+
+absl::StatusOr<EvalSplit> ParseEvalSplit(absl::string_view name) {
+  if (name == "all") return EvalSplit::kAll;
+  if (name == "validation") return EvalSplit::kValidation;
+  if (name == "test") return EvalSplit::kTest;
+  return absl::InvalidArgumentError(
+      absl::StrCat("unknown split '", name, "': use all, validation or test"));
+}
+
+const char* PairKindName(PairKind kind) {
+  return kind == PairKind::kSameAction ? "same-action" : "cross-action";
+}
+
+const char* EvalSplitName(EvalSplit split) {
+  switch (split) {
+    case EvalSplit::kValidation:
+      return "validation";
+    case EvalSplit::kTest:
+      return "test";
+    case EvalSplit::kAll:
+      break;
+  }
+  return "all";
+}
+
+bool InEvalSplit(const std::string& path, EvalSplit split) {
+  if (split == EvalSplit::kAll) return true;
+  const bool validation = motion::StableHash(FileName(path), 48) % 2 == 0;
+  return validation == (split == EvalSplit::kValidation);
+}
+
 absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::string>& dirs,
-                                                    int per_content) {
+                                                    int per_content, PairKind kind,
+                                                    EvalSplit split) {
   absl::StatusOr<motion::DatasetIndex> index = motion::IndexDataset(dirs);
   if (!index.ok()) return index.status();
   const std::vector<const motion::ClipEntry*> test = index->Split(true);
   std::vector<EvalPair> pairs;
   for (const motion::ClipEntry* c : test) {
+    if (!InEvalSplit(c->path, split)) continue;
     std::vector<const motion::ClipEntry*> styles;
     for (const motion::ClipEntry* s : test) {
-      if (s->label.content != c->label.content && s->label.style != c->label.style)
-        styles.push_back(s);
+      if (s->label.style == c->label.style) continue;
+      const bool same = s->label.content == c->label.content && s->label.dataset == c->label.dataset;
+      if (same == (kind == PairKind::kSameAction)) styles.push_back(s);
     }
     const std::string cname = FileName(c->path);
     std::sort(styles.begin(), styles.end(),
@@ -125,11 +180,16 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     // path), at the output's speed; the warped ones live in `warped`.
     std::vector<const motion::Motion*> measured_against;
     std::deque<motion::Motion> warped;
+    std::vector<const TransferResult::Contacts*> own_contacts;  // Per output (null: the clip's).
+    std::deque<TransferResult::Contacts> kept_contacts;
+    std::vector<std::string> movement;  // Per output: MovementNote's example or reason.
     for (const EvalModel& m : models) {
       absl::StatusOr<StyleCode> code = m.model->EncodeStyle(m.own_style ? *content : *style);
       if (!code.ok()) return code.status();
       TransferOptions options(motion::PostProcessMode::kNone);
       if (m.style_timing) options.timing = Timing::kStyle;
+      options.movement.library = m.library;
+      if (m.label_from_name) options.movement.style_label = style_label->style;
       absl::StatusOr<TransferResult> transferred = m.model->Transfer(*content, *code, options);
       if (!transferred.ok()) return transferred.status();
       const TransferNote& note = transferred->note;
@@ -146,18 +206,43 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
         row.time_warp_ratio += transferred->warp.ratio;
         timed = &warped.emplace_back(motion::TimeWarp(*content, transferred->warp.ratio));
       }
+      const TransferResult::Contacts* planted =
+          transferred->contacts ? &kept_contacts.emplace_back(*transferred->contacts) : nullptr;
+      if (transferred->movement.applied) {
+        EvalRow& row = report.rows[outputs.size()];
+        ++row.moved;
+        row.moved_from_library += transferred->movement.example != "style clip";
+        if (m.postprocess) {
+          ++report.rows[outputs.size() + 1].moved;
+          report.rows[outputs.size() + 1].moved_from_library +=
+              transferred->movement.example != "style clip";
+        }
+      }
+      const MovementNote& mv = transferred->movement;
+      const std::string moved_by =
+          mv.applied ? absl::StrFormat("%s (%s, fit %.3f)", mv.example, mv.kind, mv.cost)
+                     : mv.reason;
       outputs.push_back(*raw);
       measured_against.push_back(timed);
+      own_contacts.push_back(planted);
+      movement.push_back(moved_by);
       if (m.postprocess) {
-        absl::StatusOr<motion::Motion> full =
-            motion::PostProcess(*raw, *timed, roles, motion::PostProcessMode::kFull);
+        // Post-processed as the model would: on the output's own contacts
+        // when its steps are its own.
+        motion::PostProcessParams params;
+        params.contact_spans = planted;
+        absl::StatusOr<motion::Motion> full = motion::PostProcess(
+            *raw, planted ? *raw : *timed, roles, motion::PostProcessMode::kFull, params);
         if (!full.ok()) return full.status();
         outputs.push_back(*std::move(full));
         measured_against.push_back(timed);
+        own_contacts.push_back(planted);
+        movement.push_back(moved_by);
       }
       if (m.style_timing) {
         outputs.push_back(*timed);
         measured_against.push_back(timed);
+        own_contacts.push_back(nullptr);
       }
     }
     outputs.push_back(*content);
@@ -192,7 +277,8 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       absl::StatusOr<Verdict> v = verdict(judges, out);
       if (!v.ok()) return v.status();
       EvalRow& row = report.rows[r];
-      EvalVerdict judged{static_cast<int>(pair), static_cast<int>(r), v->style, v->content, ""};
+      EvalVerdict judged{static_cast<int>(pair), static_cast<int>(r), v->style, v->content, "",
+                         r < movement.size() ? movement[r] : ""};
       row.style_accuracy += v->style_right;
       row.content_accuracy += v->content_right;
       row.source_style += v->style == content_label->style;
@@ -213,6 +299,10 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       }
       const motion::Motion& planted = *measured_against[r];
       row.foot_skating += motion::FootSkating(out, planted, roles);
+      row.own_skating += r < own_contacts.size() && own_contacts[r] != nullptr
+                             ? motion::FootSkatingOnSpans(out, *own_contacts[r], roles)
+                             : motion::FootSkating(out, planted, roles);
+      row.below_floor = std::max(row.below_floor, BelowFloor(out, planted, roles));
       row.foot_height_error += motion::FootHeightError(out, planted, roles);
       row.bone_length_error += motion::BoneLengthError(out, roles);
       row.jitter += motion::Jitter(out);
@@ -258,6 +348,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     row.motion_style_accuracy /= row.pairs;
     row.motion_source_style /= row.pairs;
     row.foot_skating /= row.pairs;
+    row.own_skating /= row.pairs;
     row.foot_height_error /= row.pairs;
     row.bone_length_error /= row.pairs;
     row.jitter /= row.pairs;
@@ -292,7 +383,8 @@ std::string CsvField(const std::string& v) {
 }  // namespace
 
 std::string EvalReport::VerdictsCsv(const std::vector<EvalPair>& pairs) const {
-  std::string s = "content_bvh,style_bvh,output,style,judged_style,content,judged_content\n";
+  std::string s =
+      "content_bvh,style_bvh,output,style,judged_style,content,judged_content,movement\n";
   for (const EvalVerdict& v : verdicts) {
     const EvalPair& p = pairs[v.pair];
     const auto style = motion::ParseClipName(p.style_path);
@@ -300,7 +392,7 @@ std::string EvalReport::VerdictsCsv(const std::vector<EvalPair>& pairs) const {
     const std::vector<std::string> fields = {p.content_path,   p.style_path,
                                              rows[v.row].name, style ? style->style : "",
                                              v.style,          content ? content->content : "",
-                                             v.content};
+                                             v.content,        v.movement};
     for (size_t i = 0; i < fields.size(); ++i)
       absl::StrAppend(&s, i ? "," : "", CsvField(fields[i]));
     s += "\n";
@@ -471,6 +563,15 @@ std::string EvalReport::Markdown() const {
                             r.source_style, r.motion_style_accuracy, r.motion_source_style);
     }
   }
+  for (const EvalRow& r : rows) {
+    if (r.moved == 0) continue;
+    absl::StrAppendFormat(&s,
+                          "\nMovement from examples (%s): %d of %d transfers took their movement "
+                          "from an example (%d from the style clip, %d from a library take); the "
+                          "others kept the network's.\n",
+                          r.name, r.moved, r.pairs, r.moved - r.moved_from_library,
+                          r.moved_from_library);
+  }
   if (!rows.empty() && rows[0].gait_pairs[1] > 0) {
     s += "\nGait (stylus-tool gait's figures), over the pairs whose content and style clips "
          "both step: how far each output's figure moved from the content clip's towards the "
@@ -488,13 +589,17 @@ std::string EvalReport::Markdown() const {
     }
   }
   s += "\nKinematics (means over pairs; feet measured where the content clip's feet are "
-       "planted, copy-style against the style clip itself):\n\n"
-       "| output | foot skating (units/s) | foot height error (units) | bone length error | "
-       "jitter (units/s^3) | Euler discontinuities | trajectory error (units) |\n"
-       "| --- | --- | --- | --- | --- | --- | --- |\n";
+       "planted, copy-style against the style clip itself; 'own contacts': where the output "
+       "planted its feet when its steps are its own, else the same; 'below floor': the deepest "
+       "any foot went under the floor, leg lengths):\n\n"
+       "| output | foot skating (units/s) | on its own contacts | below floor | foot height error "
+       "(units) | bone length error | jitter (units/s^3) | Euler discontinuities | trajectory "
+       "error (units) |\n"
+       "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const EvalRow& r : rows) {
-    absl::StrAppendFormat(&s, "| %s | %.2f | %.2f | %.4f%% | %.0f | %d | %.2f |\n", r.name,
-                          r.foot_skating, r.foot_height_error, 100 * r.bone_length_error, r.jitter,
+    absl::StrAppendFormat(&s, "| %s | %.2f | %.2f | %.3f | %.2f | %.4f%% | %.0f | %d | %.2f |\n",
+                          r.name, r.foot_skating, r.own_skating, r.below_floor,
+                          r.foot_height_error, 100 * r.bone_length_error, r.jitter,
                           r.euler_discontinuities, r.trajectory_error);
   }
   if (identity_row >= 2) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "eval/feature_judge.h"
 #include "eval/judges.h"
 #include "eval/motion_judge.h"
@@ -22,11 +23,29 @@ struct EvalPair {
   std::string content_path, style_path;
 };
 
+// Which pairs: the style clip doing another action than the content clip
+// (cross-action), or the same action in another take (same-action).
+enum class PairKind { kCrossAction, kSameAction };
+// Which held-out content clips: all, or one of two halves by a stable hash
+// of the file name: validation (settings are chosen on it) and test
+// (figures are reported on it, never chosen on).
+enum class EvalSplit { kAll, kValidation, kTest };
+// "cross-action", "same-action"; "all", "validation", "test".
+absl::StatusOr<PairKind> ParsePairKind(absl::string_view name);
+absl::StatusOr<EvalSplit> ParseEvalSplit(absl::string_view name);
+const char* PairKindName(PairKind kind);
+const char* EvalSplitName(EvalSplit split);
+// Whether a held-out content clip (by file name) is in `split`.
+bool InEvalSplit(const std::string& path, EvalSplit split);
+
 // Deterministic pairs from the held-out split of `dirs`: for every held-out
-// clip as content, up to `per_content` held-out style clips of another content
-// and another style, chosen by a stable hash of both names.
+// clip as content (in `split`), up to `per_content` held-out style clips of
+// another style and, by `kind`, another action or the same one (of the same
+// dataset), chosen by a stable hash of both names.
 absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::string>& dirs,
-                                                    int per_content);
+                                                    int per_content,
+                                                    PairKind kind = PairKind::kCrossAction,
+                                                    EvalSplit split = EvalSplit::kAll);
 
 // Kinematic metrics (motion/metrics.h) are measured against the clip whose
 // feet should be planted: the content clip, or for copy-style the style clip.
@@ -80,6 +99,15 @@ struct EvalRow {
   // those whose two clips differ by 10% or more in that figure.
   std::array<double, 5> gait_toward_style = {};
   std::array<int, 5> gait_pairs = {};
+  // A model row whose package takes movement from examples: the transfers
+  // that got it, and of those, how many from a library take.
+  int moved = 0, moved_from_library = 0;
+  // Foot skating as above, measured on the contacts the output planted
+  // where its steps are its own (movement from examples), else as above.
+  double own_skating = 0;
+  // The lowest any foot joint goes below the measured clip's floor, in leg
+  // lengths (the deepest over the pairs; 0: never below).
+  double below_floor = 0;
 };
 
 // The gait figures of EvalRow::gait_toward_style, in order.
@@ -100,6 +128,10 @@ struct EvalModel {
   bool postprocess = false;
   bool own_style = false;
   bool style_timing = false;
+  // Movement from examples: the library (may be null) and whether the
+  // library's style is the style clip's label (else the nearest by code).
+  const StyleLibrary* library = nullptr;
+  bool label_from_name = true;
 };
 
 // What the judges said about one output of one pair.
@@ -108,6 +140,9 @@ struct EvalVerdict {
   int row = 0;                    // Index into EvalReport::rows.
   std::string style, content;     // Judged labels.
   std::string motion_style = {};  // By the motion-only judge (when there is one).
+  // Movement from examples: the example the movement came from ("style
+  // clip" or a library take), or why there was none.
+  std::string movement = {};
 };
 
 struct EvalReport {

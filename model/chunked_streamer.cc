@@ -38,6 +38,7 @@ absl::StatusOr<std::unique_ptr<ChunkedStreamer>> ChunkedStreamer::Create(
   const motion::Motion probe = motion::RestMotion(spec.skeleton, 2, spec.frame_time);
   TransferOptions raw(motion::PostProcessMode::kNone);
   raw.content_guard = false;
+  raw.movement_from_examples = false;
   if (auto t = model->Transfer(probe, spec.style, raw); !t.ok()) return t.status();
   return std::unique_ptr<ChunkedStreamer>(new ChunkedStreamer(
       std::move(model), spec.style, motion::RestMotion(spec.skeleton, 0, spec.frame_time),
@@ -83,6 +84,9 @@ absl::StatusOr<motion::Motion> ChunkedStreamer::Emit(int n) {
       Slice(input_, static_cast<int>(start - base_), static_cast<int>(emitted_ + n - base_));
   TransferOptions options(post_);
   options.content_guard = false;
+  // Movement from examples registers whole clips; a stream's chunks keep
+  // the network's movement (docs/movement.md "Streams").
+  options.movement_from_examples = false;
   absl::StatusOr<TransferResult> transferred = model_->Transfer(window, style_, options);
   if (!transferred.ok()) return transferred.status();
   const motion::Motion* out = &transferred->motion;

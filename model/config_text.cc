@@ -136,6 +136,37 @@ void AppendGuardKeys(const GuardKeys& keys, std::string* out) {
   }
 }
 
+std::optional<absl::Status> ParseMovementKey(const ConfigEntry& e, MovementKeys* keys) {
+  if (e.key == "movement") {
+    if (e.value != "network" && e.value != "examples") {
+      return e.Error("movement is 'network' or 'examples'");
+    }
+    keys->movement_examples = e.value == "examples";
+    return absl::OkStatus();
+  }
+  if (e.key == "movement_arms" || e.key == "movement_spine") {
+    if (e.value != "network" && e.value != "example" && e.value != "layer") {
+      return e.Error(absl::StrCat(e.key, " is 'network', 'example' or 'layer'"));
+    }
+    (e.key == "movement_arms" ? keys->movement_arms : keys->movement_spine) = e.value;
+    return absl::OkStatus();
+  }
+  if (e.key == "movement_max_cost") return e.Double(&keys->movement_max_cost, 0, 100);
+  if (e.key == "movement_max_mismatch") return e.Double(&keys->movement_max_mismatch, 0, 100);
+  if (e.key == "movement_fit_stride") return e.Bool(&keys->movement_fit_stride);
+  return std::nullopt;
+}
+
+void AppendMovementKeys(const MovementKeys& keys, std::string* out) {
+  if (!keys.movement_examples) return;
+  AppendConfigLine(out, "movement", "examples");
+  AppendConfigLine(out, "movement_arms", keys.movement_arms);
+  AppendConfigLine(out, "movement_spine", keys.movement_spine);
+  AppendConfigLine(out, "movement_max_cost", absl::StrCat(keys.movement_max_cost));
+  AppendConfigLine(out, "movement_max_mismatch", absl::StrCat(keys.movement_max_mismatch));
+  if (!keys.movement_fit_stride) AppendConfigLine(out, "movement_fit_stride", "0");
+}
+
 std::optional<absl::Status> RefuseRemovedKey(const ConfigEntry& e,
                                              const std::vector<std::string>& removed) {
   for (const std::string& key : removed) {

@@ -66,6 +66,28 @@ std::optional<absl::Status> ParseGuardKey(const ConfigEntry& e, GuardKeys* keys)
 // Appends the keys (nothing when the guard is off).
 void AppendGuardKeys(const GuardKeys& keys, std::string* out);
 
+// Movement from examples (motion/example_motion.h, docs/movement.md), which
+// both families' configs have: with `movement = examples`, a transfer's legs
+// and pelvis (and, as `movement_arms` and `movement_spine` say, its arms and
+// spine) move as a take of the style does, registered to the content clip:
+// the style clip itself when it shows the same kind of movement, else the
+// best-matching take of a style library. `movement = network` (the default)
+// leaves the network's output as it is.
+struct MovementKeys {
+  bool movement_examples = false;
+  std::string movement_arms = "layer", movement_spine = "network";
+  // A gesture's registration cost (leg lengths) above which the example is
+  // taken not to show the content's movement, and not used.
+  double movement_max_cost = 1;
+  // Steps: the travel mismatch (speed as a log ratio, turning, direction,
+  // flight; model/movement.cc) above which the example is not used.
+  double movement_max_mismatch = 1;
+  bool movement_fit_stride = true;
+};
+std::optional<absl::Status> ParseMovementKey(const ConfigEntry& e, MovementKeys* keys);
+// Appends the keys (nothing when movement comes from the network).
+void AppendMovementKeys(const MovementKeys& keys, std::string* out);
+
 // INVALID_ARGUMENT naming the line when `e` is one of `removed`: keys of
 // experiments that no shipped package used and that were taken out
 // (docs/config.md lists them and what they gave); nullopt otherwise.

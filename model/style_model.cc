@@ -1,7 +1,9 @@
 #include "model/style_model.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "model/chunked_streamer.h"
@@ -64,11 +66,9 @@ absl::StatusOr<TransferResult> StyleModel::Transfer(const motion::Motion& conten
 
 namespace {
 
-// The warp that gives `content` the cadence of the blend of `styles`.
-TimeWarpNote StyleTiming(const motion::Motion& content, const std::vector<StyleCode>& styles,
-                         const StyleWeights& weights) {
-  TimeWarpNote note;
-  // Each style's share: its fixed weight, or its mean weight over the frames.
+// Each style's share: its fixed weight, or its mean weight over the frames.
+std::vector<double> StyleShares(const std::vector<StyleCode>& styles,
+                                const StyleWeights& weights) {
   std::vector<double> share(styles.size(), 0);
   for (size_t k = 0; k < styles.size(); ++k) {
     if (weights.per_frame.empty()) {
@@ -78,6 +78,14 @@ TimeWarpNote StyleTiming(const motion::Motion& content, const std::vector<StyleC
       share[k] /= weights.per_frame.size();
     }
   }
+  return share;
+}
+
+// The warp that gives `content` the cadence of the blend of `styles`.
+TimeWarpNote StyleTiming(const motion::Motion& content, const std::vector<StyleCode>& styles,
+                         const StyleWeights& weights) {
+  TimeWarpNote note;
+  const std::vector<double> share = StyleShares(styles, weights);
   absl::StatusOr<motion::HumanoidRoles> roles = motion::HumanoidRolesOf(content);
   if (!roles.ok()) {
     note.reason = absl::StrCat("the content clip's roles: ", roles.status().message());
@@ -126,7 +134,19 @@ absl::StatusOr<TransferResult> StyleModel::Interpolate(const motion::Motion& con
       InterpolateInContentTime(content, styles, weights, options);
   if (!result.ok() || options.timing == Timing::kContent) return result;
   result->warp = StyleTiming(content, styles, weights);
-  if (result->warp.applied) result->motion = motion::TimeWarp(result->motion, result->warp.ratio);
+  if (result->warp.applied) {
+    result->motion = motion::TimeWarp(result->motion, result->warp.ratio);
+    if (result->contacts) {
+      for (auto& spans : *result->contacts) {
+        for (motion::ContactSpan& s : spans) {
+          s.begin = std::min(result->motion.num_frames,
+                             static_cast<int>(std::lround(s.begin * result->warp.ratio)));
+          s.end = std::clamp(static_cast<int>(std::lround(s.end * result->warp.ratio)), s.begin,
+                             result->motion.num_frames);
+        }
+      }
+    }
+  }
   return result;
 }
 
@@ -179,20 +199,21 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
   TransferResult result;
   const ContentGuard* guard = options.content_guard ? content_guard() : nullptr;
   absl::StatusOr<motion::Motion> out;
+  auto normalized = [this](const motion::Motion& clip) -> absl::StatusOr<motion::FeatureClip> {
+    absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, data().roles);
+    if (f.ok()) data().norm.Normalize(&*f);
+    return f;
+  };
+  int action = -1;  // The content's, as the guard reads it.
   if (guard == nullptr) {
     out = (*forms)->Final(0, nullptr);
   } else {
     // The first form whose action reads as the content's, judged before
     // refinement and post-processing (as `eval` judges raw transfers), so
     // only the chosen form is refined and post-processed.
-    auto normalized = [this](const motion::Motion& clip) -> absl::StatusOr<motion::FeatureClip> {
-      absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, data().roles);
-      if (f.ok()) data().norm.Normalize(&*f);
-      return f;
-    };
     absl::StatusOr<motion::FeatureClip> read = normalized(content);
     if (!read.ok()) return read.status();
-    const int action = guard->Classify(*read);
+    action = guard->Classify(*read);
     const GuardKeys& keys = guard_keys();
     const std::vector<double>& strengths = keys.guard_strengths;
     for (size_t step = 0; step <= strengths.size(); ++step) {
@@ -208,17 +229,55 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
     }
   }
   if (!out.ok()) return out.status();
+  // Movement from examples: the output's steps are its own, and the feet
+  // are planted on its own contacts. The guard reads the moved output too:
+  // where the example's movement would change the action, the network's is
+  // kept.
+  std::optional<std::array<std::vector<motion::ContactSpan>, 4>> own_contacts;
+  if (options.movement_from_examples && movement_keys().movement_examples) {
+    absl::StatusOr<std::optional<motion::MovementResult>> moved =
+        MoveFromExamples(*this, *out, content, styles, StyleShares(styles, weights),
+                         movement_keys(), options.movement, &result.movement);
+    if (!moved.ok()) return moved.status();
+    bool keep = moved->has_value();
+    if (keep && guard != nullptr) {
+      absl::StatusOr<motion::FeatureClip> read = normalized((*moved)->motion);
+      if (!read.ok()) return read.status();
+      if (!guard->Keeps(*read, action, guard_keys().guard_min_probability)) {
+        keep = false;
+        result.movement = MovementNote{};
+        result.movement.reason =
+            "the content guard read another action with the example's movement";
+      }
+    }
+    if (keep) {
+      *out = std::move((*moved)->motion);
+      own_contacts = std::move((*moved)->contacts);
+    }
+  }
   if (&original != &content) {
     *out = motion::Resample(*out, original.frame_time, original.num_frames);
+    if (own_contacts) {  // The spans at the original's rate.
+      const double scale = content.frame_time / original.frame_time;
+      for (auto& spans : *own_contacts) {
+        for (motion::ContactSpan& s : spans) {
+          s.begin = std::clamp(static_cast<int>(std::lround(s.begin * scale)), 0, original.num_frames);
+          s.end = std::clamp(static_cast<int>(std::lround(s.end * scale)), s.begin, original.num_frames);
+        }
+      }
+    }
   }
   if (options.post == motion::PostProcessMode::kNone) {
     result.motion = *std::move(out);
   } else {
-    absl::StatusOr<motion::Motion> clean =
-        motion::PostProcess(*out, original, data().roles, options.post);
+    motion::PostProcessParams params;
+    if (own_contacts) params.contact_spans = &*own_contacts;
+    absl::StatusOr<motion::Motion> clean = motion::PostProcess(
+        *out, own_contacts ? *out : original, data().roles, options.post, params);
     if (!clean.ok()) return clean.status();
     result.motion = *std::move(clean);
   }
+  result.contacts = std::move(own_contacts);
   return result;
 }
 
@@ -243,11 +302,24 @@ absl::StatusOr<StyleCode> StyleModel::EncodeAnyRigStyle(const motion::Motion& cl
     if (!r.ok()) return r.status();
     return EncodeAnyRigStyle((*r)->ToModel(clip), {});
   }
-  if (motion::SameRate(clip.frame_time, data().frame_time) || clip.num_frames == 0) {
-    return EncodeModelRateStyle(clip);
+  const bool same_rate =
+      motion::SameRate(clip.frame_time, data().frame_time) || clip.num_frames == 0;
+  if (!same_rate) {
+    if (absl::Status s = motion::CheckServedRate(clip.frame_time, "style clip"); !s.ok()) return s;
   }
-  if (absl::Status s = motion::CheckServedRate(clip.frame_time, "style clip"); !s.ok()) return s;
-  return EncodeModelRateStyle(motion::Resample(clip, data().frame_time));
+  const motion::Motion resampled = same_rate ? motion::Motion{} : motion::Resample(clip, data().frame_time);
+  const motion::Motion& at_model = same_rate ? clip : resampled;
+  absl::StatusOr<StyleCode> code = EncodeModelRateStyle(at_model);
+  if (!code.ok()) return code;
+  // The clip itself, for movement from examples (a clip it cannot read,
+  // too short say, gives none: the network's movement is used).
+  if (movement_keys().movement_examples) {
+    if (absl::StatusOr<motion::MovementClip> read = motion::AnalyzeMovement(at_model, data().roles);
+        read.ok()) {
+      code->example = std::make_shared<const motion::MovementClip>(*std::move(read));
+    }
+  }
+  return code;
 }
 
 absl::StatusOr<std::unique_ptr<FrameStreamer>> StyleModel::OpenStream(

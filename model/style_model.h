@@ -23,6 +23,7 @@
 #include "absl/status/statusor.h"
 #include "model/config_text.h"
 #include "model/frame_streamer.h"
+#include "model/movement.h"
 #include "model/package.h"
 #include "motion/cadence.h"
 #include "motion/motion.h"
@@ -40,6 +41,9 @@ struct StyleCode {
   // The style clip's cadence (motion/cadence.h); none when its motion does
   // not repeat (EncodeStyle fills it in).
   std::optional<motion::Cadence> cadence = std::nullopt;
+  // The style clip on the model's skeleton and rate, read for movement from
+  // examples (model/movement.h); EncodeStyle fills it in.
+  std::shared_ptr<const motion::MovementClip> example = nullptr;
 };
 
 // How styles mix over a clip: `fixed` (one weight per style) for the whole clip,
@@ -83,6 +87,11 @@ struct TransferResult {
   motion::Motion motion;
   TransferNote note;
   TimeWarpNote warp;
+  MovementNote movement;
+  // With movement from examples: the output's own foot contacts, the ones
+  // post-processing planted (FootJoints order, the output's frames).
+  using Contacts = std::array<std::vector<motion::ContactSpan>, 4>;
+  std::optional<Contacts> contacts;
 };
 
 class PassBatcher;
@@ -107,6 +116,11 @@ struct TransferOptions {
   // [kMinTimeWarp, kMaxTimeWarp]), so it has another length. When either has
   // no cadence the output keeps the content's timing and the note says why.
   Timing timing = Timing::kContent;
+  // With a package whose movement comes from examples (MovementKeys): false
+  // keeps the network's; `movement.library` adds a style library's takes to
+  // the style clip as examples.
+  bool movement_from_examples = true;
+  MovementRequest movement = {};
 };
 
 inline constexpr double kMinTimeWarp = 0.5, kMaxTimeWarp = 2.0;
@@ -256,6 +270,14 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // The package's content guard and its keys (null when it has none).
   virtual const ContentGuard* content_guard() const { return nullptr; }
   virtual const GuardKeys& guard_keys() const = 0;
+  virtual const MovementKeys& movement_keys() const = 0;
+
+ public:
+  // Whether this package takes a transfer's movement from examples
+  // (MovementKeys; `movement = examples`).
+  bool moves_from_examples() const { return movement_keys().movement_examples; }
+
+ protected:
 
  private:
   mutable std::once_flag rig_once_;

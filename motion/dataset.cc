@@ -4,12 +4,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
+#include "absl/strings/strip.h"
+#include "absl/strings/ascii.h"
 
 namespace stylus::motion {
 
@@ -141,6 +144,38 @@ std::optional<std::string> FindBandaiData(const std::string& project_root) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return std::nullopt;
   return fs::weakly_canonical(dir, ec).string();
+}
+
+std::string CanonicalPath(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path : p.string();
+}
+
+absl::StatusOr<std::map<std::string, ClipLabel>> ReadLabelsCsv(const std::string& csv) {
+  std::map<std::string, ClipLabel> labels;
+  if (csv.empty()) return labels;
+  std::ifstream in(csv);
+  if (!in) return absl::NotFoundError(csv + ": cannot open the labels file");
+  const std::filesystem::path dir = std::filesystem::path(csv).parent_path();
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    const absl::string_view l = absl::StripAsciiWhitespace(line);
+    if (l.empty() || l[0] == '#' || (n == 1 && absl::StartsWith(l, "clip,"))) continue;
+    std::vector<std::string> cols = absl::StrSplit(l, ',');
+    if (cols.size() != 3 || cols[0].empty() || cols[1].empty() || cols[2].empty()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(csv, ":", n, ": expected clip,content,style (e.g. take1.bvh,walk,angry)"));
+    }
+    for (std::string& c : cols) c = std::string(absl::StripAsciiWhitespace(c));
+    const std::filesystem::path clip = std::filesystem::path(cols[0]).is_absolute() ? std::filesystem::path(cols[0]) : dir / cols[0];
+    ClipLabel label;
+    label.dataset = "labels";
+    label.content = cols[1];
+    label.style = cols[2];
+    labels[CanonicalPath(clip.string())] = label;
+  }
+  return labels;
 }
 
 }  // namespace stylus::motion

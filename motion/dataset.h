@@ -57,6 +57,15 @@ struct DatasetIndex {
 absl::StatusOr<DatasetIndex> IndexDataset(const std::vector<std::string>& dirs,
                                           const SplitOptions& options = {});
 
+// Labels from a CSV of clip,content,style rows (clip paths relative to the
+// CSV's folder; a header line and '#' comments allowed), keyed by each clip's
+// canonical path (CanonicalPath). Empty for an empty `csv`; NOT_FOUND when
+// it cannot be opened; INVALID_ARGUMENT naming the line of a malformed row.
+absl::StatusOr<std::map<std::string, ClipLabel>> ReadLabelsCsv(const std::string& csv);
+// `path` made absolute with symbolic links and dots resolved (as it is when
+// it does not exist).
+std::string CanonicalPath(const std::string& path);
+
 // The Bandai data for tests and tools: $STYLUS_DATA if set, else
 // `<project_root>/../shared/data/bandai`; nullopt when that is not a directory.
 std::optional<std::string> FindBandaiData(const std::string& project_root);

@@ -50,6 +50,25 @@ double FootSkating(const Motion& clip, const Motion& reference, const HumanoidRo
   return n ? sum / n : 0;
 }
 
+double FootSkatingOnSpans(const Motion& clip, const std::array<std::vector<ContactSpan>, 4>& spans,
+                          const HumanoidRoles& roles) {
+  const auto pos = GlobalPositions(clip);
+  const auto feet = FootJoints(roles);
+  const int n = static_cast<int>(pos.size());
+  double sum = 0;
+  int count = 0;
+  for (int k = 0; k < 4; ++k) {
+    for (const ContactSpan& s : spans[k]) {
+      for (int f = std::max(1, s.begin + 1); f < std::min(n, s.end); ++f) {
+        const Vec3 d = pos[f][feet[k]] - pos[f - 1][feet[k]];
+        sum += std::hypot(d.x, d.z) * clip.fps();
+        ++count;
+      }
+    }
+  }
+  return count ? sum / count : 0;
+}
+
 double FootHeightError(const Motion& clip, const Motion& reference, const HumanoidRoles& roles) {
   const auto ref = GlobalPositions(reference);
   const auto pos = GlobalPositions(clip);

@@ -4,12 +4,15 @@
 #ifndef STYLUS_MOTION_METRICS_H_
 #define STYLUS_MOTION_METRICS_H_
 
+#include <array>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "motion/humanoid.h"
 #include "motion/motion.h"
+#include "motion/postprocess.h"
 
 namespace stylus::motion {
 
@@ -18,6 +21,11 @@ namespace stylus::motion {
 // for a transfer, its content clip). Both on the same skeleton topology; only
 // the frames both have are used. 0 when no foot is in contact.
 double FootSkating(const Motion& clip, const Motion& reference, const HumanoidRoles& roles);
+
+// The same with the contacts given: spans per foot joint (FootJoints order),
+// e.g. the ones a transfer planted its feet on.
+double FootSkatingOnSpans(const Motion& clip, const std::array<std::vector<ContactSpan>, 4>& spans,
+                          const HumanoidRoles& roles);
 
 // Mean height (units) of contact feet above the floor of `reference` (the
 // lowest height each foot joint reaches in it), contacts from `reference`.

@@ -206,7 +206,9 @@ absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
   }
   absl::StatusOr<std::array<Leg, 2>> legs = Legs(sk, roles);
   if (!legs.ok()) return legs.status();
-  const auto spans = DetectContactSpans(content_pos, roles, fps, params.contacts);
+  const std::array<std::vector<ContactSpan>, 4> spans =
+      params.contact_spans != nullptr ? *params.contact_spans
+                                      : DetectContactSpans(content_pos, roles, fps, params.contacts);
   const int known = posed != nullptr ? first_kept : 0;  // Final frames, posed before.
   if (mode == PostProcessMode::kFull) SmoothPoses(sk, &source, params.smooth_radius, known);
   // The output's world pose per frame: the pins and the knees' hinges read it.

@@ -61,6 +61,10 @@ struct PostProcessParams {
   // streaming, where it is at the span's first frame (known without waiting
   // for the span's end).
   bool pin_at_span_start = false;
+  // The contacts to plant, when the caller knows them (a transfer whose
+  // steps are its own, motion/example_motion.h); else they are detected on
+  // the content clip.
+  const std::array<std::vector<ContactSpan>, 4>* contact_spans = nullptr;
 };
 
 // The two-bone solve for one leg with toes following is applied to every frame

@@ -23,6 +23,7 @@ constexpr char kHelp[] =
     "                     [--max-clip-frames N] [--max-joints N] [--max-unary-calls N]\n"
     "                     [--max-saved-styles N] [--stream-idle-timeout-s S]\n"
     "                     [--max-styles N] [--max-stream-backlog N] [--max-memory-mb N]\n"
+    "                     [--style-library DIR [--style-library-labels CSV]]\n"
     "                     [--shutdown-grace-s S] [--port-file FILE] [--log-format F]\n\n"
     "Serves style transfer (stylus.v1.ModelService, stylus.v1.StyleService)\n"
     "and grpc.health.v1. Loads every model package under\n"
@@ -55,6 +56,11 @@ constexpr char kHelp[] =
     "                         signed by a CA in this PEM file\n"
     "  --metrics-listen ADDR  serve Prometheus metrics at http://ADDR/metrics\n"
     "                         (e.g. 0.0.0.0:9464; off by default)\n"
+    "  --style-library DIR    takes of styles (BVH, any rig) that packages with\n"
+    "                         movement from examples draw their legs', pelvis's\n"
+    "                         and arms' movement from (docs/movement.md); labels\n"
+    "                         from dataset-N_{action}_{style}_{take}.bvh names...\n"
+    "  --style-library-labels CSV  ...or a clip,action,style CSV\n"
     "  --max-message-mb N     largest request or response (default 32, at most\n"
     "                         1024)\n"
     "  --max-stream-frames N  frames per stream (default 108000, 1 h at 30 fps)\n"
@@ -142,6 +148,10 @@ int main(int argc, char** argv) {
       ok = to_int(&options.max_stream_backlog);
     } else if (arg == "--max-memory-mb") {
       ok = absl::SimpleAtoi(value, &options.max_memory_mb) && options.max_memory_mb >= 0;
+    } else if (arg == "--style-library") {
+      options.style_library = value;
+    } else if (arg == "--style-library-labels") {
+      options.style_library_labels = value;
     } else if (arg == "--tls-cert") {
       options.tls_cert = value;
     } else if (arg == "--tls-key") {

@@ -65,6 +65,7 @@ struct StylusServer::Impl {
   std::unique_ptr<TokenAuth> admin_auth;             // With admin_tokens.
   std::unique_ptr<RequestBudget> budget;
   std::unique_ptr<MemoryPool> call_memory;  // With max_memory_mb.
+  std::unique_ptr<model::StyleLibrary> style_library;
   // Re-reads the token files when they change (a mounted Secret changes
   // without a signal); stops at shutdown.
   std::thread token_watch;
@@ -172,6 +173,24 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
   absl::StatusOr<std::unique_ptr<ModelRegistry>> registry =
       ModelRegistry::Create(options.models_dir, options.default_model);
   if (!registry.ok()) return registry.status();
+  if (!options.style_library.empty()) {
+    absl::StatusOr<std::unique_ptr<model::StyleLibrary>> library =
+        model::StyleLibrary::Load(options.style_library, options.style_library_labels);
+    if (!library.ok()) return library.status();
+    impl->style_library = *std::move(library);
+    impl->context.style_library = impl->style_library.get();
+    for (const std::string& skipped : impl->style_library->skipped()) {
+      spdlog::warn("style library: skipped {}", skipped);
+    }
+    // Read for the default model now, so the first call does not wait for it.
+    if (absl::StatusOr<HostedModel> m = (*registry)->Get(""); m.ok() && m->model->moves_from_examples()) {
+      absl::StatusOr<std::shared_ptr<const model::StyleLibrary::Converted>> read =
+          impl->style_library->For(*m->model);
+      if (!read.ok()) return read.status();
+    }
+    spdlog::info("style library {}: {} takes of {} styles", options.style_library,
+                 impl->style_library->takes().size(), impl->style_library->Styles().size());
+  }
   impl->registry = *std::move(registry);
   impl->executor = std::make_unique<Executor>(options.threads);
   impl->context.registry = impl->registry.get();

@@ -63,6 +63,10 @@ struct ServerOptions {
   // reserves its estimate before it runs); 0: unbounded.
   int64_t max_memory_mb = 2048;
   int max_saved_styles = 1000;         // Names saved per model.
+  // Movement from examples (model/movement.h): a folder of style takes, and
+  // their labels when their names carry none.
+  std::string style_library;
+  std::string style_library_labels;
   double stream_idle_timeout_s = 120;  // 0: streams may wait forever.
 };
 

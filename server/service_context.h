@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "absl/status/status.h"
+#include "model/movement.h"
 #include "model/pass_batcher.h"
 #include "server/call_log.h"
 #include "server/executor.h"
@@ -55,6 +56,8 @@ struct ServiceContext {
   TokenAuth* admin_auth = nullptr;        // With --admin-tokens: loading models needs one of these.
   const RequestBudget* budget = nullptr;  // What reading a request may cost.
   MemoryPool* call_memory = nullptr;      // What unary calls in progress may hold.
+  // Takes of styles for movement from examples (--style-library; null: none).
+  const model::StyleLibrary* style_library = nullptr;
   int max_streams = 16;
   int64_t max_stream_frames = 30 * 60 * 60;  // One hour at 30 fps.
   CallLimits limits;

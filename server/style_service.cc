@@ -57,6 +57,33 @@ void NoteGuard(const model::TransferNote& note, v1::TransferResponse* response, 
   out->guard_backoff = note.backed_off;
 }
 
+void NoteMovement(const model::MovementNote& note, const model::StyleModel& model,
+                  v1::TransferResponse* response, CallOutcome* out) {
+  if (!model.moves_from_examples()) return;
+  v1::MovementNote* m = response->mutable_movement();
+  m->set_applied(note.applied);
+  m->set_example(note.example);
+  m->set_kind(note.kind);
+  m->set_fit(note.cost);
+  m->set_reason(note.reason);
+  absl::StrAppend(&out->note, out->note.empty() ? "" : " ",
+                  note.applied ? absl::StrCat("movement=", note.kind) : "movement=network");
+}
+
+// What movement from examples may draw on for a style: the server's style
+// library, and the style's label there when the request names a saved style
+// whose name is one of the library's styles (else the nearest by code).
+model::MovementRequest MovementFor(const ServiceContext& service, const v1::StyleRef& ref) {
+  model::MovementRequest r;
+  r.library = service.style_library;
+  if (r.library != nullptr && ref.source_case() == v1::StyleRef::kName) {
+    for (const std::string& s : r.library->Styles()) {
+      if (s == ref.name()) r.style_label = s;
+    }
+  }
+  return r;
+}
+
 }  // namespace
 
 absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
@@ -92,6 +119,7 @@ UnaryMethod StyleServiceImpl::Transfer() {
         model::TransferOptions options(call->post);
         options.batcher = service_->pass_batcher;
         options.joint_map = call->joint_map;
+        options.movement = MovementFor(*service_, request.style());
         switch (request.timing()) {
           case v1::TIMING_CONTENT:
             break;
@@ -108,6 +136,7 @@ UnaryMethod StyleServiceImpl::Transfer() {
             call->model.model->Transfer(call->content, *style, options);
         if (!result.ok()) return out.status = result.status(), out;
         NoteGuard(result->note, response, &out);
+        NoteMovement(result->movement, *call->model.model, response, &out);
         if (options.timing == model::Timing::kStyle) {
           const model::TimeWarpNote& warp = result->warp;
           v1::TimeWarp* w = response->mutable_time_warp();
@@ -183,10 +212,16 @@ UnaryMethod StyleServiceImpl::Interpolate() {
         model::TransferOptions options(call->post);
         options.batcher = service_->pass_batcher;
         options.joint_map = call->joint_map;
+        // The movement is the dominant style's (model/movement.h).
+        size_t main = 0;
+        const std::vector<double>& w = weights.fixed;
+        for (size_t k = 1; k < w.size(); ++k) main = w[k] > w[main] ? k : main;
+        options.movement = MovementFor(*service_, request.styles(static_cast<int>(main)));
         absl::StatusOr<model::TransferResult> result =
             call->model.model->Interpolate(call->content, styles, weights, options);
         if (!result.ok()) return out.status = result.status(), out;
         NoteGuard(result->note, response, &out);
+        NoteMovement(result->movement, *call->model.model, response, &out);
         wire::ClipToProto(result->motion, response->mutable_output());
         response->set_model(call->model.id);
         response->set_compute_ms(MsSince(t0));

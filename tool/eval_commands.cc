@@ -221,7 +221,8 @@ int Eval(const Argv& argv) {
       "usage: stylus-tool eval --model DIR --judges DIR --data DIR... --out report.md\n"
       "         [--ablation LABEL=DIR]... [--pairs-per-content 3] [--threads N]\n"
       "         [--verdicts verdicts.csv] [--second-judges DIR] [--own-style]\n"
-      "         [--timing-style]\n\n"
+      "         [--timing-style] [--pair-kind cross-action|same-action]\n"
+      "         [--split all|validation|test] [--library DIR [--library-label name|code]]\n\n"
       "Transfers deterministic held-out pairs (content clip x style clip of another\n"
       "content and another style) and reports, as Markdown: style and content\n"
       "recognition accuracy (by the judges); FMD and KID against every clip of\n"
@@ -244,11 +245,22 @@ int Eval(const Argv& argv) {
       "--timing-style adds the model's transfers with the style clip's cadence\n"
       "(timing = style: time-warped; feet and path measured against the content\n"
       "warped alike), without and with post-processing, and the content itself\n"
-      "played at the style's cadence (what the warp alone does).\n";
+      "played at the style's cadence (what the warp alone does).\n"
+      "--pair-kind same-action pairs each content clip with held-out takes of the\n"
+      "same action in other styles (default: cross-action, another action).\n"
+      "--split validation|test keeps the content clips of one half of the held-out\n"
+      "split (a stable hash of the file name): choose settings on validation,\n"
+      "report on test.\n"
+      "--library DIR gives packages with movement from examples a style library:\n"
+      "the held-out takes under DIR (takes in the training split of --data, the\n"
+      "judges' takes, are left out, so a library and its judges never share a\n"
+      "take). --library-label code finds the library's style by the style code\n"
+      "(as the server does) instead of the style clip's name.\n";
   int code = 0;
   auto args = ParseOrExit("eval", argv,
                           {{"model", "judges", "data", "out", "pairs-per-content", "threads",
-                            "ablation", "verdicts", "second-judges"},
+                            "ablation", "verdicts", "second-judges", "pair-kind", "split", "library",
+                            "library-label"},
                            {"own-style", "timing-style"}},
                           kHelp, &code);
   if (!args) return code;
@@ -318,7 +330,34 @@ int Eval(const Argv& argv) {
   } else {
     return Fail("eval", j.status());
   }
-  auto pairs = model::MakeEvalPairs(args->All("data"), *per);
+  auto kind = model::ParsePairKind(args->Get("pair-kind", "cross-action"));
+  if (!kind.ok()) return Fail("eval", kind.status());
+  auto split = model::ParseEvalSplit(args->Get("split", "all"));
+  if (!split.ok()) return Fail("eval", split.status());
+  std::unique_ptr<model::StyleLibrary> library;
+  if (args->Has("library")) {
+    // The judges' takes (the training split of --data) stay out of it.
+    auto index = motion::IndexDataset(args->All("data"));
+    if (!index.ok()) return Fail("eval", index.status());
+    std::vector<std::string> judged;
+    for (const motion::ClipEntry* c : index->Split(false)) {
+      judged.push_back(std::filesystem::path(c->path).filename().string());
+    }
+    auto lib = model::StyleLibrary::Load(args->Get("library"), "", judged);
+    if (!lib.ok()) return Fail("eval", lib.status());
+    library = *std::move(lib);
+    std::fprintf(stderr, "stylus-tool eval: style library of %zu held-out takes\n",
+                 library->takes().size());
+  }
+  const std::string label_by = args->Get("library-label", "name");
+  if (label_by != "name" && label_by != "code") {
+    return Fail("eval", absl::InvalidArgumentError("--library-label is 'name' or 'code'"));
+  }
+  for (model::EvalModel& em : models) {
+    em.library = library.get();
+    em.label_from_name = label_by == "name";
+  }
+  auto pairs = model::MakeEvalPairs(args->All("data"), *per, *kind, *split);
   if (!pairs.ok()) return Fail("eval", pairs.status());
   auto report = model::Evaluate(
       models, **judges, features.get(), reference, *pairs,
@@ -332,10 +371,12 @@ int Eval(const Argv& argv) {
   const std::string second_name =
       second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
   std::string text = absl::StrFormat(
-      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d.\n\n%s\nStyle / content "
+      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d (%s, %s split%s).\n\n%s\nStyle / content "
       "accuracy by dataset (the labels in the clips' names):\n\n%s\nStyle accuracy per "
       "target style%s:\n\n%s",
-      args->Get("model"), args->Get("judges"), second_name, pairs->size(), report->Markdown(),
+      args->Get("model"), args->Get("judges"), second_name, pairs->size(),
+      model::PairKindName(*kind), model::EvalSplitName(*split),
+      library ? absl::StrCat("; style library: ", args->Get("library")) : "", report->Markdown(),
       report->ByDatasetMarkdown(*pairs), motion_judge ? " (pose judge / motion-only judge)" : "",
       report->ByStyleMarkdown(*pairs));
   // Charts next to the report: accuracies of every row, and the model's

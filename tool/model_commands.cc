@@ -1,4 +1,5 @@
 // train and transfer.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -7,6 +8,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "model/package.h"
 #include "model/runtime.h"
@@ -421,7 +423,16 @@ std::string WarpNote(const model::TransferOptions& options, const model::TimeWar
       warp.content_period_s, warp.style_period_s, warp.ratio, content_frames, frames);
 }
 
-// Transfers one pair and writes it; `note` gets GuardNote's and WarpNote's text.
+// " (movement: ...)" for a package whose movement comes from examples.
+std::string MovementText(const model::StyleModel& m, const model::MovementNote& note) {
+  if (!m.moves_from_examples()) return "";
+  if (!note.applied) return absl::StrCat(" (movement: the network's; ", note.reason, ")");
+  return absl::StrFormat(" (movement: %s from %s, fit %.3f, played %.2fx)", note.kind,
+                         note.example, note.cost, note.rate);
+}
+
+// Transfers one pair and writes it; `note` gets GuardNote's, WarpNote's and
+// MovementText's text.
 absl::Status TransferOne(const model::StyleModel& m, const std::string& content_path,
                          const std::string& style_path, const std::string& out_path,
                          const model::TransferOptions& options, std::string* note) {
@@ -441,7 +452,8 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
     return absl::Status(out.status().code(),
                         absl::StrCat(content_path, ": ", out.status().message()));
   *note = GuardNote(out->note) +
-          WarpNote(options, out->warp, content->num_frames, out->motion.num_frames);
+          WarpNote(options, out->warp, content->num_frames, out->motion.num_frames) +
+          MovementText(m, out->movement);
   return motion::WriteBvhFile(out->motion, out_path);
 }
 
@@ -470,6 +482,14 @@ int Transfer(const Argv& argv) {
       "time warp, so it is longer or shorter than the content; the printed note\n"
       "gives both cadences and the ratio (0.5-2x). A clip whose motion does not\n"
       "repeat has no cadence: the content's timing is kept and the note says so.\n\n"
+      "--style-library DIR [--style-library-labels CSV]: with a package whose\n"
+      "movement comes from examples (movement = examples), the takes under DIR\n"
+      "(BVH, any rig; labels from dataset-N_{action}_{style}_{take}.bvh names or\n"
+      "the CSV's clip,action,style rows) compete with the style clip to give the\n"
+      "output's legs, pelvis and arms their movement; --style-label NAME says\n"
+      "which of the library's styles is wanted (default: the nearest to the\n"
+      "style clip's code). The printed note says which example moved it\n"
+      "(docs/movement.md).\n\n"
       "--shard-count N [--shard-index I] runs only rows I, I+N, I+2N, ... (rows\n"
       "counted from 0, header excluded), so N workers share a library; I defaults\n"
       "to $JOB_COMPLETION_INDEX, which a Kubernetes Indexed Job sets\n"
@@ -477,7 +497,8 @@ int Transfer(const Argv& argv) {
   int code = 0;
   auto args = ParseOrExit("transfer", argv,
                           {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
-                            "postprocess", "shard-count", "shard-index", "joint-map", "timing"},
+                            "postprocess", "shard-count", "shard-index", "joint-map", "timing",
+                            "style-library", "style-library-labels", "style-label"},
                            {}},
                           kHelp, &code);
   if (!args) return code;
@@ -508,6 +529,29 @@ int Transfer(const Argv& argv) {
                                 absl::StrCat("--timing must be content or style, not '", timing, "'")));
   }
   options.timing = timing == "style" ? model::Timing::kStyle : model::Timing::kContent;
+  std::unique_ptr<model::StyleLibrary> library;
+  if (args->Has("style-library")) {
+    absl::StatusOr<std::unique_ptr<model::StyleLibrary>> lib = model::StyleLibrary::Load(
+        args->Get("style-library"), args->Get("style-library-labels"));
+    if (!lib.ok()) return Fail("transfer", lib.status());
+    library = *std::move(lib);
+    for (const std::string& s : library->skipped()) {
+      std::fprintf(stderr, "stylus-tool transfer: style library: skipped %s\n", s.c_str());
+    }
+    options.movement.library = library.get();
+    options.movement.style_label = args->Get("style-label");
+    const std::vector<std::string> styles = library->Styles();
+    if (!options.movement.style_label.empty() &&
+        std::find(styles.begin(), styles.end(), options.movement.style_label) == styles.end()) {
+      return Fail("transfer", absl::InvalidArgumentError(absl::StrCat(
+                                  "--style-label ", options.movement.style_label,
+                                  ": the library has no take of that style (it has ",
+                                  absl::StrJoin(styles, ", "), ")")));
+    }
+  } else if (args->Has("style-label") || args->Has("style-library-labels")) {
+    return Fail("transfer", absl::InvalidArgumentError(
+                                "--style-label and --style-library-labels need --style-library"));
+  }
   absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(args->Get("model"));
   if (!m.ok()) return Fail("transfer", m.status());
   if (!batch) {

@@ -24,38 +24,6 @@ namespace stylus::model {
 namespace fs = std::filesystem;
 namespace {
 
-std::string Canonical(const std::string& path) {
-  std::error_code ec;
-  const fs::path p = fs::weakly_canonical(path, ec);
-  return ec ? path : p.string();
-}
-
-// path (canonical) -> label, from a clip,content,style CSV.
-absl::StatusOr<std::map<std::string, motion::ClipLabel>> ReadLabels(const std::string& csv) {
-  std::map<std::string, motion::ClipLabel> labels;
-  if (csv.empty()) return labels;
-  std::ifstream in(csv);
-  if (!in) return absl::NotFoundError(csv + ": cannot open the labels file");
-  const fs::path dir = fs::path(csv).parent_path();
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    const absl::string_view l = absl::StripAsciiWhitespace(line);
-    if (l.empty() || l[0] == '#' || (n == 1 && absl::StartsWith(l, "clip,"))) continue;
-    std::vector<std::string> cols = absl::StrSplit(l, ',');
-    if (cols.size() != 3 || cols[0].empty() || cols[1].empty() || cols[2].empty()) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(csv, ":", n, ": expected clip,content,style (e.g. take1.bvh,walk,angry)"));
-    }
-    for (std::string& c : cols) c = std::string(absl::StripAsciiWhitespace(c));
-    const fs::path clip = fs::path(cols[0]).is_absolute() ? fs::path(cols[0]) : dir / cols[0];
-    motion::ClipLabel label;
-    label.dataset = "labels";
-    label.content = cols[1];
-    label.style = cols[2];
-    labels[Canonical(clip.string())] = label;
-  }
-  return labels;
-}
 
 // The mean local rotation of every joint over `clips` (all on one rig).
 std::vector<motion::Quat> MeanRotations(const std::vector<const motion::Motion*>& clips) {
@@ -100,14 +68,14 @@ std::string ClipSources::Report() const {
 
 absl::StatusOr<ClipSources> ReadClipSources(const std::vector<std::string>& sources, bool test,
                                             const TrainingDataOptions& options) {
-  absl::StatusOr<std::map<std::string, motion::ClipLabel>> csv = ReadLabels(options.labels_csv);
+  absl::StatusOr<std::map<std::string, motion::ClipLabel>> csv = motion::ReadLabelsCsv(options.labels_csv);
   if (!csv.ok()) return csv.status();
   // Which files, and the labels of those that have one.
   std::vector<std::string> paths;
   std::vector<std::optional<motion::ClipLabel>> labels;
   int left_out = 0;
   auto add = [&](const std::string& path, std::optional<motion::ClipLabel> label) {
-    auto it = csv->find(Canonical(path));
+    auto it = csv->find(motion::CanonicalPath(path));
     if (it != csv->end()) label = it->second;
     if (label && std::find(options.leave_out_styles.begin(), options.leave_out_styles.end(),
                            label->style) != options.leave_out_styles.end()) {

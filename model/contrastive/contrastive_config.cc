@@ -71,6 +71,7 @@ std::string ContrastiveConfig::Serialize() const {
   if (content_detail > 0) put("content_detail", absl::StrCat(content_detail));
   if (detail_sigma > 0) put("detail_sigma", absl::StrCat(detail_sigma));
   AppendGuardKeys(*this, &s);
+  AppendMovementKeys(*this, &s);
   if (average_from > 0) {
     put("average_from", absl::StrCat(average_from));
     put("average_every", absl::StrCat(average_every));
@@ -152,6 +153,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
     if (key == "content_detail") return e.Double(&c.content_detail, 0, 1);
     if (key == "detail_sigma") return e.Double(&c.detail_sigma, 0, 100);
     if (std::optional<absl::Status> s = ParseGuardKey(e, &c)) return *s;
+    if (std::optional<absl::Status> s = ParseMovementKey(e, &c)) return *s;
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
     if (key == "cycle_weight") return e.Double(&c.cycle_weight, 0, 1e6);
     if (key == "content_class_weight") return e.Double(&c.content_class_weight, 0, 1e6);
@@ -227,7 +229,9 @@ const std::vector<std::string>& ContrastiveConfig::InferenceKeys() {
   static const std::vector<std::string>* keys =
       new std::vector<std::string>{"keep_path",     "smooth_sigma",    "style_strength",
                                    "residual",      "content_detail",  "detail_sigma",
-                                   "content_guard", "guard_strengths", "guard_min_probability"};
+                                   "content_guard", "guard_strengths", "guard_min_probability",
+                                   "movement",      "movement_arms",   "movement_spine",
+                                   "movement_max_cost", "movement_max_mismatch", "movement_fit_stride"};
   return *keys;
 }
 

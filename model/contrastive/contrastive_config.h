@@ -18,7 +18,7 @@ namespace stylus::model {
 // The content guard's keys (GuardKeys, model/config_text.h): a weaker
 // style is the residual form (the content plus the change the style makes)
 // at that strength.
-struct ContrastiveConfig : GuardKeys {
+struct ContrastiveConfig : GuardKeys, MovementKeys {
   // Architecture: fixed when the network is trained.
   int window = 32;     // T frames per window.
   int hop = 24;        // Window stride (overlap T/4).

@@ -96,6 +96,7 @@ ModelSummary ContrastiveModel::summary() const {
 int ContrastiveModel::code_size() const { return impl_->config.channels; }
 const ContentGuard* ContrastiveModel::content_guard() const { return impl_->guard.get(); }
 const GuardKeys& ContrastiveModel::guard_keys() const { return impl_->config; }
+const MovementKeys& ContrastiveModel::movement_keys() const { return impl_->config; }
 
 absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(
     const std::string& dir, const std::string& overrides) {

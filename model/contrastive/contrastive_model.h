@@ -89,6 +89,7 @@ class ContrastiveModel : public StyleModel {
       const StyleWeights& weights, PassBatcher* batcher) const override;
   const ContentGuard* content_guard() const override;
   const GuardKeys& guard_keys() const override;
+  const MovementKeys& movement_keys() const override;
 
  private:
   class ClipForms;

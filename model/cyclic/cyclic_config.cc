@@ -37,6 +37,7 @@ std::string CyclicConfig::Serialize() const {
   if (mirror) put("mirror", "1");
   if (keep_path) put("keep_path", "1");
   AppendGuardKeys(*this, &s);
+  AppendMovementKeys(*this, &s);
   put("use_cycle", use_cycle ? "1" : "0");
   put("use_kc", use_kc ? "1" : "0");
   if (guided) {
@@ -112,6 +113,7 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
     if (key == "adain_skip") return e.Bool(&c.adain_skip);
     if (key == "rotations") return e.Bool(&c.rotations);
     if (std::optional<absl::Status> s = ParseGuardKey(e, &c)) return *s;
+    if (std::optional<absl::Status> s = ParseMovementKey(e, &c)) return *s;
     if (key == "use_kc") return e.Bool(&c.use_kc);
     if (key == "guided") return e.Bool(&c.guided);
     if (key == "class_weight") return e.Double(&c.class_weight, 0, 1e6);
@@ -147,7 +149,12 @@ const std::vector<std::string>& CyclicConfig::InferenceKeys() {
                                    "use_kc",
                                    "content_guard",
                                    "guard_strengths",
-                                   "guard_min_probability"};
+                                   "guard_min_probability",
+                                   "movement",
+                                   "movement_arms",
+                                   "movement_spine",
+                                   "movement_max_cost", "movement_max_mismatch",
+                                   "movement_fit_stride"};
   return *keys;
 }
 

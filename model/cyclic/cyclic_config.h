@@ -16,7 +16,7 @@ namespace stylus::model {
 // The content guard's keys (GuardKeys, model/config_text.h): a weaker style
 // at strength k restyles the hidden features k of the way (the content's
 // own features plus k times the change the style transform makes).
-struct CyclicConfig : GuardKeys {
+struct CyclicConfig : GuardKeys, MovementKeys {
   // Architecture: fixed when the network is trained.
   int window = 60;     // Training window (2 s at 30 fps).
   int hop = 30;        // Window stride (50% overlap).

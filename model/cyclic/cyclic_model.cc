@@ -67,6 +67,7 @@ ModelSummary CyclicModel::summary() const {
 int CyclicModel::code_size() const { return impl_->config.code_size(); }
 const ContentGuard* CyclicModel::content_guard() const { return impl_->guard.get(); }
 const GuardKeys& CyclicModel::guard_keys() const { return impl_->config; }
+const MovementKeys& CyclicModel::movement_keys() const { return impl_->config; }
 
 absl::StatusOr<std::unique_ptr<CyclicModel>> CyclicModel::Load(const std::string& dir,
                                                                const std::string& overrides) {

@@ -51,6 +51,7 @@ class CyclicModel : public StyleModel {
                                                          PassBatcher* batcher) const override;
   const ContentGuard* content_guard() const override;
   const GuardKeys& guard_keys() const override;
+  const MovementKeys& movement_keys() const override;
 
  private:
   class ClipForms;

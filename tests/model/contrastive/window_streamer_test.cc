@@ -76,8 +76,10 @@ TEST(StreamTransferTest, RealClipStreamedMatchesWholeClipTransfer) {
       *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_normal_001.bvh");
   const motion::Motion style = *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_walk_old_001.bvh");
   const StyleCode code = *model->EncodeStyle(style);
-  const motion::Motion whole =
-      model->Transfer(content, code, motion::PostProcessMode::kNone)->motion;
+  // Streams keep the network's movement (docs/movement.md "Streams").
+  TransferOptions network_movement(motion::PostProcessMode::kNone);
+  network_movement.movement_from_examples = false;
+  const motion::Motion whole = model->Transfer(content, code, network_movement)->motion;
   for (int max_chunk : {1, 7, 40}) {
     const motion::Motion streamed = Stream(model, code, content, max_chunk, max_chunk);
     ASSERT_EQ(streamed.num_frames, whole.num_frames);

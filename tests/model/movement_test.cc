@@ -1,0 +1,174 @@
+// Movement from examples with the shipped default package on real Bandai
+// takes: the style clip of the same action, a style library's take for a
+// style shown only by another action, a gesture registered to the content's,
+// and the network's movement kept where no example fits.
+#include "model/movement.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include "gtest/gtest.h"
+#include "model/family_registry.h"
+#include "model/style_model.h"
+#include "motion/bvh.h"
+#include "motion/gait.h"
+#include "motion/kinematics.h"
+#include "motion/metrics.h"
+#include "tests/test_support.h"
+
+namespace stylus::model {
+namespace {
+
+namespace fs = std::filesystem;
+
+class MovementTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    absl::StatusOr<std::unique_ptr<StyleModel>> m = LoadStyleModel(testing::DefaultPackageDir());
+    ASSERT_TRUE(m.ok()) << m.status();
+    model_ = new std::shared_ptr<StyleModel>(*std::move(m));
+  }
+  static void TearDownTestSuite() { delete model_; }
+  const StyleModel& model() { return **model_; }
+  motion::Motion Take(const std::string& data, const std::string& name) {
+    absl::StatusOr<motion::Motion> m =
+        motion::ReadBvhFile(data + "/dataset-2/dataset-2_" + name + ".bvh");
+    EXPECT_TRUE(m.ok()) << m.status();
+    return *m;
+  }
+  TransferResult Transfer(const motion::Motion& content, const motion::Motion& style,
+                          const TransferOptions& options = {}) {
+    absl::StatusOr<StyleCode> code = model().EncodeStyle(style);
+    EXPECT_TRUE(code.ok()) << code.status();
+    absl::StatusOr<TransferResult> r = model().Transfer(content, *code, options);
+    EXPECT_TRUE(r.ok()) << r.status();
+    return *r;
+  }
+  static std::shared_ptr<StyleModel>* model_;
+};
+std::shared_ptr<StyleModel>* MovementTest::model_ = nullptr;
+
+TEST_F(MovementTest, TheDefaultPackageTakesItsMovementFromExamples) {
+  EXPECT_TRUE(model().moves_from_examples());
+}
+
+TEST_F(MovementTest, AnElderlyWalkOnANormalWalksPathTakesMoreShorterSteps) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const motion::Motion content = Take(data, "walk_normal_004");
+  const motion::Motion style = Take(data, "walk_elderly_003");
+  const TransferResult r = Transfer(content, style);
+  ASSERT_TRUE(r.movement.applied) << r.movement.reason;
+  EXPECT_EQ(r.movement.example, "style clip");
+  EXPECT_EQ(r.movement.kind, "steps");
+  ASSERT_EQ(r.motion.num_frames, content.num_frames);
+  ASSERT_TRUE(r.contacts.has_value());
+  const motion::HumanoidRoles& roles = model().data().roles;
+  const motion::GaitSummary c = motion::MeasureGait(content, roles)->summary;
+  const motion::GaitSummary e = motion::MeasureGait(style, roles)->summary;
+  const motion::GaitSummary o = motion::MeasureGait(r.motion, roles)->summary;
+  ASSERT_TRUE(c.cadence && e.cadence && o.cadence);
+  // The content's speed and path; the style's cadence scaled by its walk
+  // ratio: sqrt(1.16 / 0.79) faster than the elderly take's own.
+  EXPECT_NEAR(o.speed, c.speed, 0.05 * c.speed);
+  const double want = e.cadence->period_s / std::sqrt(c.speed / e.speed);
+  EXPECT_NEAR(o.cadence->period_s, want, 0.1 * want);
+  EXPECT_LT(o.cadence->period_s, 0.9 * c.cadence->period_s);
+  EXPECT_LT(o.stride, 0.95 * c.stride);
+  // Planted on its own contacts: skating there no worse than real capture's
+  // (x1.2), and no foot below the floor.
+  const double skating = motion::FootSkatingOnSpans(r.motion, *r.contacts, roles);
+  const double real = motion::FootSkating(content, content, roles);
+  EXPECT_LT(skating, 1.2 * real) << skating << " vs real " << real;
+  double floor = 1e300, lowest = 1e300;
+  for (const auto& p : motion::GlobalPositions(content)) floor = std::min(floor, p[roles.left_toe].y);
+  for (const auto& p : motion::GlobalPositions(r.motion)) {
+    for (int j : {roles.left_toe, roles.right_toe, roles.left_ankle, roles.right_ankle})
+      lowest = std::min(lowest, p[j].y);
+  }
+  EXPECT_GT(lowest, floor - 0.03 * roles.leg_length);
+}
+
+TEST_F(MovementTest, ARaiseIsRegisteredToTheContentsRaise) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const motion::Motion content = Take(data, "raise-up-right-hand_normal_003");
+  const motion::Motion style = Take(data, "raise-up-right-hand_exhausted_002");
+  const TransferResult r = Transfer(content, style);
+  ASSERT_TRUE(r.movement.applied) << r.movement.reason;
+  EXPECT_EQ(r.movement.kind, "gesture");
+  // The hand is highest when the content's is (within a fifth of a second).
+  const motion::HumanoidRoles& roles = model().data().roles;
+  auto peak = [&](const motion::Motion& m) {
+    const auto pos = motion::GlobalPositions(m);
+    int best = 0;
+    // The right hand: two joints below the right upper arm.
+    int hand = roles.right_shoulder;
+    for (int k = 0; k < 2; ++k) hand = m.skeleton.children(hand).front();
+    for (size_t f = 0; f < pos.size(); ++f)
+      if (pos[f][hand].y > pos[best][hand].y) best = static_cast<int>(f);
+    return best;
+  };
+  EXPECT_NEAR(peak(r.motion), peak(content), 0.2 / content.frame_time);
+}
+
+TEST_F(MovementTest, WithoutAnExampleOfTheContentsMovementTheNetworksIsKept) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const motion::Motion content = Take(data, "walk_normal_004");
+  const motion::Motion style = Take(data, "raise-up-left-hand_elderly_004");
+  const TransferResult r = Transfer(content, style);
+  EXPECT_FALSE(r.movement.applied);
+  EXPECT_NE(r.movement.reason.find("steps"), std::string::npos) << r.movement.reason;
+  TransferOptions network_only;
+  network_only.movement_from_examples = false;
+  const TransferResult n = Transfer(content, style, network_only);
+  EXPECT_EQ(r.motion.values, n.motion.values);
+  EXPECT_FALSE(r.contacts.has_value());
+}
+
+TEST_F(MovementTest, AStyleShownOnlyByAGestureWalksInItsStyleFromALibrary) {
+  STYLUS_REQUIRE_BANDAI(data);
+  // A library folder of links to three takes (the data stays where it is).
+  const std::string lib = ::testing::TempDir() + "/movement_library";
+  fs::remove_all(lib);
+  fs::create_directories(lib);
+  for (const char* name : {"walk_elderly_003", "walk_youthful_002", "raise-up-left-hand_elderly_004"}) {
+    const std::string file = std::string("dataset-2_") + name + ".bvh";
+    fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), lib + "/" + file);
+  }
+  std::ofstream(lib + "/notes.bvh") << "not a labelled take";  // Skipped, not fatal.
+  absl::StatusOr<std::unique_ptr<StyleLibrary>> library = StyleLibrary::Load(lib);
+  ASSERT_TRUE(library.ok()) << library.status();
+  EXPECT_EQ((*library)->takes().size(), 3u);
+  ASSERT_EQ((*library)->skipped().size(), 1u);
+  EXPECT_EQ((*library)->Styles(), (std::vector<std::string>{"elderly", "youthful"}));
+
+  const motion::Motion content = Take(data, "walk_normal_004");
+  const motion::Motion style = Take(data, "raise-up-right-hand_elderly_009");
+  TransferOptions options;
+  options.movement.library = library->get();
+  options.movement.style_label = "elderly";
+  const TransferResult r = Transfer(content, style, options);
+  ASSERT_TRUE(r.movement.applied) << r.movement.reason;
+  EXPECT_EQ(r.movement.example, "dataset-2_walk_elderly_003.bvh");
+  EXPECT_EQ(r.movement.kind, "steps");
+  options.movement.style_label = "youthful";
+  EXPECT_EQ(Transfer(content, style, options).movement.example, "dataset-2_walk_youthful_002.bvh");
+  // A style the library lacks: the network's movement, and the note says why.
+  options.movement.style_label = "masculine";
+  const TransferResult none = Transfer(content, style, options);
+  EXPECT_FALSE(none.movement.applied);
+  EXPECT_NE(none.movement.reason.find("no take of 'masculine'"), std::string::npos)
+      << none.movement.reason;
+}
+
+TEST(StyleLibraryTest, AFolderWithoutLabelledTakesIsRefusedByName) {
+  const std::string dir = ::testing::TempDir() + "/empty_library";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  absl::StatusOr<std::unique_ptr<StyleLibrary>> lib = StyleLibrary::Load(dir);
+  EXPECT_EQ(lib.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_NE(lib.status().message().find(dir), std::string::npos) << lib.status();
+  EXPECT_EQ(StyleLibrary::Load(dir + "/missing").status().code(), absl::StatusCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace stylus::model

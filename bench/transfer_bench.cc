@@ -104,8 +104,9 @@ int main(int argc, char** argv) {
     }
   }
   if (moves) {
-    std::printf("movement: %s\n", movement.applied ? (movement.kind + " from the " + movement.example).c_str()
-                                                    : ("the network's: " + movement.reason).c_str());
+    std::printf("movement: %s\n", movement.applied
+                                      ? (movement.kind + " from the " + movement.example).c_str()
+                                      : ("the network's: " + movement.reason).c_str());
   }
   // A package's content guard makes a transfer again in each residual form
   // until its action reads right: say which form the timed transfer was.

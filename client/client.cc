@@ -178,6 +178,7 @@ absl::StatusOr<motion::Motion> Client::Transfer(const motion::Motion& content, c
   request.set_model(options.model);
   request.set_postprocess(options.postprocess);
   request.set_timing(options.timing);
+  request.set_fit_frames(options.fit_frames);
   wire::ClipToProto(content, request.mutable_content());
   wire::JointMapToProto(options.joint_map, request.mutable_content()->mutable_skeleton());
   if (absl::Status s = SetStyle(style, request.mutable_style()); !s.ok()) return s;
@@ -186,6 +187,10 @@ absl::StatusOr<motion::Motion> Client::Transfer(const motion::Motion& content, c
   if (!s.ok()) return FromGrpcStatus(s);
   if (options.content_guard != nullptr) *options.content_guard = response.content_guard();
   if (options.time_warp != nullptr) *options.time_warp = response.time_warp();
+  if (options.movement != nullptr) *options.movement = response.movement();
+  if (options.contacts != nullptr) {
+    options.contacts->assign(response.contacts().begin(), response.contacts().end());
+  }
   return wire::ClipFromProto(response.output(), "server's output");
 }
 

@@ -62,6 +62,12 @@ struct CallOptions {
   // `time_warp` (when set) receives what was done.
   v1::Timing timing = v1::TIMING_CONTENT;
   v1::TimeWarp* time_warp = nullptr;
+  // Transfer: an exact output length in frames (0: none; 0.5-2x the content's).
+  int fit_frames = 0;
+  // Transfer and Interpolate: when set, receives where the output's movement
+  // came from (packages with movement from examples) and its foot contacts.
+  v1::MovementNote* movement = nullptr;
+  std::vector<v1::FootContact>* contacts = nullptr;
   // For a content clip (or stream) on another rig than the model's: roles
   // the server should not guess (motion/rig_roles.h), sent with its skeleton.
   motion::JointMap joint_map = {};

@@ -160,6 +160,15 @@ int Transfer(stylus::Client& client, const Args& a) {
                                 "--timing must be content or style, not '", timing, "'")));
   }
   opts->timing = timing == "style" ? stylus::v1::TIMING_STYLE : stylus::v1::TIMING_CONTENT;
+  if (a.Has("fit-frames")) {
+    if (!absl::SimpleAtoi(a.Get("fit-frames"), &opts->fit_frames) || opts->fit_frames < 2) {
+      return Fail("transfer", absl::InvalidArgumentError(absl::StrCat(
+                                  "--fit-frames wants a frame count of 2 or more, not '",
+                                  a.Get("fit-frames"), "'")));
+    }
+  }
+  stylus::v1::MovementNote movement;
+  opts->movement = &movement;
   stylus::v1::ContentGuardNote guard;
   opts->content_guard = &guard;
   stylus::v1::TimeWarp warp;
@@ -170,12 +179,19 @@ int Transfer(stylus::Client& client, const Args& a) {
     return Fail("transfer", s);
   }
   std::string warp_note;
-  if (opts->timing == stylus::v1::TIMING_STYLE) {
-    warp_note = warp.applied()
-                    ? absl::StrFormat(
-                          " (style timing: cadence %.2f s -> %.2f s, played %.2fx as long)",
-                          warp.content_period_s(), warp.style_period_s(), warp.ratio())
-                    : absl::StrCat(" (style timing not applied: ", warp.reason(), ")");
+  if (opts->timing == stylus::v1::TIMING_STYLE || opts->fit_frames > 0) {
+    warp_note =
+        !warp.applied() ? absl::StrCat(" (style timing not applied: ", warp.reason(), ")")
+        : warp.style_period_s() > 0
+            ? absl::StrFormat(" (style timing: cadence %.2f s -> %.2f s, played %.2fx as long)",
+                              warp.content_period_s(), warp.style_period_s(), warp.ratio())
+            : absl::StrFormat(" (played %.2fx as long)", warp.ratio());
+  }
+  if (!movement.kind().empty() || !movement.reason().empty()) {
+    warp_note +=
+        movement.applied()
+            ? absl::StrFormat(" (movement: %s from %s)", movement.kind(), movement.example())
+            : absl::StrCat(" (movement: the network's; ", movement.reason(), ")");
   }
   absl::PrintF("wrote %s (%d frames)%s%s\n", a.Get("out"), out->num_frames,
                guard.backed_off()
@@ -380,11 +396,16 @@ const std::vector<Command>& Commands() {
       {"unload", "unload a model", "--model NAME/VERSION", {"model"}, false, Unload},
       {"transfer",
        "restyle a clip",
-       "--content C.bvh (--style S.bvh | --style-name N) -o OUT.bvh [--timing content|style]\n\n"
-       "  --timing style           the output takes the style's cadence by a uniform\n"
-       "                           time warp (0.5-2x; its length changes); a clip whose\n"
-       "                           motion does not repeat keeps the content's timing",
-       {"content", "style", "style-name", "out", "timing"},
+       "--content C.bvh (--style S.bvh | --style-name N) -o OUT.bvh [--timing content|style]\n"
+       "         [--fit-frames N]\n\n"
+       "  --timing style           the output takes the style's pace: with a package whose\n"
+       "                           movement comes from examples (the default), the\n"
+       "                           content's path at the example's speed, else the style's\n"
+       "                           cadence by a uniform time warp (0.5-2x; its length\n"
+       "                           changes); a clip whose motion does not repeat keeps\n"
+       "                           the content's timing\n"
+       "  --fit-frames N           exactly N output frames (0.5-2x the content's)",
+       {"content", "style", "style-name", "out", "timing", "fit-frames"},
        true,
        Transfer},
       {"interpolate",

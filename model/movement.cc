@@ -47,7 +47,8 @@ absl::StatusOr<std::unique_ptr<StyleLibrary>> StyleLibrary::Load(
       label = motion::ParseClipName(path);
     }
     if (!label) {
-      lib->skipped_.push_back(path + ": no style label (name it dataset-N_{action}_{style}_{take}"
+      lib->skipped_.push_back(path +
+                              ": no style label (name it dataset-N_{action}_{style}_{take}"
                               ".bvh or list it in a labels CSV)");
       continue;
     }
@@ -60,7 +61,8 @@ absl::StatusOr<std::unique_ptr<StyleLibrary>> StyleLibrary::Load(
     lib->clips_.push_back(*std::move(clip));
   }
   if (lib->takes_.empty()) {
-    return absl::NotFoundError(absl::StrCat("style library ", dir, ": no labelled .bvh take in it"));
+    return absl::NotFoundError(
+        absl::StrCat("style library ", dir, ": no labelled .bvh take in it"));
   }
   return lib;
 }
@@ -181,10 +183,10 @@ std::optional<std::pair<double, motion::Registration>> Fit(const motion::Movemen
 
 }  // namespace
 
-absl::StatusOr<std::optional<motion::MovementResult>> MoveFromExamples(
-    const StyleModel& model, const motion::Motion& network, const motion::Motion& content,
-    const std::vector<StyleCode>& styles, const std::vector<double>& shares,
-    const MovementKeys& keys, const MovementRequest& request, MovementNote* note) {
+absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
+    const StyleModel& model, const motion::Motion& content, const std::vector<StyleCode>& styles,
+    const std::vector<double>& shares, const MovementKeys& keys, const MovementRequest& request,
+    MovementNote* note) {
   *note = MovementNote{};
   size_t main = 0;
   for (size_t k = 1; k < styles.size() && k < shares.size(); ++k) {
@@ -192,64 +194,82 @@ absl::StatusOr<std::optional<motion::MovementResult>> MoveFromExamples(
   }
   absl::StatusOr<motion::MovementClip> read = motion::AnalyzeMovement(content, model.data().roles);
   if (!read.ok()) return read.status();
-  const motion::MovementClip& mine = *read;
+  ChosenExample chosen;
+  chosen.content = std::make_shared<const motion::MovementClip>(*std::move(read));
+  const motion::MovementClip& mine = *chosen.content;
 
   // Every example of the style competes: the style clip and the library's
   // takes of the style; the one that shows the content's movement best wins.
-  const motion::MovementClip* example = nullptr;
-  std::optional<motion::Registration> reg;
   double best = std::numeric_limits<double>::infinity();
   std::string why;
-  auto consider = [&](const motion::MovementClip& e, const std::string& name) {
+  auto consider = [&](const std::shared_ptr<const motion::MovementClip>& e,
+                      const std::string& name) {
     std::string reason;
-    std::optional<std::pair<double, motion::Registration>> fit = Fit(mine, e, keys, &reason);
+    std::optional<std::pair<double, motion::Registration>> fit = Fit(mine, *e, keys, &reason);
     if (!fit) {
       if (why.empty()) why = absl::StrCat(name, ": ", reason);
       return;
     }
     if (fit->first < best) {
       best = fit->first;
-      example = &e;
-      reg = std::move(fit->second);
+      chosen.example = e;
+      chosen.registration = std::move(fit->second);
       note->example = name;
     }
   };
-  if (styles[main].example) consider(*styles[main].example, "style clip");
-  std::shared_ptr<const StyleLibrary::Converted> lib;
+  if (styles[main].example) consider(styles[main].example, "style clip");
   if (request.library != nullptr) {
-    absl::StatusOr<std::shared_ptr<const StyleLibrary::Converted>> converted =
+    absl::StatusOr<std::shared_ptr<const StyleLibrary::Converted>> lib =
         request.library->For(model);
-    if (!converted.ok()) return converted.status();
-    lib = *std::move(converted);
+    if (!lib.ok()) return lib.status();
     const std::string label = !request.style_label.empty()
                                   ? request.style_label
-                                  : NearestLibraryStyle(*lib, styles[main]);
+                                  : NearestLibraryStyle(**lib, styles[main]);
     const std::vector<LibraryTake>& takes = request.library->takes();
     int of_style = 0;
     for (size_t i = 0; i < takes.size(); ++i) {
       if (takes[i].style != label) continue;
       ++of_style;
-      consider(*lib->clips[i], fs::path(takes[i].path).filename().string());
+      consider((*lib)->clips[i], fs::path(takes[i].path).filename().string());
     }
     if (of_style == 0) {
       why = absl::StrCat(why.empty() ? "" : why + "; ", "the library has no take of '", label, "'");
     }
   }
-  if (example == nullptr) {
+  if (chosen.example == nullptr) {
     note->reason = why.empty() ? "no example of the style (no style clip, no library)" : why;
-    return std::optional<motion::MovementResult>();
+    return std::optional<ChosenExample>();
   }
+  note->kind = chosen.registration.kind == motion::Registration::Kind::kSteps ? "steps" : "gesture";
+  note->cost = best;
+  note->rate = chosen.registration.rate;
+  return std::optional<ChosenExample>(std::move(chosen));
+}
+
+double StylePace(const ChosenExample& chosen) {
+  if (chosen.registration.kind == motion::Registration::Kind::kSteps) {
+    return std::max(chosen.content->step_speed, 1e-3) / std::max(chosen.example->step_speed, 1e-3);
+  }
+  return chosen.registration.rate;
+}
+
+absl::StatusOr<std::optional<motion::MovementResult>> MoveFromExamples(
+    const StyleModel& model, const motion::Motion& network, const motion::Motion& content,
+    const std::vector<StyleCode>& styles, const std::vector<double>& shares,
+    const MovementKeys& keys, const MovementRequest& request, MovementNote* note) {
+  absl::StatusOr<std::optional<ChosenExample>> chosen =
+      ChooseExample(model, content, styles, shares, keys, request, note);
+  if (!chosen.ok()) return chosen.status();
+  if (!chosen->has_value()) return std::optional<motion::MovementResult>();
+  const ChosenExample& c = **chosen;
   motion::MovementOptions options;
   options.arms = *motion::ParsePartSource(keys.movement_arms);
   options.spine = *motion::ParsePartSource(keys.movement_spine);
   options.fit_stride = keys.movement_fit_stride;
   absl::StatusOr<motion::MovementResult> moved =
-      motion::ApplyMovement(network, mine, *example, *reg, options);
+      motion::ApplyMovement(network, *c.content, *c.example, c.registration, options);
   if (!moved.ok()) return moved.status();
   note->applied = true;
-  note->kind = reg->kind == motion::Registration::Kind::kSteps ? "steps" : "gesture";
-  note->cost = best;
-  note->rate = reg->rate;
   return std::optional<motion::MovementResult>(*std::move(moved));
 }
 

@@ -67,7 +67,7 @@ class StyleLibrary {
   // registration; the first call for a model converts and reads all takes.
   struct Converted {
     std::vector<std::shared_ptr<const motion::MovementClip>> clips;  // Per take.
-    std::map<std::string, std::vector<float>> mean_code;              // Per style.
+    std::map<std::string, std::vector<float>> mean_code;             // Per style.
   };
   absl::StatusOr<std::shared_ptr<const Converted>> For(const StyleModel& model) const;
 
@@ -90,6 +90,24 @@ struct MovementRequest {
   // codes are nearest the style's.
   std::string style_label;
 };
+
+// The example a transfer of `content` (at the model's rate, on its
+// skeleton) takes its movement from: of the dominant style of `styles` (the
+// largest share), the style clip or a library take, whichever shows the
+// content's movement best. nullopt (with the note's reason) when none does.
+struct ChosenExample {
+  std::shared_ptr<const motion::MovementClip> content, example;
+  motion::Registration registration;
+};
+absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
+    const StyleModel& model, const motion::Motion& content, const std::vector<StyleCode>& styles,
+    const std::vector<double>& shares, const MovementKeys& keys, const MovementRequest& request,
+    MovementNote* note);
+
+// How many times as long the content takes at the example's pace: steps,
+// the content's path at the example's speed (content speed / example speed);
+// a gesture, the example's duration over the content's.
+double StylePace(const ChosenExample& chosen);
 
 // The network's output `network` of `content` (both at the model's rate, on
 // its skeleton) with the movement of an example of the dominant style of

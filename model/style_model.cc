@@ -67,8 +67,7 @@ absl::StatusOr<TransferResult> StyleModel::Transfer(const motion::Motion& conten
 namespace {
 
 // Each style's share: its fixed weight, or its mean weight over the frames.
-std::vector<double> StyleShares(const std::vector<StyleCode>& styles,
-                                const StyleWeights& weights) {
+std::vector<double> StyleShares(const std::vector<StyleCode>& styles, const StyleWeights& weights) {
   std::vector<double> share(styles.size(), 0);
   for (size_t k = 0; k < styles.size(); ++k) {
     if (weights.per_frame.empty()) {
@@ -126,16 +125,105 @@ TimeWarpNote StyleTiming(const motion::Motion& content, const std::vector<StyleC
 
 }  // namespace
 
+absl::StatusOr<motion::Motion> StyleModel::OnModel(const motion::Motion& clip,
+                                                   const motion::JointMap& joint_map) const {
+  motion::Motion m = clip;
+  if (clip.num_frames > 0 && !clip.skeleton.SameTopology(data().skeleton)) {
+    absl::StatusOr<std::unique_ptr<motion::Retargeter>> r =
+        RetargeterFor(clip, joint_map, "content clip");
+    if (!r.ok()) return r.status();
+    m = (*r)->ToModel(clip);
+  }
+  if (!motion::SameRate(m.frame_time, data().frame_time) && m.num_frames > 0) {
+    if (absl::Status s = motion::CheckServedRate(m.frame_time, "content clip"); !s.ok()) return s;
+    m = motion::Resample(m, data().frame_time);
+  }
+  return m;
+}
+
+namespace {
+
+// `weights` for `content` played `ratio` times as long: each output
+// frame's row the nearest content frame's.
+StyleWeights WarpWeights(const StyleWeights& weights, int content_frames, int frames,
+                         double ratio) {
+  StyleWeights out{weights.fixed, {}};
+  for (int k = 0; k < frames && !weights.per_frame.empty(); ++k) {
+    const int f = std::clamp(static_cast<int>(std::lround(k / ratio)), 0, content_frames - 1);
+    out.per_frame.push_back(weights.per_frame[f]);
+  }
+  return out;
+}
+
+void FillContentTimes(double frame_time, int frames, TimeWarpNote* note) {
+  note->content_time_s.resize(frames);
+  for (int k = 0; k < frames; ++k) note->content_time_s[k] = k * frame_time / note->ratio;
+}
+
+}  // namespace
+
 absl::StatusOr<TransferResult> StyleModel::Interpolate(const motion::Motion& content,
                                                        const std::vector<StyleCode>& styles,
                                                        const StyleWeights& weights,
                                                        const TransferOptions& options) const {
+  const int n = content.num_frames;
+  std::optional<double> fit_ratio;
+  if (options.fit_frames > 0) {
+    const double r = n > 1 ? static_cast<double>(options.fit_frames - 1) / (n - 1) : 0;
+    if (n < 2 || r < kMinTimeWarp - 1e-9 || r > kMaxTimeWarp + 1e-9) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("fit_frames ", options.fit_frames, " is not within ", kMinTimeWarp, "-",
+                       kMaxTimeWarp, "x the content clip's ", n, " frames"));
+    }
+    fit_ratio = r;
+  }
+  if (options.timing == Timing::kContent && !fit_ratio) {
+    return InterpolateInContentTime(content, styles, weights, options);
+  }
+  if (absl::Status s = CheckStyleMix(styles, weights, n, code_size()); !s.ok()) return s;
+  if (options.movement_from_examples && moves_from_examples()) {
+    // A pace: the content played at the example's pace (or to fit_frames)
+    // before the transfer, so the example's steps are played as they were.
+    TimeWarpNote note;
+    if (fit_ratio) {
+      note.ratio = *fit_ratio;
+    } else {
+      absl::StatusOr<motion::Motion> on_model = OnModel(content, options.joint_map);
+      if (!on_model.ok()) return on_model.status();
+      MovementNote why;
+      absl::StatusOr<std::optional<ChosenExample>> chosen =
+          ChooseExample(*this, *on_model, styles, StyleShares(styles, weights), movement_keys(),
+                        options.movement, &why);
+      if (!chosen.ok()) return chosen.status();
+      if (!chosen->has_value()) {
+        absl::StatusOr<TransferResult> result =
+            InterpolateInContentTime(content, styles, weights, options);
+        if (result.ok()) result->warp.reason = absl::StrCat("no example to pace by: ", why.reason);
+        return result;
+      }
+      note.ratio = std::clamp(StylePace(**chosen), kMinTimeWarp, kMaxTimeWarp);
+    }
+    note.applied = true;
+    const motion::Motion warped = motion::TimeWarp(content, note.ratio);
+    absl::StatusOr<TransferResult> result = InterpolateInContentTime(
+        warped, styles, WarpWeights(weights, n, warped.num_frames, note.ratio), options);
+    if (!result.ok()) return result;
+    FillContentTimes(content.frame_time, result->motion.num_frames, &note);
+    result->warp = std::move(note);
+    return result;
+  }
   absl::StatusOr<TransferResult> result =
       InterpolateInContentTime(content, styles, weights, options);
-  if (!result.ok() || options.timing == Timing::kContent) return result;
-  result->warp = StyleTiming(content, styles, weights);
+  if (!result.ok()) return result;
+  if (fit_ratio) {
+    result->warp.applied = true;
+    result->warp.ratio = *fit_ratio;
+  } else {
+    result->warp = StyleTiming(content, styles, weights);
+  }
   if (result->warp.applied) {
     result->motion = motion::TimeWarp(result->motion, result->warp.ratio);
+    FillContentTimes(content.frame_time, result->motion.num_frames, &result->warp);
     if (result->contacts) {
       for (auto& spans : *result->contacts) {
         for (motion::ContactSpan& s : spans) {
@@ -235,24 +323,35 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
   // kept.
   std::optional<std::array<std::vector<motion::ContactSpan>, 4>> own_contacts;
   if (options.movement_from_examples && movement_keys().movement_examples) {
-    absl::StatusOr<std::optional<motion::MovementResult>> moved =
-        MoveFromExamples(*this, *out, content, styles, StyleShares(styles, weights),
-                         movement_keys(), options.movement, &result.movement);
-    if (!moved.ok()) return moved.status();
-    bool keep = moved->has_value();
-    if (keep && guard != nullptr) {
-      absl::StatusOr<motion::FeatureClip> read = normalized((*moved)->motion);
-      if (!read.ok()) return read.status();
-      if (!guard->Keeps(*read, action, guard_keys().guard_min_probability)) {
-        keep = false;
-        result.movement = MovementNote{};
-        result.movement.reason =
-            "the content guard read another action with the example's movement";
+    // The configured parts first; when the guard reads another action in
+    // them, the legs and pelvis alone (the arms and spine the network's).
+    MovementKeys keys = movement_keys();
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      absl::StatusOr<std::optional<motion::MovementResult>> moved =
+          MoveFromExamples(*this, *out, content, styles, StyleShares(styles, weights), keys,
+                           options.movement, &result.movement);
+      if (!moved.ok()) return moved.status();
+      if (!moved->has_value()) break;
+      bool keep = true;
+      // A paced transfer (the content played at the example's pace) is the
+      // example's steps by request: the guard, trained on clips at their own
+      // pace, reads slowed content as other actions too often to judge it.
+      const bool paced = options.timing == Timing::kStyle || options.fit_frames > 0;
+      if (guard != nullptr && !paced) {
+        absl::StatusOr<motion::FeatureClip> read = normalized((*moved)->motion);
+        if (!read.ok()) return read.status();
+        keep = guard->Keeps(*read, action, guard_keys().guard_min_probability);
       }
-    }
-    if (keep) {
-      *out = std::move((*moved)->motion);
-      own_contacts = std::move((*moved)->contacts);
+      if (keep) {
+        if (attempt > 0) result.movement.example += " (legs and pelvis only)";
+        *out = std::move((*moved)->motion);
+        own_contacts = std::move((*moved)->contacts);
+        break;
+      }
+      result.movement = MovementNote{};
+      result.movement.reason = "the content guard read another action with the example's movement";
+      if (keys.movement_arms == "network" && keys.movement_spine == "network") break;
+      keys.movement_arms = keys.movement_spine = "network";
     }
   }
   if (&original != &content) {
@@ -261,8 +360,10 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
       const double scale = content.frame_time / original.frame_time;
       for (auto& spans : *own_contacts) {
         for (motion::ContactSpan& s : spans) {
-          s.begin = std::clamp(static_cast<int>(std::lround(s.begin * scale)), 0, original.num_frames);
-          s.end = std::clamp(static_cast<int>(std::lround(s.end * scale)), s.begin, original.num_frames);
+          s.begin =
+              std::clamp(static_cast<int>(std::lround(s.begin * scale)), 0, original.num_frames);
+          s.end = std::clamp(static_cast<int>(std::lround(s.end * scale)), s.begin,
+                             original.num_frames);
         }
       }
     }
@@ -272,8 +373,8 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
   } else {
     motion::PostProcessParams params;
     if (own_contacts) params.contact_spans = &*own_contacts;
-    absl::StatusOr<motion::Motion> clean = motion::PostProcess(
-        *out, own_contacts ? *out : original, data().roles, options.post, params);
+    absl::StatusOr<motion::Motion> clean = motion::PostProcess(*out, own_contacts ? *out : original,
+                                                               data().roles, options.post, params);
     if (!clean.ok()) return clean.status();
     result.motion = *std::move(clean);
   }
@@ -307,7 +408,8 @@ absl::StatusOr<StyleCode> StyleModel::EncodeAnyRigStyle(const motion::Motion& cl
   if (!same_rate) {
     if (absl::Status s = motion::CheckServedRate(clip.frame_time, "style clip"); !s.ok()) return s;
   }
-  const motion::Motion resampled = same_rate ? motion::Motion{} : motion::Resample(clip, data().frame_time);
+  const motion::Motion resampled =
+      same_rate ? motion::Motion{} : motion::Resample(clip, data().frame_time);
   const motion::Motion& at_model = same_rate ? clip : resampled;
   absl::StatusOr<StyleCode> code = EncodeModelRateStyle(at_model);
   if (!code.ok()) return code;

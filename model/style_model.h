@@ -81,6 +81,8 @@ struct TimeWarpNote {
   // harmonic (content_period_s x ratio).
   double content_period_s = 0, style_period_s = 0;
   std::string reason;  // Why no warp was applied (when not applied).
+  // Per output frame, the content instant (seconds) it plays (when applied).
+  std::vector<double> content_time_s;
 };
 
 struct TransferResult {
@@ -116,6 +118,10 @@ struct TransferOptions {
   // [kMinTimeWarp, kMaxTimeWarp]), so it has another length. When either has
   // no cadence the output keeps the content's timing and the note says why.
   Timing timing = Timing::kContent;
+  // An exact output length (frames at the content's rate; 0: none): the
+  // content is played at the pace that fills it, within [kMinTimeWarp,
+  // kMaxTimeWarp] of its own length (INVALID_ARGUMENT outside).
+  int fit_frames = 0;
   // With a package whose movement comes from examples (MovementKeys): false
   // keeps the network's; `movement.library` adds a style library's takes to
   // the style clip as examples.
@@ -182,7 +188,11 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // on another humanoid rig is retargeted onto the model's skeleton, and the
   // output (post-processed there) back onto the content's rig, frame for
   // frame (motion/retarget.h).
-  // With options.timing kStyle, see TransferOptions::timing.
+  // With options.timing kStyle, see TransferOptions::timing; with a package
+  // whose movement comes from examples, kStyle is a pace: the content is
+  // played at the example's pace first (its path at the example's speed, a
+  // gesture in the example's time), so the steps are the example's own, and
+  // the output's length changes (TimeWarpNote::content_time_s maps it).
   // INVALID_ARGUMENT for a clip, codes or weights the model cannot take;
   // INTERNAL when LibTorch fails.
   absl::StatusOr<TransferResult> Interpolate(const motion::Motion& content,
@@ -225,6 +235,9 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
                                                           const std::vector<StyleCode>& styles,
                                                           const StyleWeights& weights,
                                                           const TransferOptions& options) const;
+  // `clip` on the model's skeleton at its rate.
+  absl::StatusOr<motion::Motion> OnModel(const motion::Motion& clip,
+                                         const motion::JointMap& joint_map) const;
   // EncodeStyle without the cadence.
   absl::StatusOr<StyleCode> EncodeAnyRigStyle(const motion::Motion& clip,
                                               const motion::JointMap& joint_map) const;
@@ -278,7 +291,6 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   bool moves_from_examples() const { return movement_keys().movement_examples; }
 
  protected:
-
  private:
   mutable std::once_flag rig_once_;
   mutable absl::StatusOr<std::shared_ptr<const motion::ModelRig>> rig_;

@@ -7,12 +7,12 @@
 #include <fstream>
 #include <set>
 
+#include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
-#include "absl/strings/ascii.h"
 
 namespace stylus::motion {
 
@@ -168,7 +168,9 @@ absl::StatusOr<std::map<std::string, ClipLabel>> ReadLabelsCsv(const std::string
           absl::StrCat(csv, ":", n, ": expected clip,content,style (e.g. take1.bvh,walk,angry)"));
     }
     for (std::string& c : cols) c = std::string(absl::StripAsciiWhitespace(c));
-    const std::filesystem::path clip = std::filesystem::path(cols[0]).is_absolute() ? std::filesystem::path(cols[0]) : dir / cols[0];
+    const std::filesystem::path clip = std::filesystem::path(cols[0]).is_absolute()
+                                           ? std::filesystem::path(cols[0])
+                                           : dir / cols[0];
     ClipLabel label;
     label.dataset = "labels";
     label.content = cols[1];

@@ -7,7 +7,6 @@
 #include "absl/strings/str_cat.h"
 #include "motion/cadence.h"
 #include "motion/contacts.h"
-#include "motion/ik.h"
 #include "motion/kinematics.h"
 #include "motion/splice.h"
 
@@ -91,7 +90,9 @@ Sample At(double t, int m) {
   return {i0, std::min(m - 1, i0 + 1), t - i0};
 }
 Vec3 Lerp(const Vec3& a, const Vec3& b, double t) { return a + (b - a) * t; }
-Quat SlerpShort(const Quat& a, const Quat& b, double t) { return Slerp(a, SameHemisphere(b, a), t); }
+Quat SlerpShort(const Quat& a, const Quat& b, double t) {
+  return Slerp(a, SameHemisphere(b, a), t);
+}
 
 // Each joint's local rotation smoothed over time (quaternions kept on one
 // hemisphere, renormalized): a clip's posture without its movement.
@@ -139,8 +140,8 @@ const char* PartSourceName(PartSource source) {
   return "network";
 }
 
-std::array<std::vector<ContactSpan>, 4> SpansFromFlags(const std::array<std::vector<bool>, 4>& flags,
-                                                        int min_frames) {
+std::array<std::vector<ContactSpan>, 4> SpansFromFlags(
+    const std::array<std::vector<bool>, 4>& flags, int min_frames) {
   std::array<std::vector<ContactSpan>, 4> spans;
   for (int k = 0; k < 4; ++k) {
     const int n = static_cast<int>(flags[k].size());
@@ -173,8 +174,7 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
     const int fore = MainChild(sk, upper);
     const int hand = fore < 0 ? -1 : MainChild(sk, fore);
     if (hand < 0) {
-      return absl::InvalidArgumentError(absl::StrCat("movement: the arm at '",
-                                                     sk.joint(upper).name,
+      return absl::InvalidArgumentError(absl::StrCat("movement: the arm at '", sk.joint(upper).name,
                                                      "' has no forearm and hand below it"));
     }
     m.arms[side] = {upper, fore, hand};
@@ -210,8 +210,7 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
     const int a = std::max(0, f - 1), b = std::min(n - 1, f + 1);
     m.speed[f] = Norm(m.floor_path[b] - m.floor_path[a]) * fps / (b - a) / leg;
   }
-  const std::array<std::vector<ContactSpan>, 4> spans =
-      DetectContactSpans(m.positions, roles, fps);
+  const std::array<std::vector<ContactSpan>, 4> spans = DetectContactSpans(m.positions, roles, fps);
   for (int k = 0; k < 4; ++k) {
     m.contact[k].assign(n, false);
     for (const ContactSpan& s : spans[k]) {
@@ -224,11 +223,11 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
     lowest[f] = 1e300;
     for (int j : feet) lowest[f] = std::min(lowest[f], m.positions[f][j].y);
   }
-  m.floor_height = Percentile(lowest, 0.05);
+  m.floor_height = *std::min_element(lowest.begin(), lowest.end());
 
   const int knees[2] = {sk.joint(roles.left_ankle).parent, sk.joint(roles.right_ankle).parent};
-  const int gait_joints[6] = {knees[0], knees[1], roles.left_ankle, roles.right_ankle,
-                              roles.left_toe, roles.right_toe};
+  const int gait_joints[6] = {knees[0],          knees[1],       roles.left_ankle,
+                              roles.right_ankle, roles.left_toe, roles.right_toe};
   std::vector<std::vector<double>> gait_pos(n);
   m.shape.resize(n);
   for (int f = 0; f < n; ++f) {
@@ -286,8 +285,9 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
   const int lag = std::max(1, static_cast<int>(std::lround(0.2 * fps)));
   // The hands' velocities: the first 6 values of a frame's shape.
   std::vector<std::vector<double>> hands(n);
-  for (int f = 0; f < n; ++f) hands[f] = {m.shape[f][3], m.shape[f][4], m.shape[f][5],
-                                          m.shape[f][9], m.shape[f][10], m.shape[f][11]};
+  for (int f = 0; f < n; ++f)
+    hands[f] = {m.shape[f][3], m.shape[f][4],  m.shape[f][5],
+                m.shape[f][9], m.shape[f][10], m.shape[f][11]};
   for (int f = 0; f < n; ++f) {
     const int a = std::max(0, f - lag / 2), b = std::min(n - 1, a + lag);
     for (size_t c = 0; c < 6; ++c) {
@@ -311,8 +311,8 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
   for (int f = 0; f < n; ++f) {
     if (m.speed[f] >= 0.5 * brisk) s0 = std::min(s0, f), s1 = std::max(s1, f + 1);
   }
-  m.steps = cadence.ok() && cadence->source == Cadence::Source::kSteps && brisk > 0.15 &&
-            s1 - s0 >= 2;
+  m.steps =
+      cadence.ok() && cadence->source == Cadence::Source::kSteps && brisk > 0.15 && s1 - s0 >= 2;
   m.loop_begin = 0;
   m.loop_end = n - 1;
   if (!m.steps) return m;
@@ -371,12 +371,14 @@ bool SameArmAction(const MovementClip& a, const MovementClip& b, std::string* wh
   static const char* kSide[2] = {"left", "right"};
   for (int side = 0; side < 2; ++side) {
     if (active(a, side) != active(b, side)) {
-      if (why) *why = absl::StrCat("the ", kSide[side], " hand travels in one clip and not the other");
+      if (why)
+        *why = absl::StrCat("the ", kSide[side], " hand travels in one clip and not the other");
       return false;
     }
     if (active(a, side) &&
         (a.hand_swings[side] >= kSwinging) != (b.hand_swings[side] >= kSwinging)) {
-      if (why) *why = absl::StrCat("the ", kSide[side], " hand swings back and forth in one clip only");
+      if (why)
+        *why = absl::StrCat("the ", kSide[side], " hand swings back and forth in one clip only");
       return false;
     }
   }
@@ -388,10 +390,9 @@ absl::StatusOr<Registration> RegisterMovement(const MovementClip& content,
                                               const RegisterOptions& options) {
   const int n = content.clip.num_frames, m = example.clip.num_frames;
   if (content.steps != example.steps) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("movement: the ", content.steps ? "content" : "example",
-                     " clip steps and the ", content.steps ? "example" : "content",
-                     " clip does not"));
+    return absl::FailedPreconditionError(absl::StrCat(
+        "movement: the ", content.steps ? "content" : "example", " clip steps and the ",
+        content.steps ? "example" : "content", " clip does not"));
   }
   Registration reg;
   reg.time.resize(n);
@@ -422,8 +423,8 @@ absl::StatusOr<Registration> RegisterMovement(const MovementClip& content,
   reg.kind = Registration::Kind::kGesture;
   // Dynamic time warping on every k-th frame, k such that the table holds at
   // most ~1M cells (a long clip costs time, never unbounded memory).
-  const int k = std::max(
-      1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n) * m / 1.0e6))));
+  const int k =
+      std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n) * m / 1.0e6))));
   const int cn = (n + k - 1) / k, cm = (m + k - 1) / k;
   std::vector<float> acc(static_cast<size_t>(cn) * cm);
   std::vector<uint8_t> from(static_cast<size_t>(cn) * cm);
@@ -539,8 +540,8 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
     LocalPose pose = net.poses[f];
     for (int j = 0; j < joints; ++j) {
       if (j == pelvis || source[j] == PartSource::kNetwork) continue;
-      const Quat e = SlerpShort(example.poses[s.i0].rotations[j], example.poses[s.i1].rotations[j],
-                                s.a);
+      const Quat e =
+          SlerpShort(example.poses[s.i0].rotations[j], example.poses[s.i1].rotations[j], s.a);
       if (source[j] == PartSource::kExample) {
         pose.rotations[j] = e;
       } else {
@@ -549,15 +550,18 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
       }
     }
     if (options.pelvis) {
-      const double he = example.heading[s.i0] + (example.heading[s.i1] - example.heading[s.i0]) * s.a;
+      const double he =
+          example.heading[s.i0] + (example.heading[s.i1] - example.heading[s.i0]) * s.a;
       const Quat turn = YawRotation(net.heading[f] - he);
-      const Quat rot = SlerpShort(example.pelvis_rotation[s.i0], example.pelvis_rotation[s.i1], s.a);
+      const Quat rot =
+          SlerpShort(example.pelvis_rotation[s.i0], example.pelvis_rotation[s.i1], s.a);
       const Vec3 pos = Lerp(example.positions[s.i0][pelvis], example.positions[s.i1][pelvis], s.a);
       const Vec3 path = Lerp(example.floor_path[s.i0], example.floor_path[s.i1], s.a);
       // Sway about the example's path, turned to the output's facing; its
       // height over its own floor, on the content's floor.
       const Vec3 sway = Rotate(turn, Floor(pos - path));
-      const Vec3 world{net.floor_path[f].x + sway.x, pos.y - example.floor_height + content.floor_height,
+      const Vec3 world{net.floor_path[f].x + sway.x,
+                       pos.y - example.floor_height + content.floor_height,
                        net.floor_path[f].z + sway.z};
       const Quat world_rot = Normalized(turn * rot);
       Quat parent_rot;
@@ -583,29 +587,23 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
       const double yaw = net.heading[f];
       for (int side = 0; side < 2; ++side) {
         const int ankle = side == 0 ? roles.left_ankle : roles.right_ankle;
-        const int knee = sk.joint(ankle).parent, hip = sk.joint(knee).parent;
         const Vec3 local = InFacing(g.positions[ankle] - centre, yaw);
         const Vec3 want_local{local.x, local.y, local.z * scale};
-        const Vec3 want = centre + Rotate(YawRotation(yaw), want_local);
-        const TwoBoneResult ik =
-            SolveTwoBone(g.positions[hip], g.positions[knee], g.positions[ankle], want);
-        const Quat ankle_world = g.rotations[ankle];
-        const Quat hip_world = Normalized(ik.hip_delta * g.rotations[hip]);
-        const Quat knee_world = Normalized(ik.knee_delta * g.rotations[knee]);
-        pose.rotations[hip] = Normalized(Conjugate(g.rotations[sk.joint(hip).parent]) * hip_world);
-        pose.rotations[knee] = Normalized(Conjugate(hip_world) * knee_world);
-        pose.rotations[ankle] = Normalized(Conjugate(knee_world) * ankle_world);
+        PlaceAnkle(sk, g, ankle, centre + Rotate(YawRotation(yaw), want_local), &pose);
       }
     }
     if (options.legs != PartSource::kNetwork) {
+      // No foot below the content's floor.
+      std::vector<LocalPose> one{std::move(pose)};
+      KeepFeetAboveFloor(sk, roles, content.floor_height, &one);
+      pose = std::move(one[0]);
       const int e = std::clamp(static_cast<int>(std::lround(t)), 0, m - 1);
       for (int k = 0; k < 4; ++k) flags[k][f] = example.contact[k][e];
     }
     SetPose(&result.motion, f, pose, &prev_euler);
   }
   if (options.legs != PartSource::kNetwork) {
-    result.contacts =
-        SpansFromFlags(flags, std::max(2, static_cast<int>(std::lround(0.1 * fps))));
+    result.contacts = SpansFromFlags(flags, std::max(2, static_cast<int>(std::lround(0.1 * fps))));
   } else {
     result.contacts = DetectContactSpans(GlobalPositions(result.motion), roles, fps);
   }

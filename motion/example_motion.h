@@ -57,10 +57,10 @@ struct MovementClip {
   // (what a loop's seam and the first played instant are matched on).
   std::vector<std::vector<double>> gait;
   std::vector<Quat> pelvis_rotation;  // World rotation of the pelvis per frame.
-  bool steps = false;        // It steps (motion/cadence.h) and travels.
-  double step_speed = 0;     // Median speed over its stepping part (leg lengths/s).
-  double step_period_s = 0;  // Seconds per step.
-  double turn_rate = 0;      // Mean heading change per second while stepping (rad/s, + left).
+  bool steps = false;                 // It steps (motion/cadence.h) and travels.
+  double step_speed = 0;              // Median speed over its stepping part (leg lengths/s).
+  double step_period_s = 0;           // Seconds per step.
+  double turn_rate = 0;  // Mean heading change per second while stepping (rad/s, + left).
   // Which way it travels while stepping, in its facing frame (a unit vector
   // on the floor: x to its left, z ahead): a walk forward, back or sideways.
   Vec3 travel = {0, 0, 1};
@@ -70,7 +70,7 @@ struct MovementClip {
   // A seamless loop of its stepping: frame loop_end looks and moves like
   // loop_begin, so playback wraps from loop_end to loop_begin.
   int loop_begin = 0, loop_end = 0;
-  double floor_height = 0;  // The feet's floor (5th percentile of the ankles' heights).
+  double floor_height = 0;  // The feet's floor: the lowest any foot joint goes.
   // What its arms do, per side (left, right): how far the hand travels up
   // and down (95th minus 5th percentile of its height over the pelvis, leg
   // lengths), and how many times it swings back and forth (turns of its
@@ -136,9 +136,9 @@ absl::StatusOr<PartSource> ParsePartSource(absl::string_view name);
 const char* PartSourceName(PartSource source);
 
 struct MovementOptions {
-  PartSource legs = PartSource::kExample;  // Hips and everything below them.
-  PartSource arms = PartSource::kLayer;    // Clavicles, arms, hands.
-  PartSource spine = PartSource::kNetwork; // Spine, chest, neck, head.
+  PartSource legs = PartSource::kExample;   // Hips and everything below them.
+  PartSource arms = PartSource::kLayer;     // Clavicles, arms, hands.
+  PartSource spine = PartSource::kNetwork;  // Spine, chest, neck, head.
   bool pelvis = true;  // The pelvis's rotation against the facing, bob and sway.
   // Stepping: the ankles' reach ahead of and behind the pelvis scaled so a
   // stride covers the content's path at the played cadence (two-bone IK).
@@ -162,8 +162,8 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
 
 // Frames [begin, end) per foot joint from per-frame contact flags; spans
 // shorter than `min_frames` are dropped.
-std::array<std::vector<ContactSpan>, 4> SpansFromFlags(const std::array<std::vector<bool>, 4>& flags,
-                                                        int min_frames);
+std::array<std::vector<ContactSpan>, 4> SpansFromFlags(
+    const std::array<std::vector<bool>, 4>& flags, int min_frames);
 
 }  // namespace stylus::motion
 

@@ -207,8 +207,9 @@ absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
   absl::StatusOr<std::array<Leg, 2>> legs = Legs(sk, roles);
   if (!legs.ok()) return legs.status();
   const std::array<std::vector<ContactSpan>, 4> spans =
-      params.contact_spans != nullptr ? *params.contact_spans
-                                      : DetectContactSpans(content_pos, roles, fps, params.contacts);
+      params.contact_spans != nullptr
+          ? *params.contact_spans
+          : DetectContactSpans(content_pos, roles, fps, params.contacts);
   const int known = posed != nullptr ? first_kept : 0;  // Final frames, posed before.
   if (mode == PostProcessMode::kFull) SmoothPoses(sk, &source, params.smooth_radius, known);
   // The output's world pose per frame: the pins and the knees' hinges read it.
@@ -340,6 +341,33 @@ absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
   return result;
 }
 
+void PlaceAnkle(const Skeleton& sk, const GlobalPose& g, int ankle, const Vec3& target,
+                LocalPose* pose) {
+  const int knee = sk.joint(ankle).parent, hip = sk.joint(knee).parent;
+  const TwoBoneResult ik =
+      SolveTwoBone(g.positions[hip], g.positions[knee], g.positions[ankle], target);
+  const Quat hip_world = Normalized(ik.hip_delta * g.rotations[hip]);
+  const Quat knee_world = Normalized(ik.knee_delta * g.rotations[knee]);
+  pose->rotations[hip] = Normalized(Conjugate(g.rotations[sk.joint(hip).parent]) * hip_world);
+  pose->rotations[knee] = Normalized(Conjugate(hip_world) * knee_world);
+  pose->rotations[ankle] = Normalized(Conjugate(knee_world) * g.rotations[ankle]);
+}
+
+void KeepFeetAboveFloor(const Skeleton& sk, const HumanoidRoles& roles, double floor,
+                        std::vector<LocalPose>* poses) {
+  for (LocalPose& pose : *poses) {
+    GlobalPose g = ForwardKinematics(sk, pose);
+    for (int side = 0; side < 2; ++side) {
+      const int ankle = side == 0 ? roles.left_ankle : roles.right_ankle;
+      const int toe = side == 0 ? roles.left_toe : roles.right_toe;
+      const double depth = floor - std::min(g.positions[ankle].y, g.positions[toe].y);
+      if (depth <= 1e-9) continue;
+      PlaceAnkle(sk, g, ankle, g.positions[ankle] + Vec3{0, depth, 0}, &pose);
+      g = ForwardKinematics(sk, pose);
+    }
+  }
+}
+
 absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
                                    const HumanoidRoles& roles, PostProcessMode mode,
                                    const PostProcessParams& params) {
@@ -353,9 +381,15 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
   const int n = output.num_frames;
   std::vector<LocalPose> poses(n);
   for (int f = 0; f < n; ++f) poses[f] = PoseAt(output, f);
-  absl::StatusOr<std::vector<LocalPose>> cleaned = PostProcessPoses(
-      sk, roles, std::move(poses), GlobalPositions(content), output.fps(), mode, params);
+  const std::vector<std::vector<Vec3>> content_pos = GlobalPositions(content);
+  absl::StatusOr<std::vector<LocalPose>> cleaned =
+      PostProcessPoses(sk, roles, std::move(poses), content_pos, output.fps(), mode, params);
   if (!cleaned.ok()) return cleaned.status();
+  double floor = 1e300;
+  for (const std::vector<Vec3>& p : content_pos) {
+    for (int j : FootJoints(roles)) floor = std::min(floor, p[j].y);
+  }
+  if (!content_pos.empty()) KeepFeetAboveFloor(sk, roles, floor, &*cleaned);
   if (n == 0) return output;
   Motion result = output;
   // Continuity starts from the output's own first frame (in a stream, the

@@ -68,7 +68,8 @@ struct PostProcessParams {
 };
 
 // The two-bone solve for one leg with toes following is applied to every frame
-// where a foot of `output` is locked. `content` decides the contacts (it may
+// where a foot of `output` is locked, and no foot is left below the content's
+// floor (KeepFeetAboveFloor). `content` decides the contacts (it may
 // have more frames than `output`, e.g. look-ahead in a stream; frame i of
 // both is the same instant). The root and everything above the hips keep
 // their values; frame count and channel layout are unchanged. INVALID_ARGUMENT
@@ -111,6 +112,18 @@ absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
     absl::Span<const std::vector<Vec3>> content_positions, double fps, PostProcessMode mode,
     const PostProcessParams& params = {}, int first_kept = 0, ContactPins* pins = nullptr,
     std::vector<GlobalPose>* posed = nullptr);
+
+// The leg above `ankle` turned so the ankle reaches `target` (two-bone IK
+// from the hip; `posed` is `pose` posed), the foot's world orientation kept.
+void PlaceAnkle(const Skeleton& skeleton, const GlobalPose& posed, int ankle, const Vec3& target,
+                LocalPose* pose);
+
+// Each leg whose ankle or toe is below `floor` (a height, Y up) in a pose
+// is bent up by the depth (two-bone IK at the ankle, the foot's world
+// orientation kept): no foot under the floor. PostProcess applies it with
+// the content's floor (the lowest its foot joints go).
+void KeepFeetAboveFloor(const Skeleton& skeleton, const HumanoidRoles& roles, double floor,
+                        std::vector<LocalPose>* poses);
 
 // Position channels of every joint below the pelvis set to its offset (its
 // bone length and direction at rest).

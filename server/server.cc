@@ -183,7 +183,8 @@ absl::StatusOr<std::unique_ptr<StylusServer>> StylusServer::Start(const ServerOp
       spdlog::warn("style library: skipped {}", skipped);
     }
     // Read for the default model now, so the first call does not wait for it.
-    if (absl::StatusOr<HostedModel> m = (*registry)->Get(""); m.ok() && m->model->moves_from_examples()) {
+    if (absl::StatusOr<HostedModel> m = (*registry)->Get("");
+        m.ok() && m->model->moves_from_examples()) {
       absl::StatusOr<std::shared_ptr<const model::StyleLibrary::Converted>> read =
           impl->style_library->For(*m->model);
       if (!read.ok()) return read.status();

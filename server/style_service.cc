@@ -70,6 +70,20 @@ void NoteMovement(const model::MovementNote& note, const model::StyleModel& mode
                   note.applied ? absl::StrCat("movement=", note.kind) : "movement=network");
 }
 
+void NoteContacts(const std::optional<model::TransferResult::Contacts>& contacts,
+                  v1::TransferResponse* response) {
+  if (!contacts) return;
+  static const char* kJoints[4] = {"left_ankle", "left_toe", "right_ankle", "right_toe"};
+  for (int k = 0; k < 4; ++k) {
+    for (const motion::ContactSpan& s : (*contacts)[k]) {
+      v1::FootContact* c = response->add_contacts();
+      c->set_joint(kJoints[k]);
+      c->set_begin(s.begin);
+      c->set_end(s.end);
+    }
+  }
+}
+
 // What movement from examples may draw on for a style: the server's style
 // library, and the style's label there when the request names a saved style
 // whose name is one of the library's styles (else the nearest by code).
@@ -120,6 +134,12 @@ UnaryMethod StyleServiceImpl::Transfer() {
         options.batcher = service_->pass_batcher;
         options.joint_map = call->joint_map;
         options.movement = MovementFor(*service_, request.style());
+        options.fit_frames = request.fit_frames();
+        if (request.fit_frames() < 0) {
+          return out.status = absl::InvalidArgumentError(
+                     absl::StrCat("fit_frames ", request.fit_frames(), " is negative")),
+                 out;
+        }
         switch (request.timing()) {
           case v1::TIMING_CONTENT:
             break;
@@ -137,7 +157,8 @@ UnaryMethod StyleServiceImpl::Transfer() {
         if (!result.ok()) return out.status = result.status(), out;
         NoteGuard(result->note, response, &out);
         NoteMovement(result->movement, *call->model.model, response, &out);
-        if (options.timing == model::Timing::kStyle) {
+        NoteContacts(result->contacts, response);
+        if (options.timing == model::Timing::kStyle || options.fit_frames > 0) {
           const model::TimeWarpNote& warp = result->warp;
           v1::TimeWarp* w = response->mutable_time_warp();
           w->set_applied(warp.applied);
@@ -145,6 +166,7 @@ UnaryMethod StyleServiceImpl::Transfer() {
           w->set_content_period_s(warp.content_period_s);
           w->set_style_period_s(warp.style_period_s);
           w->set_reason(warp.reason);
+          w->mutable_content_time_s()->Add(warp.content_time_s.begin(), warp.content_time_s.end());
         }
         wire::ClipToProto(result->motion, response->mutable_output());
         response->set_model(call->model.id);
@@ -222,6 +244,7 @@ UnaryMethod StyleServiceImpl::Interpolate() {
         if (!result.ok()) return out.status = result.status(), out;
         NoteGuard(result->note, response, &out);
         NoteMovement(result->movement, *call->model.model, response, &out);
+        NoteContacts(result->contacts, response);
         wire::ClipToProto(result->motion, response->mutable_output());
         response->set_model(call->model.id);
         response->set_compute_ms(MsSince(t0));

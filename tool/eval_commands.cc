@@ -257,12 +257,12 @@ int Eval(const Argv& argv) {
       "take). --library-label code finds the library's style by the style code\n"
       "(as the server does) instead of the style clip's name.\n";
   int code = 0;
-  auto args = ParseOrExit("eval", argv,
-                          {{"model", "judges", "data", "out", "pairs-per-content", "threads",
-                            "ablation", "verdicts", "second-judges", "pair-kind", "split", "library",
-                            "library-label"},
-                           {"own-style", "timing-style"}},
-                          kHelp, &code);
+  auto args =
+      ParseOrExit("eval", argv,
+                  {{"model", "judges", "data", "out", "pairs-per-content", "threads", "ablation",
+                    "verdicts", "second-judges", "pair-kind", "split", "library", "library-label"},
+                   {"own-style", "timing-style"}},
+                  kHelp, &code);
   if (!args) return code;
   if (!args->Has("model") || !args->Has("judges") || !args->Has("data") || !args->Has("out")) {
     std::fprintf(stderr, "stylus-tool eval: --model, --judges, --data and --out are required\n\n%s",
@@ -371,7 +371,8 @@ int Eval(const Argv& argv) {
   const std::string second_name =
       second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
   std::string text = absl::StrFormat(
-      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d (%s, %s split%s).\n\n%s\nStyle / content "
+      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d (%s, %s split%s).\n\n%s\nStyle / "
+      "content "
       "accuracy by dataset (the labels in the clips' names):\n\n%s\nStyle accuracy per "
       "target style%s:\n\n%s",
       args->Get("model"), args->Get("judges"), second_name, pairs->size(),

@@ -416,8 +416,12 @@ std::string GuardNote(const model::TransferNote& note) {
 // " (style timing: ...)" for a transfer asked for the style's timing.
 std::string WarpNote(const model::TransferOptions& options, const model::TimeWarpNote& warp,
                      int content_frames, int frames) {
-  if (options.timing != model::Timing::kStyle) return "";
+  if (options.timing != model::Timing::kStyle && options.fit_frames == 0) return "";
   if (!warp.applied) return absl::StrCat(" (style timing not applied: ", warp.reason, ")");
+  if (warp.style_period_s <= 0) {
+    return absl::StrFormat(" (played %.2fx as long: %d frames -> %d)", warp.ratio, content_frames,
+                           frames);
+  }
   return absl::StrFormat(
       " (style timing: cadence %.2f s -> %.2f s, played %.2fx as long: %d frames -> %d)",
       warp.content_period_s, warp.style_period_s, warp.ratio, content_frames, frames);
@@ -427,8 +431,8 @@ std::string WarpNote(const model::TransferOptions& options, const model::TimeWar
 std::string MovementText(const model::StyleModel& m, const model::MovementNote& note) {
   if (!m.moves_from_examples()) return "";
   if (!note.applied) return absl::StrCat(" (movement: the network's; ", note.reason, ")");
-  return absl::StrFormat(" (movement: %s from %s, fit %.3f, played %.2fx)", note.kind,
-                         note.example, note.cost, note.rate);
+  return absl::StrFormat(" (movement: %s from %s, fit %.3f, played %.2fx)", note.kind, note.example,
+                         note.cost, note.rate);
 }
 
 // Transfers one pair and writes it; `note` gets GuardNote's, WarpNote's and
@@ -478,10 +482,13 @@ int Transfer(const Argv& argv) {
       "--joint-map FILE fixes roles the finder gets wrong or cannot find\n"
       "(lines like 'left_foot = MyFootL'; docs/rigs.md).\n\n"
       "--timing content|style (default content): with style, the output takes the\n"
-      "style clip's cadence (steps per second, swings per second) by a uniform\n"
-      "time warp, so it is longer or shorter than the content; the printed note\n"
-      "gives both cadences and the ratio (0.5-2x). A clip whose motion does not\n"
-      "repeat has no cadence: the content's timing is kept and the note says so.\n\n"
+      "style's pace, so it is longer or shorter than the content (0.5-2x): with a\n"
+      "package whose movement comes from examples (the default), the content's\n"
+      "path at the example's speed and a gesture in the example's time; else the\n"
+      "style clip's cadence by a uniform time warp (the note gives both\n"
+      "cadences). A clip whose motion does not repeat has no cadence: the\n"
+      "content's timing is kept and the note says so. --fit-frames N asks for\n"
+      "exactly N frames (0.5-2x the content's).\n\n"
       "--style-library DIR [--style-library-labels CSV]: with a package whose\n"
       "movement comes from examples (movement = examples), the takes under DIR\n"
       "(BVH, any rig; labels from dataset-N_{action}_{style}_{take}.bvh names or\n"
@@ -498,7 +505,7 @@ int Transfer(const Argv& argv) {
   auto args = ParseOrExit("transfer", argv,
                           {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
                             "postprocess", "shard-count", "shard-index", "joint-map", "timing",
-                            "style-library", "style-library-labels", "style-label"},
+                            "style-library", "style-library-labels", "style-label", "fit-frames"},
                            {}},
                           kHelp, &code);
   if (!args) return code;
@@ -529,10 +536,18 @@ int Transfer(const Argv& argv) {
                                 absl::StrCat("--timing must be content or style, not '", timing, "'")));
   }
   options.timing = timing == "style" ? model::Timing::kStyle : model::Timing::kContent;
+  if (args->Has("fit-frames")) {
+    absl::StatusOr<int> fit = args->GetInt("fit-frames", 0);
+    if (!fit.ok()) return Fail("transfer", fit.status());
+    if (*fit < 2) {
+      return Fail("transfer", absl::InvalidArgumentError("--fit-frames wants 2 frames or more"));
+    }
+    options.fit_frames = *fit;
+  }
   std::unique_ptr<model::StyleLibrary> library;
   if (args->Has("style-library")) {
-    absl::StatusOr<std::unique_ptr<model::StyleLibrary>> lib = model::StyleLibrary::Load(
-        args->Get("style-library"), args->Get("style-library-labels"));
+    absl::StatusOr<std::unique_ptr<model::StyleLibrary>> lib =
+        model::StyleLibrary::Load(args->Get("style-library"), args->Get("style-library-labels"));
     if (!lib.ok()) return Fail("transfer", lib.status());
     library = *std::move(lib);
     for (const std::string& s : library->skipped()) {
@@ -543,10 +558,10 @@ int Transfer(const Argv& argv) {
     const std::vector<std::string> styles = library->Styles();
     if (!options.movement.style_label.empty() &&
         std::find(styles.begin(), styles.end(), options.movement.style_label) == styles.end()) {
-      return Fail("transfer", absl::InvalidArgumentError(absl::StrCat(
-                                  "--style-label ", options.movement.style_label,
-                                  ": the library has no take of that style (it has ",
-                                  absl::StrJoin(styles, ", "), ")")));
+      return Fail("transfer", absl::InvalidArgumentError(
+                                  absl::StrCat("--style-label ", options.movement.style_label,
+                                               ": the library has no take of that style (it has ",
+                                               absl::StrJoin(styles, ", "), ")")));
     }
   } else if (args->Has("style-label") || args->Has("style-library-labels")) {
     return Fail("transfer", absl::InvalidArgumentError(

@@ -24,7 +24,6 @@ namespace stylus::model {
 namespace fs = std::filesystem;
 namespace {
 
-
 // The mean local rotation of every joint over `clips` (all on one rig).
 std::vector<motion::Quat> MeanRotations(const std::vector<const motion::Motion*>& clips) {
   const int n = clips[0]->skeleton.num_joints();
@@ -68,7 +67,8 @@ std::string ClipSources::Report() const {
 
 absl::StatusOr<ClipSources> ReadClipSources(const std::vector<std::string>& sources, bool test,
                                             const TrainingDataOptions& options) {
-  absl::StatusOr<std::map<std::string, motion::ClipLabel>> csv = motion::ReadLabelsCsv(options.labels_csv);
+  absl::StatusOr<std::map<std::string, motion::ClipLabel>> csv =
+      motion::ReadLabelsCsv(options.labels_csv);
   if (!csv.ok()) return csv.status();
   // Which files, and the labels of those that have one.
   std::vector<std::string> paths;

@@ -153,7 +153,8 @@ const std::vector<std::string>& CyclicConfig::InferenceKeys() {
                                    "movement",
                                    "movement_arms",
                                    "movement_spine",
-                                   "movement_max_cost", "movement_max_mismatch",
+                                   "movement_max_cost",
+                                   "movement_max_mismatch",
                                    "movement_fit_stride"};
   return *keys;
 }

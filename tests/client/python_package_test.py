@@ -131,6 +131,17 @@ def inside(port, cli, src, work):
     check("style timing warps the output", timed.time_warp["applied"]
           and len(timed.frames) == round((len(walk.frames) - 1) * timed.time_warp["ratio"]) + 1
           and len(timed.frames) != len(walk.frames), (len(timed.frames), timed.time_warp))
+    check("style timing maps each output frame to a content instant",
+          len(timed.time_warp["content_time_s"]) == len(timed.frames)
+          and timed.time_warp["content_time_s"][0] == 0, timed.time_warp["content_time_s"][:3])
+    check("the movement came from the style clip's steps", out.movement is not None
+          and out.movement["applied"] and out.movement["kind"] == "steps"
+          and out.movement["example"] == "style clip", out.movement)
+    check("the output's own contacts", len(out.contacts) > 4
+          and all(0 <= b < e <= len(out.frames) for _, b, e in out.contacts), out.contacts[:4])
+    fitted = stylus.transfer(walk, old, fit_frames=len(walk.frames) + 30)
+    check("fit_frames gives exactly that many frames", len(fitted.frames) == len(walk.frames) + 30,
+          len(fitted.frames))
     named = stylus.transfer(walk, "old")
     check("transfer by saved name", len(named.frames) == len(walk.frames))
 
@@ -176,6 +187,8 @@ def inside(port, cli, src, work):
 
     raises("unknown model is NotFound", NotFound, lambda: stylus.transfer(walk, old, model="nope/v1"))
     raises("bad timing is a ValueError", ValueError, lambda: stylus.transfer(walk, old, timing="beat"))
+    raises("fit_frames out of range is InvalidArgument", InvalidArgument,
+           lambda: stylus.transfer(walk, old, fit_frames=5 * len(walk.frames)), "fit_frames")
     three = read_bvh(os.path.join(src, "tests", "fixtures", "bvh", "good", "three_joint.bvh"))
     raises("a rig that is no humanoid is InvalidArgument", InvalidArgument,
            lambda: stylus.transfer(three, old), "not a humanoid rig")

@@ -80,7 +80,8 @@ TEST_F(MovementTest, AnElderlyWalkOnANormalWalksPathTakesMoreShorterSteps) {
   const double real = motion::FootSkating(content, content, roles);
   EXPECT_LT(skating, 1.2 * real) << skating << " vs real " << real;
   double floor = 1e300, lowest = 1e300;
-  for (const auto& p : motion::GlobalPositions(content)) floor = std::min(floor, p[roles.left_toe].y);
+  for (const auto& p : motion::GlobalPositions(content))
+    floor = std::min(floor, p[roles.left_toe].y);
   for (const auto& p : motion::GlobalPositions(r.motion)) {
     for (int j : {roles.left_toe, roles.right_toe, roles.left_ankle, roles.right_ankle})
       lowest = std::min(lowest, p[j].y);
@@ -130,7 +131,8 @@ TEST_F(MovementTest, AStyleShownOnlyByAGestureWalksInItsStyleFromALibrary) {
   const std::string lib = ::testing::TempDir() + "/movement_library";
   fs::remove_all(lib);
   fs::create_directories(lib);
-  for (const char* name : {"walk_elderly_003", "walk_youthful_002", "raise-up-left-hand_elderly_004"}) {
+  for (const char* name :
+       {"walk_elderly_003", "walk_youthful_002", "raise-up-left-hand_elderly_004"}) {
     const std::string file = std::string("dataset-2_") + name + ".bvh";
     fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), lib + "/" + file);
   }

@@ -38,7 +38,8 @@ Moved Move(const Motion& content, const Motion& example, const MovementOptions& 
   EXPECT_TRUE(r.ok()) << r.status();
   PostProcessParams params;
   params.contact_spans = &r->contacts;
-  absl::StatusOr<Motion> planted = PostProcess(r->motion, r->motion, roles, PostProcessMode::kFull, params);
+  absl::StatusOr<Motion> planted =
+      PostProcess(r->motion, r->motion, roles, PostProcessMode::kFull, params);
   EXPECT_TRUE(planted.ok()) << planted.status();
   return {r->motion, *planted, *r, *reg};
 }
@@ -50,7 +51,8 @@ TEST(ExampleMotionTest, ASlowStyleWalksTheContentsPathWithMoreShorterSteps) {
   const Moved m = Move(content, example);
   EXPECT_EQ(m.reg.kind, Registration::Kind::kSteps);
   ASSERT_EQ(m.planted.num_frames, content.num_frames);
-  const GaitSummary c = MeasureGait(content, roles)->summary, e = MeasureGait(example, roles)->summary,
+  const GaitSummary c = MeasureGait(content, roles)->summary,
+                    e = MeasureGait(example, roles)->summary,
                     o = MeasureGait(m.planted, roles)->summary;
   // Walk ratio: at 130/70 of its speed the example steps sqrt(130/70) times
   // faster, so its period is its own over 1.36.
@@ -78,15 +80,16 @@ TEST(ExampleMotionTest, RealWalksAndRunsPlantTheirOwnStepsAsFirmlyAsCapture) {
   const Motion content = *ReadBvhFile(d + "walk_normal_004.bvh");
   const HumanoidRoles roles = *HumanoidRolesOf(content);
   const double real = FootSkating(content, content, roles);
-  for (const char* style : {"walk_elderly_003", "walk_youthful_002", "run_active_001",
-                            "walk-turn-left_elderly_002"}) {
+  for (const char* style :
+       {"walk_elderly_003", "walk_youthful_002", "run_active_001", "walk-turn-left_elderly_002"}) {
     const Motion example = *ReadBvhFile(d + style + ".bvh");
     const Moved m = Move(content, example);
     EXPECT_EQ(m.reg.kind, Registration::Kind::kSteps) << style;
     const double raw = FootSkatingOnSpans(m.raw, m.result.contacts, roles);
     const double planted = FootSkatingOnSpans(m.planted, m.result.contacts, roles);
     EXPECT_LT(planted, 1.2 * real) << style << ": raw " << raw << ", real " << real;
-    EXPECT_NEAR(MeasureGait(m.planted, roles)->summary.speed, MeasureGait(content, roles)->summary.speed,
+    EXPECT_NEAR(MeasureGait(m.planted, roles)->summary.speed,
+                MeasureGait(content, roles)->summary.speed,
                 0.05 * MeasureGait(content, roles)->summary.speed)
         << style;
   }
@@ -95,7 +98,8 @@ TEST(ExampleMotionTest, RealWalksAndRunsPlantTheirOwnStepsAsFirmlyAsCapture) {
 TEST(ExampleMotionTest, ArmsAreCompatibleWhenTheSameHandsDoTheSameKindOfThing) {
   STYLUS_REQUIRE_BANDAI(d);
   std::string why;
-  EXPECT_TRUE(SameArmAction(Read(d, "wave-left-hand_normal_003"), Read(d, "wave-left-hand_youthful_002")));
+  EXPECT_TRUE(
+      SameArmAction(Read(d, "wave-left-hand_normal_003"), Read(d, "wave-left-hand_youthful_002")));
   EXPECT_TRUE(SameArmAction(Read(d, "raise-up-both-hands_normal_003"),
                             Read(d, "raise-up-both-hands_elderly_002")));
   EXPECT_FALSE(SameArmAction(Read(d, "wave-left-hand_normal_003"),

@@ -4,6 +4,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include <filesystem>
+#include <set>
 
 #include "gtest/gtest.h"
 #include "stylus/v1/stylus.grpc.pb.h"
@@ -49,6 +50,43 @@ TEST(MovementServerTest, AStyleLibraryGivesAWalkTheStylesStepsAndTheResponseSays
               response.movement().example() == "dataset-2_walk_youthful_002.bvh")
       << response.movement().example();
   EXPECT_EQ(response.output().frames_size(), request.content().frames_size());
+  // The output's own contacts, within its frames, for all four foot joints.
+  std::set<std::string> joints;
+  for (const v1::FootContact& c : response.contacts()) {
+    joints.insert(c.joint());
+    EXPECT_TRUE(0 <= c.begin() && c.begin() < c.end() && c.end() <= response.output().frames_size())
+        << c.ShortDebugString();
+  }
+  EXPECT_EQ(joints, (std::set<std::string>{"left_ankle", "left_toe", "right_ankle", "right_toe"}));
+
+  // A pace: the content's path at the example's speed, with a time map.
+  {
+    v1::TransferRequest paced = request;
+    paced.set_timing(v1::TIMING_STYLE);
+    v1::TransferResponse r;
+    grpc::ClientContext c;
+    ASSERT_TRUE(stub->Transfer(&c, paced, &r).ok());
+    ASSERT_TRUE(r.time_warp().applied()) << r.time_warp().reason();
+    EXPECT_NE(r.output().frames_size(), request.content().frames_size());
+    ASSERT_EQ(r.time_warp().content_time_s_size(), r.output().frames_size());
+    const double last = r.time_warp().content_time_s(r.output().frames_size() - 1);
+    EXPECT_NEAR(last, (request.content().frames_size() - 1) / request.content().fps(), 0.02);
+  }
+  // An exact length, and one too far from the content's refused.
+  for (int fit : {request.content().frames_size() + 45, request.content().frames_size() * 3}) {
+    v1::TransferRequest fitted = request;
+    fitted.set_fit_frames(fit);
+    v1::TransferResponse r;
+    grpc::ClientContext c;
+    const grpc::Status st = stub->Transfer(&c, fitted, &r);
+    if (fit < 2 * request.content().frames_size()) {
+      ASSERT_TRUE(st.ok()) << st.error_message();
+      EXPECT_EQ(r.output().frames_size(), fit);
+    } else {
+      EXPECT_EQ(st.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+      EXPECT_NE(st.error_message().find("fit_frames"), std::string::npos) << st.error_message();
+    }
+  }
 }
 
 TEST(MovementServerTest, AStyleLibraryThatCannotBeReadStopsTheStart) {

@@ -177,7 +177,7 @@ class Client:
 
     def transfer(self, content: Clip, style: StyleLike, *, model: str = "",
                  postprocess: str = "default", joint_map: Optional[Dict[str, str]] = None,
-                 timing: str = "content") -> Clip:
+                 timing: str = "content", fit_frames: int = 0) -> Clip:
         """``content`` with the style of ``style``, on the content's own skeleton
         (another humanoid rig is retargeted both ways; ``joint_map``:
         role -> joint name for roles not to guess, e.g. {"left_foot": "LFoot"}).
@@ -186,21 +186,41 @@ class Client:
         uniform time warp (its length changes); the returned clip's
         ``time_warp`` then says what was done: a dict with ``applied``,
         ``ratio`` (output duration / content duration), ``content_period_s``,
-        ``style_period_s`` and ``reason`` (why not, when not applied)."""
+        ``style_period_s``, ``reason`` (why not, when not applied) and
+        ``content_time_s`` (per output frame, the content instant it plays).
+        With a package whose movement comes from examples (the default),
+        ``timing="style"`` is a pace: the content's path at the example's
+        speed, so the example's steps play as they were.
+        ``fit_frames`` asks for exactly that many output frames (0.5-2x the
+        content's).
+
+        The returned clip's ``movement`` says where its movement came from
+        (a dict with ``applied``, ``example``, ``kind``, ``fit``, ``reason``;
+        None for a package whose movement is the network's), and
+        ``contacts`` lists its own planted-foot spans as (joint, begin, end)."""
         if timing not in ("content", "style"):
             raise ValueError("timing must be 'content' or 'style', got %r" % timing)
+        if fit_frames < 0:
+            raise ValueError("fit_frames must be 0 (none) or a frame count, got %r" % fit_frames)
         request = stylus_pb2.TransferRequest(
             model=model, postprocess=self._postprocess(postprocess),
-            timing=stylus_pb2.TIMING_STYLE if timing == "style" else stylus_pb2.TIMING_CONTENT)
+            timing=stylus_pb2.TIMING_STYLE if timing == "style" else stylus_pb2.TIMING_CONTENT,
+            fit_frames=fit_frames)
         request.content.CopyFrom(wire.clip_to_proto(content, joint_map))
         self._style_ref(style, request.style, self._same_rig_map(style, content, joint_map))
         response = self._call("Transfer", request)
         out = wire.clip_from_proto(response.output)
-        if timing == "style":
+        if timing == "style" or fit_frames:
             w = response.time_warp
             out.time_warp = {"applied": w.applied, "ratio": w.ratio,
                              "content_period_s": w.content_period_s,
-                             "style_period_s": w.style_period_s, "reason": w.reason}
+                             "style_period_s": w.style_period_s, "reason": w.reason,
+                             "content_time_s": list(w.content_time_s)}
+        m = response.movement
+        out.movement = ({"applied": m.applied, "example": m.example, "kind": m.kind,
+                         "fit": m.fit, "reason": m.reason}
+                        if response.HasField("movement") else None)
+        out.contacts = [(c.joint, c.begin, c.end) for c in response.contacts]
         return out
 
     def interpolate(self, content: Clip, styles: Sequence[StyleLike], *,

@@ -114,9 +114,12 @@ absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::strin
     std::vector<const motion::ClipEntry*> styles;
     for (const motion::ClipEntry* s : test) {
       if (s->label.style == c->label.style) continue;
-      const bool same =
-          s->label.content == c->label.content && s->label.dataset == c->label.dataset;
-      if (same == (kind == PairKind::kSameAction)) styles.push_back(s);
+      // Same action: the same label in the same dataset. Cross-action:
+      // another label (a dataset-1 walk is no cross-action pair for a
+      // dataset-2 walk, nor a same-action one: the datasets' labels differ).
+      const bool cross = s->label.content != c->label.content;
+      const bool same = !cross && s->label.dataset == c->label.dataset;
+      if (kind == PairKind::kSameAction ? same : cross) styles.push_back(s);
     }
     const std::string cname = FileName(c->path);
     std::sort(styles.begin(), styles.end(),

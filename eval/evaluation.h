@@ -40,8 +40,9 @@ bool InEvalSplit(const std::string& path, EvalSplit split);
 
 // Deterministic pairs from the held-out split of `dirs`: for every held-out
 // clip as content (in `split`), up to `per_content` held-out style clips of
-// another style and, by `kind`, another action or the same one (of the same
-// dataset), chosen by a stable hash of both names.
+// another style and, by `kind`, another action (another label) or the same
+// one (the same label in the same dataset), chosen by a stable hash of both
+// names.
 absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::string>& dirs,
                                                     int per_content,
                                                     PairKind kind = PairKind::kCrossAction,

@@ -128,7 +128,9 @@ TEST(EvaluationTest, JudgesAndEvaluationRunEndToEnd) {
             static_cast<int>(std::lround(report->rows[3].content_accuracy * pairs->size())));
   const std::string csv = report->VerdictsCsv(*pairs);
   EXPECT_EQ(
-      csv.rfind("content_bvh,style_bvh,output,style,judged_style,content,judged_content\n", 0), 0u);
+      csv.rfind("content_bvh,style_bvh,output,style,judged_style,content,judged_content,movement\n",
+                0),
+      0u);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'),
             static_cast<long>(report->verdicts.size() + 1));
   EXPECT_NE(csv.find(",identity (output = content),"), std::string::npos);
@@ -364,6 +366,44 @@ TEST(EvaluationTest, BandaiPairsDifferInContentAndStyleAndAreDeterministic) {
   for (const EvalPair& p : *b)
     sb.insert({fs::path(p.content_path).filename(), fs::path(p.style_path).filename()});
   EXPECT_EQ(sa, sb);
+}
+
+// Same-action pairs: the style clip does the content's action (its label, in
+// its dataset) in another style; the validation and test halves split the
+// content clips between them, every clip in one.
+TEST(EvaluationTest, PairKindsAndTheValidationAndTestHalves) {
+  STYLUS_REQUIRE_BANDAI(dir);
+  const std::vector<std::string> dirs = {dir + "/dataset-1", dir + "/dataset-2"};
+  absl::StatusOr<std::vector<EvalPair>> same = MakeEvalPairs(dirs, 3, PairKind::kSameAction);
+  ASSERT_TRUE(same.ok()) << same.status();
+  EXPECT_GT(same->size(), 150u);
+  for (const EvalPair& p : *same) {
+    const auto c = *motion::ParseClipName(p.content_path), s = *motion::ParseClipName(p.style_path);
+    EXPECT_EQ(c.content, s.content);
+    EXPECT_EQ(c.dataset, s.dataset);
+    EXPECT_NE(c.style, s.style);
+  }
+  std::set<std::string> all, halves;
+  const absl::StatusOr<std::vector<EvalPair>> every = MakeEvalPairs(dirs, 3);
+  ASSERT_TRUE(every.ok()) << every.status();
+  for (const EvalPair& p : *every) all.insert(p.content_path);
+  size_t in_validation = 0;
+  for (EvalSplit split : {EvalSplit::kValidation, EvalSplit::kTest}) {
+    const absl::StatusOr<std::vector<EvalPair>> half =
+        MakeEvalPairs(dirs, 3, PairKind::kCrossAction, split);
+    ASSERT_TRUE(half.ok()) << half.status();
+    for (const EvalPair& p : *half) {
+      EXPECT_TRUE(InEvalSplit(p.content_path, split));
+      EXPECT_FALSE(InEvalSplit(
+          p.content_path, split == EvalSplit::kTest ? EvalSplit::kValidation : EvalSplit::kTest));
+      halves.insert(p.content_path);
+      in_validation += split == EvalSplit::kValidation;
+    }
+  }
+  EXPECT_EQ(halves, all);
+  EXPECT_GT(in_validation, all.size());  // About half of 3 pairs per clip.
+  EXPECT_EQ(ParseEvalSplit("holdout").status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(ParsePairKind("same").status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 // The by-dataset table counts each verdict in its content clip's dataset and

@@ -51,8 +51,12 @@ check "load twice" 1 "ALREADY_EXISTS" -- "$cli" "${s[@]}" load --model cyclic/v1
 check "transfer --postprocess none" 0 "wrote" -- "$cli" "${s[@]}" transfer --postprocess none --content "$walk" --style "$old" -o "$work/raw.bvh"
 check "transfer" 0 "wrote .*out.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/out.bvh"
 check "transfer output is BVH" 0 "HIERARCHY" -- head -1 "$work/out.bvh"
-check "transfer --timing style" 0 "wrote .*timed.bvh \(162 frames\) .*\(style timing: cadence 0\.47 s -> 0\.63 s, played 1\.36x as long\)" -- \
+check "transfer --timing style" 0 "wrote .*timed.bvh \([0-9]+ frames\) .*\(played [0-9.]+x as long\)" -- \
   "$cli" "${s[@]}" transfer --content "$walk" --style "$old" --timing style -o "$work/timed.bvh"
+check "transfer --fit-frames" 0 "wrote .*fitted.bvh \(150 frames\) .*\(played [0-9.]+x as long\) \(movement: " -- \
+  "$cli" "${s[@]}" transfer --content "$walk" --style "$old" --fit-frames 150 -o "$work/fitted.bvh"
+check "transfer --fit-frames out of range" 1 "fit_frames 1000 is not within 0.5-2x" -- \
+  "$cli" "${s[@]}" transfer --content "$walk" --style "$old" --fit-frames 1000 -o "$work/fitted.bvh"
 check "transfer --timing bad" 1 "--timing must be content or style" -- "$cli" "${s[@]}" transfer \
   --content "$walk" --style "$old" --timing beat -o "$work/x.bvh"
 check "transfer --model" 0 "wrote" -- "$cli" "${s[@]}" transfer --model $default --content "$walk" --style "$old" -o "$work/out2.bvh"

@@ -171,6 +171,9 @@ TEST_F(ServerTest, SavedStyleNamesWorkLikeTheirClips) {
   EXPECT_NE(missing.status().message().find("young"), std::string::npos);
 }
 
+// A package whose movement is the network's (here cyclic/v2): TIMING_STYLE
+// warps the output to the style clip's cadence. (With movement from
+// examples it is a pace: MovementServerTest.)
 TEST_F(ServerTest, StyleTimingWarpsTheOutputToTheStyleCadence) {
   STYLUS_REQUIRE_BANDAI(dir);
   const motion::Motion content = BandaiClip(dir, "walk_normal_001");
@@ -182,10 +185,12 @@ TEST_F(ServerTest, StyleTimingWarpsTheOutputToTheStyleCadence) {
   ASSERT_GT(std::abs(style_period / content_period - 1), 0.05);  // A warp worth seeing.
 
   CallOptions content_timed;
+  content_timed.model = "cyclic/v2";
   auto plain = client().Transfer(content, {&style, ""}, content_timed);
   ASSERT_TRUE(plain.ok()) << plain.status();
   v1::TimeWarp warp;
   CallOptions options;
+  options.model = "cyclic/v2";
   options.timing = v1::TIMING_STYLE;
   options.time_warp = &warp;
   auto warped = client().Transfer(content, {&style, ""}, options);
@@ -205,7 +210,7 @@ TEST_F(ServerTest, StyleTimingWarpsTheOutputToTheStyleCadence) {
               warp.ratio(), 0.06 * warp.ratio());
 
   // A saved style keeps its cadence.
-  ASSERT_TRUE(client().EncodeStyle(style, "tired").ok());
+  ASSERT_TRUE(client().EncodeStyle(style, "tired", content_timed).ok());
   v1::TimeWarp by_name;
   options.time_warp = &by_name;
   auto named = client().Transfer(content, {nullptr, "tired"}, options);

@@ -15,6 +15,7 @@
 #include "motion/cadence.h"
 #include "motion/contacts.h"
 #include "motion/dataset.h"
+#include "motion/example_motion.h"
 #include "motion/gait.h"
 #include "motion/kinematics.h"
 #include "motion/metrics.h"
@@ -54,6 +55,46 @@ std::optional<std::array<double, 5>> GaitFigures(const motion::Motion& clip,
   const motion::GaitSummary& g = gait->summary;
   if (!g.cadence || g.cadence->source != motion::Cadence::Source::kSteps) return std::nullopt;
   return std::array<double, 5>{g.cadence->period_s, g.stride, g.foot_lift, g.arm_swing, g.bob};
+}
+
+// A clip's gesture figures (kGestureFigures), or nullopt when it steps.
+std::optional<std::array<double, 2>> GestureFigures(const motion::Motion& clip,
+                                                    const motion::HumanoidRoles& roles) {
+  absl::StatusOr<motion::MovementClip> m = motion::AnalyzeMovement(clip, roles);
+  if (!m.ok() || m->steps) return std::nullopt;
+  return std::array<double, 2>{m->hand_speed, std::max(m->hand_reach[0], m->hand_reach[1])};
+}
+
+// A Markdown table of each row's shares of the content-to-style gap.
+template <size_t N>
+void AppendShares(std::string* s, const std::string& intro, const char* const (&names)[N],
+                  const std::vector<EvalRow>& rows, std::array<double, N> EvalRow::*share,
+                  std::array<int, N> EvalRow::*pairs) {
+  absl::StrAppend(s, "\n", intro, ":\n\n| output |");
+  for (const char* f : names) absl::StrAppend(s, " ", f, " |");
+  *s += "\n| --- |";
+  for (size_t k = 0; k < N; ++k) *s += " --- |";
+  *s += "\n";
+  for (const EvalRow& r : rows) {
+    absl::StrAppend(s, "| ", r.name, " |");
+    for (size_t k = 0; k < N; ++k)
+      absl::StrAppendFormat(s, " %.2f (%d) |", (r.*share)[k], (r.*pairs)[k]);
+    *s += "\n";
+  }
+}
+
+// Each output's share of the gap from `content` to `style` per figure, into
+// `shares` (figures whose two clips differ by less than 10% are left out;
+// an output without figures counts 0).
+template <size_t N>
+void AddShares(const std::array<double, N>& content, const std::array<double, N>& style,
+               const std::optional<std::array<double, N>>& out,
+               std::array<std::vector<double>, N>* shares) {
+  for (size_t k = 0; k < N; ++k) {
+    const double c = content[k], gap = style[k] - c;
+    if (std::abs(gap) < 0.1 * std::max(c, style[k])) continue;
+    (*shares)[k].push_back(out ? std::clamp(((*out)[k] - c) / gap, -1.0, 2.0) : 0.0);
+  }
 }
 
 double Median(std::vector<double> v) {
@@ -159,6 +200,7 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
   const motion::HumanoidRoles& roles = models[0].model->data().roles;
   // Per row and gait figure: each pair's share of the content-to-style gap.
   std::vector<std::array<std::vector<double>, 5>> gait_shares(n_rows);
+  std::vector<std::array<std::vector<double>, 2>> gesture_shares(n_rows);
   int done = 0;
   for (size_t pair = 0; pair < pairs.size(); ++pair) {
     const EvalPair& p = pairs[pair];
@@ -264,19 +306,25 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     }
     const std::optional<std::array<double, 5>> content_gait = GaitFigures(*content, roles),
                                                 style_gait = GaitFigures(*style, roles);
+    const std::optional<std::array<double, 2>> content_gesture = GestureFigures(*content, roles),
+                                               style_gesture = GestureFigures(*style, roles);
     for (size_t r = 0; r < n_rows; ++r) {
       const motion::Motion& out = outputs[r];
+      // The baselines' rows are the two clips themselves. An output that
+      // stopped stepping (or started) keeps nothing of either clip's figures.
+      if (content_gesture && style_gesture) {
+        AddShares(*content_gesture, *style_gesture,
+                  r + 2 == n_rows   ? content_gesture
+                  : r + 1 == n_rows ? style_gesture
+                                    : GestureFigures(out, roles),
+                  &gesture_shares[r]);
+      }
       if (content_gait && style_gait) {
-        // The baselines' rows are the two clips themselves.
-        const std::optional<std::array<double, 5>> g = r + 2 == n_rows   ? content_gait
-                                                       : r + 1 == n_rows ? style_gait
-                                                                         : GaitFigures(out, roles);
-        for (int k = 0; k < 5; ++k) {
-          const double c = (*content_gait)[k], gap = (*style_gait)[k] - c;
-          if (std::abs(gap) < 0.1 * std::max(c, (*style_gait)[k])) continue;
-          // An output that stopped stepping keeps nothing of either gait.
-          gait_shares[r][k].push_back(g ? std::clamp(((*g)[k] - c) / gap, -1.0, 2.0) : 0.0);
-        }
+        AddShares(*content_gait, *style_gait,
+                  r + 2 == n_rows   ? content_gait
+                  : r + 1 == n_rows ? style_gait
+                                    : GaitFigures(out, roles),
+                  &gait_shares[r]);
       }
       absl::StatusOr<Verdict> v = verdict(judges, out);
       if (!v.ok()) return v.status();
@@ -368,6 +416,10 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
     for (int k = 0; k < 5; ++k) {
       row.gait_toward_style[k] = Median(gait_shares[r][k]);
       row.gait_pairs[k] = static_cast<int>(gait_shares[r][k].size());
+    }
+    for (int k = 0; k < 2; ++k) {
+      row.gesture_toward_style[k] = Median(gesture_shares[r][k]);
+      row.gesture_pairs[k] = static_cast<int>(gesture_shares[r][k].size());
     }
     if (features && real.size() >= 2 && embeddings[r].size() >= 2) {
       row.fmd = FrechetDistance(embeddings[r], real);
@@ -581,20 +633,20 @@ std::string EvalReport::Markdown() const {
                           r.moved_from_library);
   }
   if (!rows.empty() && rows[0].gait_pairs[1] > 0) {
-    s += "\nGait (stylus-tool gait's figures), over the pairs whose content and style clips "
-         "both step: how far each output's figure moved from the content clip's towards the "
-         "style clip's (median share of the gap: 0 the content's, 1 the style's; over the pairs "
-         "whose clips differ by 10% or more in it; pairs in brackets):\n\n| output |";
-    for (const char* f : kGaitFigures) absl::StrAppend(&s, " ", f, " |");
-    s += "\n| --- |";
-    for (size_t k = 0; k < std::size(kGaitFigures); ++k) s += " --- |";
-    s += "\n";
-    for (const EvalRow& r : rows) {
-      absl::StrAppend(&s, "| ", r.name, " |");
-      for (int k = 0; k < 5; ++k)
-        absl::StrAppendFormat(&s, " %.2f (%d) |", r.gait_toward_style[k], r.gait_pairs[k]);
-      s += "\n";
-    }
+    AppendShares(&s,
+                 "Gait (stylus-tool gait's figures), over the pairs whose content and style clips "
+                 "both step: how far each output's figure moved from the content clip's towards "
+                 "the style clip's (median share of the gap: 0 the content's, 1 the style's; over "
+                 "the pairs whose clips differ by 10% or more in it; pairs in brackets)",
+                 kGaitFigures, rows, &EvalRow::gait_toward_style, &EvalRow::gait_pairs);
+  }
+  if (!rows.empty() && (rows[0].gesture_pairs[0] > 0 || rows[0].gesture_pairs[1] > 0)) {
+    AppendShares(&s,
+                 "Gestures, over the pairs whose content and style clips both do not step: how "
+                 "far each output's hand speed (95th percentile) and hand reach (vertical "
+                 "travel) moved from the content clip's towards the style clip's (median share "
+                 "of the gap, as above)",
+                 kGestureFigures, rows, &EvalRow::gesture_toward_style, &EvalRow::gesture_pairs);
   }
   s += "\nKinematics (means over pairs; feet measured where the content clip's feet are "
        "planted, copy-style against the style clip itself; 'own contacts': where the output "

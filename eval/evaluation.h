@@ -100,6 +100,10 @@ struct EvalRow {
   // those whose two clips differ by 10% or more in that figure.
   std::array<double, 5> gait_toward_style = {};
   std::array<int, 5> gait_pairs = {};
+  // The same over the pairs whose clips both do not step (gestures), for
+  // kGestureFigures: how fast the hands travel and how far they reach.
+  std::array<double, 2> gesture_toward_style = {};
+  std::array<int, 2> gesture_pairs = {};
   // A model row whose package takes movement from examples: the transfers
   // that got it, and of those, how many from a library take.
   int moved = 0, moved_from_library = 0;
@@ -114,6 +118,10 @@ struct EvalRow {
 // The gait figures of EvalRow::gait_toward_style, in order.
 inline constexpr const char* kGaitFigures[5] = {"step period", "stride", "foot lift",
                                                 "arm swing", "bob"};
+
+// The gesture figures of EvalRow::gesture_toward_style, in order
+// (motion/example_motion.h MovementClip::hand_speed and hand_reach).
+inline constexpr const char* kGestureFigures[2] = {"hand speed", "hand reach"};
 
 // A model to evaluate; `postprocess` adds a second row with `full`
 // post-processing. With `own_style`, each content clip is restyled with its

@@ -282,6 +282,20 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
     }
     m.hand_swings[side] = swings;
   }
+  {
+    std::vector<double> fastest(n, 0);
+    for (int f = 0; f + 1 < n; ++f) {
+      for (int side = 0; side < 2; ++side) {
+        double d2 = 0;
+        for (int c = 3; c < 6; ++c) {
+          const double d = m.shape[f + 1][side * 6 + c] - m.shape[f][side * 6 + c];
+          d2 += d * d;
+        }
+        fastest[f] = std::max(fastest[f], std::sqrt(d2) * fps);
+      }
+    }
+    m.hand_speed = Percentile(fastest, 0.95);
+  }
   const int lag = std::max(1, static_cast<int>(std::lround(0.2 * fps)));
   // The hands' velocities: the first 6 values of a frame's shape.
   std::vector<std::vector<double>> hands(n);

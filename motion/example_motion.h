@@ -79,6 +79,9 @@ struct MovementClip {
   // in the reach.
   std::array<double, 2> hand_reach = {};
   std::array<int, 2> hand_swings = {};
+  // How fast the hands travel: the 95th percentile over frames of the faster
+  // hand's speed relative to the pelvis's floor point (leg lengths/s).
+  double hand_speed = 0;
   // Side by side of the hand chains: [upper arm, forearm, hand] per side.
   std::array<std::array<int, 3>, 2> arms = {};
 };

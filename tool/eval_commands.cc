@@ -221,7 +221,7 @@ int Eval(const Argv& argv) {
       "usage: stylus-tool eval --model DIR --judges DIR --data DIR... --out report.md\n"
       "         [--ablation LABEL=DIR]... [--pairs-per-content 3] [--threads N]\n"
       "         [--verdicts verdicts.csv] [--second-judges DIR] [--own-style]\n"
-      "         [--timing-style] [--pair-kind cross-action|same-action]\n"
+      "         [--timing-style] [--pair-kind cross-action|same-action|all]\n"
       "         [--split all|validation|test] [--library DIR [--library-label name|code]]\n\n"
       "Transfers deterministic held-out pairs (content clip x style clip of another\n"
       "content and another style) and reports, as Markdown: style and content\n"
@@ -247,7 +247,9 @@ int Eval(const Argv& argv) {
       "warped alike), without and with post-processing, and the content itself\n"
       "played at the style's cadence (what the warp alone does).\n"
       "--pair-kind same-action pairs each content clip with held-out takes of the\n"
-      "same action in other styles (default: cross-action, another action).\n"
+      "same action in other styles (default: cross-action, another action); all\n"
+      "reports same-action pairs, then cross-action pairs without and (with\n"
+      "--library) with the library, in one report.\n"
       "--split validation|test keeps the content clips of one half of the held-out\n"
       "split (a stable hash of the file name): choose settings on validation,\n"
       "report on test.\n"
@@ -330,7 +332,11 @@ int Eval(const Argv& argv) {
   } else {
     return Fail("eval", j.status());
   }
-  auto kind = model::ParsePairKind(args->Get("pair-kind", "cross-action"));
+  // --pair-kind all: the main report on same-action pairs, then sections on
+  // cross-action pairs without and (with --library) with the library.
+  const bool all_kinds = args->Get("pair-kind") == "all";
+  auto kind = all_kinds ? absl::StatusOr<model::PairKind>(model::PairKind::kSameAction)
+                        : model::ParsePairKind(args->Get("pair-kind", "cross-action"));
   if (!kind.ok()) return Fail("eval", kind.status());
   auto split = model::ParseEvalSplit(args->Get("split", "all"));
   if (!split.ok()) return Fail("eval", split.status());
@@ -357,16 +363,21 @@ int Eval(const Argv& argv) {
     em.library = library.get();
     em.label_from_name = label_by == "name";
   }
+  // Every model over `pairs`, with progress on stderr.
+  auto evaluate = [&](const std::vector<model::EvalPair>& pairs) {
+    auto r = model::Evaluate(
+        models, **judges, features.get(), reference, pairs,
+        [](int done, int total) {
+          if (done % 20 == 0 || done == total)
+            std::fprintf(stderr, "\revaluated %d/%d pairs", done, total);
+        },
+        second.get(), motion_judge.get());
+    std::fprintf(stderr, "\n");
+    return r;
+  };
   auto pairs = model::MakeEvalPairs(args->All("data"), *per, *kind, *split);
   if (!pairs.ok()) return Fail("eval", pairs.status());
-  auto report = model::Evaluate(
-      models, **judges, features.get(), reference, *pairs,
-      [](int done, int total) {
-        if (done % 20 == 0 || done == total)
-          std::fprintf(stderr, "\revaluated %d/%d pairs", done, total);
-      },
-      second.get(), motion_judge.get());
-  std::fprintf(stderr, "\n");
+  auto report = evaluate(*pairs);
   if (!report.ok()) return Fail("eval", report.status());
   const std::string second_name =
       second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
@@ -434,6 +445,21 @@ int Eval(const Argv& argv) {
     }
   }
   if (!charts.empty()) text += "\nCharts:\n\n" + charts;
+  if (all_kinds) {
+    for (const model::StyleLibrary* lib :
+         std::vector<const model::StyleLibrary*>{nullptr, library.get()}) {
+      for (model::EvalModel& em : models) em.library = lib;
+      auto cross =
+          model::MakeEvalPairs(args->All("data"), *per, model::PairKind::kCrossAction, *split);
+      if (!cross.ok()) return Fail("eval", cross.status());
+      auto r = evaluate(*cross);
+      if (!r.ok()) return Fail("eval", r.status());
+      absl::StrAppendFormat(&text, "\n## Cross-action pairs%s (%d, %s split)\n\n%s\n",
+                            lib ? " with the style library" : "", cross->size(),
+                            model::EvalSplitName(*split), r->Markdown());
+      if (library == nullptr) break;
+    }
+  }
   if (absl::Status s = motion::WriteFileAtomically(args->Get("out"), text); !s.ok())
     return Fail("eval", s);
   if (args->Has("verdicts")) {

@@ -381,6 +381,24 @@ if [ -d "$bandai/dataset-2" ]; then
   check "eval --timing-style adds the style-timed rows" 0 "content at the style's cadence \(no model\)" \
     -- "$tool" eval --model "$model" --judges "$judges" --data "$bandai/dataset-2" \
     --pairs-per-content 1 --out "$work/eval/timed.md" --threads 2 --timing-style
+  # A library of two links to held-out takes; all three pair kinds in one report.
+  mkdir -p "$work/library"
+  ln -sf "$bandai/dataset-2/dataset-2_walk_elderly_003.bvh" "$bandai/dataset-2/dataset-2_raise-up-left-hand_elderly_004.bvh" "$work/library/"
+  check "eval --pair-kind all reports three kinds" 0 "## Cross-action pairs with the style library \([0-9]+, test split\)" \
+    -- "$tool" eval --model "$model" --judges "$judges" --data "$bandai/dataset-2" \
+    --pairs-per-content 1 --out "$work/eval/kinds.md" --threads 2 --pair-kind all --split test \
+    --library "$work/library"
+  check "the same-action report says so" 0 "Held-out pairs: [0-9]+ \(same-action, test split; style library" \
+    -- cat "$work/eval/kinds.md"
+  check "transfer --style-library names the take it moved by" 0 \
+    "movement: steps from dataset-2_walk_elderly_003.bvh" -- "$tool" transfer --model "$model" \
+    --content "$bandai/dataset-2/dataset-2_walk_normal_004.bvh" \
+    --style "$bandai/dataset-2/dataset-2_raise-up-right-hand_elderly_009.bvh" -o "$work/lib_out.bvh" \
+    --style-library "$work/library" --style-label elderly
+  check "transfer --style-label unknown" 1 "the library has no take of that style \(it has elderly\)" \
+    -- "$tool" transfer --model "$model" --content "$bandai/dataset-2/dataset-2_walk_normal_004.bvh" \
+    --style "$bandai/dataset-2/dataset-2_walk_elderly_003.bvh" -o "$work/lib_out.bvh" \
+    --style-library "$work/library" --style-label proud
 elif [ "${CI:-}" = true ]; then
   echo "FAIL: $bandai missing (required under CI)"; failed=$((failed + 1))
 fi

@@ -349,28 +349,30 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
   m.flight = static_cast<double>(airborne) / (s1 - s0);
   m.travel = Normalized(Vec3{travel.x, 0, travel.z}, {0, 0, 1});
   // The loop: two frames of the stepping part at least a stride (two steps,
-  // less a fifth) apart that look and move most alike; of the near-best
-  // pairs, the farthest apart (more of the take is played).
+  // less a fifth) and at most kMaxLoopS apart that look and move most alike;
+  // of the near-best pairs, the farthest apart (more of the take is played).
+  // Two passes over the pairs, none stored: time grows with the clip's
+  // length times the longest loop, memory not at all.
   const int period = std::max(2, static_cast<int>(std::lround(m.step_period_s * fps)));
   const int min_len = std::max(2, static_cast<int>(std::lround(1.6 * period)));
+  const int max_len = std::max(min_len, static_cast<int>(std::lround(kMaxLoopS * fps)));
   m.loop_begin = s0;
   m.loop_end = s1 - 1;
   if (s1 - 1 - s0 < min_len) return m;
   double best = std::numeric_limits<double>::infinity();
-  std::vector<std::array<double, 3>> pairs;  // distance, a, b
   for (int a = s0; a < s1; ++a) {
-    for (int b = a + min_len; b < s1; ++b) {
-      const double d = Dist2(m.gait[a], m.gait[b]);
-      pairs.push_back({d, static_cast<double>(a), static_cast<double>(b)});
-      best = std::min(best, d);
+    for (int b = a + min_len; b < std::min(s1, a + max_len + 1); ++b) {
+      best = std::min(best, Dist2(m.gait[a], m.gait[b]));
     }
   }
   int longest = -1;
-  for (const auto& p : pairs) {
-    if (p[0] <= 1.25 * best + 1e-9 && p[2] - p[1] > longest) {
-      longest = static_cast<int>(p[2] - p[1]);
-      m.loop_begin = static_cast<int>(p[1]);
-      m.loop_end = static_cast<int>(p[2]);
+  for (int a = s0; a < s1; ++a) {
+    for (int b = a + min_len; b < std::min(s1, a + max_len + 1); ++b) {
+      if (b - a > longest && Dist2(m.gait[a], m.gait[b]) <= 1.25 * best + 1e-9) {
+        longest = b - a;
+        m.loop_begin = a;
+        m.loop_end = b;
+      }
     }
   }
   return m;

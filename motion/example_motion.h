@@ -38,6 +38,8 @@
 
 namespace stylus::motion {
 
+inline constexpr double kMaxLoopS = 20;
+
 // A clip read for registration.
 struct MovementClip {
   Motion clip;
@@ -67,8 +69,9 @@ struct MovementClip {
   // The share of its stepping frames with neither foot on the floor: about
   // 0 for a walk, more for a run.
   double flight = 0;
-  // A seamless loop of its stepping: frame loop_end looks and moves like
-  // loop_begin, so playback wraps from loop_end to loop_begin.
+  // A seamless loop of its stepping (at most kMaxLoopS long): frame
+  // loop_end looks and moves like loop_begin, so playback wraps from
+  // loop_end to loop_begin.
   int loop_begin = 0, loop_end = 0;
   double floor_height = 0;  // The feet's floor: the lowest any foot joint goes.
   // What its arms do, per side (left, right): how far the hand travels up

@@ -128,6 +128,17 @@ TEST(ExampleMotionTest, AGesturesRegistrationIsMonotoneAndSpansTheExample) {
   EXPECT_EQ(r->time.back(), e.clip.num_frames - 1);
 }
 
+// A clip as long as a server takes (10 minutes) is read with a loop of at
+// most kMaxLoopS: the loop search holds nothing per pair of frames.
+TEST(ExampleMotionTest, ALongClipsLoopIsBounded) {
+  const Motion walk = Walk("normal,frames=18000,speed=130,stride=125");
+  absl::StatusOr<MovementClip> m = AnalyzeMovement(walk, *HumanoidRolesOf(walk));
+  ASSERT_TRUE(m.ok()) << m.status();
+  EXPECT_TRUE(m->steps);
+  EXPECT_GT(m->loop_end - m->loop_begin, 0);
+  EXPECT_LE((m->loop_end - m->loop_begin) * walk.frame_time, kMaxLoopS + 1e-9);
+}
+
 TEST(ExampleMotionTest, PartSourcesParseByName) {
   EXPECT_EQ(*ParsePartSource("layer"), PartSource::kLayer);
   EXPECT_EQ(PartSourceName(*ParsePartSource("example")), std::string("example"));

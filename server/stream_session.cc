@@ -304,6 +304,9 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, *m, config.style(), "config style");
     if (!style.ok()) return style.status();
+    // Streams keep the network's movement: the style clip itself is not
+    // held for the stream's lifetime (docs/movement.md "Streams").
+    style->example = nullptr;
     absl::StatusOr<motion::JointMap> joint_map =
         wire::JointMapFromProto(config.skeleton(), "config");
     if (!joint_map.ok()) return joint_map.status();
@@ -338,6 +341,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
           ResolveStyle(*service_, *hosted_, change.style(), "style change");
       if (!code.ok()) return code.status();
       c.code = *std::move(code);
+      c.code->example = nullptr;
     } else if (change.has_blend()) {
       const v1::StyleBlend& blend = change.blend();
       if (blend.styles_size() == 0 || blend.weights_size() != blend.styles_size()) {

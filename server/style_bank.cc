@@ -9,6 +9,11 @@ absl::Status StyleBank::Save(const std::string& model_id, const std::string& nam
   if (name.empty() || name.size() > 200) {
     return absl::InvalidArgumentError("a style name must have 1 to 200 characters");
   }
+  // A saved style keeps its code and cadence, not its clip: the bank's
+  // memory stays a few values per name whatever clips clients send. Its
+  // movement comes from the server's style library (a saved style named as
+  // one of the library's styles uses that style's takes; docs/movement.md).
+  code.example = nullptr;
   absl::MutexLock lock(&mu_);
   auto it = codes_.find({model_id, name});
   if (it != codes_.end()) {

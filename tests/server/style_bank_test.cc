@@ -17,6 +17,21 @@ TEST(StyleBankTest, NamesAreKeptPerModel) {
   EXPECT_EQ(bank.Get("cyclic/v2", "old")->values, (std::vector<float>{4}));
 }
 
+// A saved style keeps its code and cadence, not the clip it was encoded from
+// (whatever its length, a name costs a few values).
+TEST(StyleBankTest, ASavedStyleDoesNotHoldItsClip) {
+  StyleBank bank;
+  model::StyleCode code{{1, 2}};
+  code.cadence = motion::Cadence{motion::Cadence::Source::kSteps, 0.5, 1};
+  code.example = std::make_shared<const motion::MovementClip>();
+  ASSERT_TRUE(bank.Save("contrastive/v9", "old", code).ok());
+  const absl::StatusOr<model::StyleCode> saved = bank.Get("contrastive/v9", "old");
+  ASSERT_TRUE(saved.ok());
+  EXPECT_EQ(saved->example, nullptr);
+  ASSERT_TRUE(saved->cadence.has_value());
+  EXPECT_EQ(saved->cadence->period_s, 0.5);
+}
+
 TEST(StyleBankTest, UnknownNamesAndBadNamesAreErrors) {
   StyleBank bank;
   absl::StatusOr<model::StyleCode> missing = bank.Get("contrastive/v8", "young");

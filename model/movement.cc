@@ -253,24 +253,15 @@ double StylePace(const ChosenExample& chosen) {
   return chosen.registration.rate;
 }
 
-absl::StatusOr<std::optional<motion::MovementResult>> MoveFromExamples(
-    const StyleModel& model, const motion::Motion& network, const motion::Motion& content,
-    const std::vector<StyleCode>& styles, const std::vector<double>& shares,
-    const MovementKeys& keys, const MovementRequest& request, MovementNote* note) {
-  absl::StatusOr<std::optional<ChosenExample>> chosen =
-      ChooseExample(model, content, styles, shares, keys, request, note);
-  if (!chosen.ok()) return chosen.status();
-  if (!chosen->has_value()) return std::optional<motion::MovementResult>();
-  const ChosenExample& c = **chosen;
+absl::StatusOr<motion::MovementResult> ApplyExample(const motion::Motion& network,
+                                                    const ChosenExample& chosen,
+                                                    const MovementKeys& keys) {
   motion::MovementOptions options;
   options.arms = *motion::ParsePartSource(keys.movement_arms);
   options.spine = *motion::ParsePartSource(keys.movement_spine);
   options.fit_stride = keys.movement_fit_stride;
-  absl::StatusOr<motion::MovementResult> moved =
-      motion::ApplyMovement(network, *c.content, *c.example, c.registration, options);
-  if (!moved.ok()) return moved.status();
-  note->applied = true;
-  return std::optional<motion::MovementResult>(*std::move(moved));
+  return motion::ApplyMovement(network, *chosen.content, *chosen.example, chosen.registration,
+                               options);
 }
 
 }  // namespace stylus::model

@@ -109,14 +109,11 @@ absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
 // a gesture, the example's duration over the content's.
 double StylePace(const ChosenExample& chosen);
 
-// The network's output `network` of `content` (both at the model's rate, on
-// its skeleton) with the movement of an example of the dominant style of
-// `styles` (the largest weight). nullopt (with the note's reason) when no
-// example shows the content's kind of movement.
-absl::StatusOr<std::optional<motion::MovementResult>> MoveFromExamples(
-    const StyleModel& model, const motion::Motion& network, const motion::Motion& content,
-    const std::vector<StyleCode>& styles, const std::vector<double>& shares,
-    const MovementKeys& keys, const MovementRequest& request, MovementNote* note);
+// The network's transfer `network` of the chosen example's content, with
+// the example's movement in the parts `keys` say (motion::ApplyMovement).
+absl::StatusOr<motion::MovementResult> ApplyExample(const motion::Motion& network,
+                                                    const ChosenExample& chosen,
+                                                    const MovementKeys& keys);
 
 }  // namespace stylus::model
 

@@ -322,36 +322,40 @@ absl::StatusOr<TransferResult> StyleModel::InterpolateAtModelRate(
   // where the example's movement would change the action, the network's is
   // kept.
   std::optional<std::array<std::vector<motion::ContactSpan>, 4>> own_contacts;
-  if (options.movement_from_examples && movement_keys().movement_examples) {
+  if (options.movement_from_examples && moves_from_examples()) {
+    absl::StatusOr<std::optional<ChosenExample>> chosen =
+        ChooseExample(*this, content, styles, StyleShares(styles, weights), movement_keys(),
+                      options.movement, &result.movement);
+    if (!chosen.ok()) return chosen.status();
+    // A paced transfer (the content played at the example's pace) is the
+    // example's steps by request: the guard, trained on clips at their own
+    // pace, reads slowed content as other actions too often to judge it.
+    const bool paced = options.timing == Timing::kStyle || options.fit_frames > 0;
     // The configured parts first; when the guard reads another action in
     // them, the legs and pelvis alone (the arms and spine the network's).
     MovementKeys keys = movement_keys();
-    for (int attempt = 0; attempt < 2; ++attempt) {
-      absl::StatusOr<std::optional<motion::MovementResult>> moved =
-          MoveFromExamples(*this, *out, content, styles, StyleShares(styles, weights), keys,
-                           options.movement, &result.movement);
+    for (int attempt = 0; chosen->has_value() && attempt < 2; ++attempt) {
+      absl::StatusOr<motion::MovementResult> moved = ApplyExample(*out, **chosen, keys);
       if (!moved.ok()) return moved.status();
-      if (!moved->has_value()) break;
       bool keep = true;
-      // A paced transfer (the content played at the example's pace) is the
-      // example's steps by request: the guard, trained on clips at their own
-      // pace, reads slowed content as other actions too often to judge it.
-      const bool paced = options.timing == Timing::kStyle || options.fit_frames > 0;
       if (guard != nullptr && !paced) {
-        absl::StatusOr<motion::FeatureClip> read = normalized((*moved)->motion);
+        absl::StatusOr<motion::FeatureClip> read = normalized(moved->motion);
         if (!read.ok()) return read.status();
         keep = guard->Keeps(*read, action, guard_keys().guard_min_probability);
       }
       if (keep) {
+        result.movement.applied = true;
         if (attempt > 0) result.movement.example += " (legs and pelvis only)";
-        *out = std::move((*moved)->motion);
-        own_contacts = std::move((*moved)->contacts);
+        *out = std::move(moved->motion);
+        own_contacts = std::move(moved->contacts);
         break;
       }
-      result.movement = MovementNote{};
-      result.movement.reason = "the content guard read another action with the example's movement";
       if (keys.movement_arms == "network" && keys.movement_spine == "network") break;
       keys.movement_arms = keys.movement_spine = "network";
+    }
+    if (chosen->has_value() && !result.movement.applied) {
+      result.movement = MovementNote{};
+      result.movement.reason = "the content guard read another action with the example's movement";
     }
   }
   if (&original != &content) {

@@ -228,6 +228,9 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // INVALID_ARGUMENT names `what` and the roles the rig lacks.
   absl::StatusOr<std::unique_ptr<motion::Retargeter>> RetargeterFor(
       const motion::Motion& clip, const motion::JointMap& joint_map, const std::string& what) const;
+  // Whether this package takes a transfer's movement from examples
+  // (MovementKeys; `movement = examples`).
+  bool moves_from_examples() const { return movement_keys().movement_examples; }
 
  protected:
   // Interpolate with the content's timing.
@@ -285,12 +288,6 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   virtual const GuardKeys& guard_keys() const = 0;
   virtual const MovementKeys& movement_keys() const = 0;
 
- public:
-  // Whether this package takes a transfer's movement from examples
-  // (MovementKeys; `movement = examples`).
-  bool moves_from_examples() const { return movement_keys().movement_examples; }
-
- protected:
  private:
   mutable std::once_flag rig_once_;
   mutable absl::StatusOr<std::shared_ptr<const motion::ModelRig>> rig_;

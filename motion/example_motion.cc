@@ -56,23 +56,6 @@ Vec3 Floor(const Vec3& p) { return {p.x, 0, p.z}; }
 // `v` (a world offset) in the frame that faces `yaw`: x left, z ahead.
 Vec3 InFacing(const Vec3& v, double yaw) { return Rotate(YawRotation(-yaw), v); }
 
-// The child of `j` with the most joints below it (past twist bones).
-int MainChild(const Skeleton& sk, int j) {
-  int best = -1, best_size = -1;
-  for (int c : sk.children(j)) {
-    int size = 0;
-    std::vector<int> stack{c};
-    while (!stack.empty()) {
-      const int k = stack.back();
-      stack.pop_back();
-      ++size;
-      for (int g : sk.children(k)) stack.push_back(g);
-    }
-    if (size > best_size) best = c, best_size = size;
-  }
-  return best;
-}
-
 double Dist2(const std::vector<double>& a, const std::vector<double>& b) {
   double d = 0;
   for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
@@ -415,7 +398,6 @@ absl::StatusOr<Registration> RegisterMovement(const MovementClip& content,
   if (content.steps) {
     reg.kind = Registration::Kind::kSteps;
     const double ve = std::max(example.step_speed, 1e-3);
-    reg.cost = std::abs(content.step_speed / ve - 1);
     // The first instant: where the example's legs are most as the content's.
     double best = std::numeric_limits<double>::infinity();
     double t = example.loop_begin;
@@ -425,10 +407,12 @@ absl::StatusOr<Registration> RegisterMovement(const MovementClip& content,
     }
     const double loop = example.loop_end - example.loop_begin;
     double total = 0;
+    reg.step_rate.resize(n);
     for (int f = 0; f < n; ++f) {
       reg.time[f] = t;
       const double rate = std::clamp(std::sqrt(std::max(content.speed[f], 1e-6) / ve),
                                      options.min_rate, options.max_rate);
+      reg.step_rate[f] = rate;
       total += rate;
       t += rate;
       while (loop > 0 && t >= example.loop_end) t -= loop;
@@ -518,7 +502,9 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
   if (!sk.SameTopology(content.clip.skeleton) || !sk.SameTopology(example.clip.skeleton)) {
     return absl::InvalidArgumentError("movement: the clips are on different skeletons");
   }
-  if (content.clip.num_frames != n || static_cast<int>(registration.time.size()) != n) {
+  if (content.clip.num_frames != n || static_cast<int>(registration.time.size()) != n ||
+      (registration.kind == Registration::Kind::kSteps &&
+       static_cast<int>(registration.step_rate.size()) != n)) {
     return absl::InvalidArgumentError(
         absl::StrCat("movement: the network's output has ", n, " frames, the content ",
                      content.clip.num_frames, ", the registration ", registration.time.size()));
@@ -593,11 +579,11 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
       }
     }
     if (stepping && options.fit_stride && options.legs != PartSource::kNetwork) {
-      // The played cadence is sqrt(vc / ve) of the example's, so its stride
-      // must cover vc / (rate ve) of what it did.
+      // The example is played `step_rate` times as fast, so its stride must
+      // cover vc / (rate ve) of what it did.
       const double ve = std::max(example.step_speed, 1e-3);
-      const double rate = std::clamp(std::sqrt(std::max(content.speed[f], 1e-6) / ve), 0.5, 2.0);
-      const double scale = std::clamp(content.speed[f] / (rate * ve), 0.6, 1.6);
+      const double scale =
+          std::clamp(content.speed[f] / (registration.step_rate[f] * ve), 0.6, 1.6);
       GlobalPose g = ForwardKinematics(sk, pose);
       const Vec3 centre = Floor(g.positions[pelvis]);
       const double yaw = net.heading[f];
@@ -610,9 +596,7 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
     }
     if (options.legs != PartSource::kNetwork) {
       // No foot below the content's floor.
-      std::vector<LocalPose> one{std::move(pose)};
-      KeepFeetAboveFloor(sk, roles, content.floor_height, &one);
-      pose = std::move(one[0]);
+      KeepFeetAboveFloor(sk, roles, content.floor_height, &pose);
       const int e = std::clamp(static_cast<int>(std::lround(t)), 0, m - 1);
       for (int k = 0; k < 4; ++k) flags[k][f] = example.contact[k][e];
     }

@@ -109,10 +109,12 @@ struct Registration {
   Kind kind = Kind::kGesture;
   // Per content frame: the example's instant (a fractional frame) played there.
   std::vector<double> time;
-  // Gesture: the mean distance (leg lengths) of the registered shapes; steps:
-  // the share the content's speed differs from the example's.
+  // Gesture: the mean distance (leg lengths) of the registered shapes.
   double cost = 0;
   double rate = 1;  // Mean example frames per content frame.
+  // Steps: per content frame, the example frames played per content frame
+  // (sqrt(content speed / example speed), within RegisterOptions' bounds).
+  std::vector<double> step_rate;
 };
 
 struct RegisterOptions {

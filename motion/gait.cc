@@ -21,12 +21,6 @@ double Percentile(std::vector<double> v, double share) {
 double Spread(const std::vector<double>& v) { return Percentile(v, 0.95) - Percentile(v, 0.05); }
 
 // How many joints hang below joint `j`.
-int Descendants(const Skeleton& sk, int j) {
-  int n = 0;
-  for (int c : sk.children(j)) n += 1 + Descendants(sk, c);
-  return n;
-}
-
 double Ahead(const Vec3& p, const Vec3& pelvis, const Vec3& facing) {
   return (p.x - pelvis.x) * facing.x + (p.z - pelvis.z) * facing.z;
 }
@@ -44,13 +38,7 @@ absl::StatusOr<Gait> MeasureGait(const Motion& clip, const HumanoidRoles& roles)
           "the left arm ends at '", sk.joint(hand).name, "': no hand two joints below '",
           sk.joint(roles.left_shoulder).name, "'"));
     }
-    // The limb goes on through the child with the most below it (not a
-    // twist bone or a prop).
-    int next = sk.children(hand)[0];
-    for (int c : sk.children(hand)) {
-      if (Descendants(sk, c) > Descendants(sk, next)) next = c;
-    }
-    hand = next;
+    hand = MainChild(sk, hand);  // Not a twist bone or a prop.
   }
   const std::vector<std::vector<Vec3>> p = GlobalPositionsYUp(clip, roles.up_axis);
   const double unit = 1.0 / roles.leg_length;

@@ -99,4 +99,21 @@ std::vector<bool> LegJoints(const Skeleton& skeleton, const HumanoidRoles& roles
   return leg;
 }
 
+namespace {
+int Descendants(const Skeleton& sk, int j) {
+  int n = 0;
+  for (int c : sk.children(j)) n += 1 + Descendants(sk, c);
+  return n;
+}
+}  // namespace
+
+int MainChild(const Skeleton& skeleton, int joint) {
+  int best = -1, best_size = -1;
+  for (int c : skeleton.children(joint)) {
+    const int size = Descendants(skeleton, c);
+    if (size > best_size) best = c, best_size = size;
+  }
+  return best;
+}
+
 }  // namespace stylus::motion

@@ -25,6 +25,10 @@ struct HumanoidRoles {
 // Finds the roles by name; INVALID_ARGUMENT names the role it could not find.
 absl::StatusOr<HumanoidRoles> FindHumanoidRoles(const Skeleton& skeleton);
 
+// The child of `joint` with the most joints below it: where a limb goes on
+// (not a twist bone or a prop); -1 for a joint without children.
+int MainChild(const Skeleton& skeleton, int joint);
+
 // Sum of the offsets from joint `from` down to its descendant `to` (the
 // rest length of the chain between them).
 double ChainLength(const Skeleton& skeleton, int from, int to);

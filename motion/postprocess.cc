@@ -354,17 +354,15 @@ void PlaceAnkle(const Skeleton& sk, const GlobalPose& g, int ankle, const Vec3& 
 }
 
 void KeepFeetAboveFloor(const Skeleton& sk, const HumanoidRoles& roles, double floor,
-                        std::vector<LocalPose>* poses) {
-  for (LocalPose& pose : *poses) {
-    GlobalPose g = ForwardKinematics(sk, pose);
-    for (int side = 0; side < 2; ++side) {
-      const int ankle = side == 0 ? roles.left_ankle : roles.right_ankle;
-      const int toe = side == 0 ? roles.left_toe : roles.right_toe;
-      const double depth = floor - std::min(g.positions[ankle].y, g.positions[toe].y);
-      if (depth <= 1e-9) continue;
-      PlaceAnkle(sk, g, ankle, g.positions[ankle] + Vec3{0, depth, 0}, &pose);
-      g = ForwardKinematics(sk, pose);
-    }
+                        LocalPose* pose) {
+  GlobalPose g = ForwardKinematics(sk, *pose);
+  for (int side = 0; side < 2; ++side) {
+    const int ankle = side == 0 ? roles.left_ankle : roles.right_ankle;
+    const int toe = side == 0 ? roles.left_toe : roles.right_toe;
+    const double depth = floor - std::min(g.positions[ankle].y, g.positions[toe].y);
+    if (depth <= 1e-9) continue;
+    PlaceAnkle(sk, g, ankle, g.positions[ankle] + Vec3{0, depth, 0}, pose);
+    g = ForwardKinematics(sk, *pose);
   }
 }
 
@@ -389,7 +387,7 @@ absl::StatusOr<Motion> PostProcess(const Motion& output, const Motion& content,
   for (const std::vector<Vec3>& p : content_pos) {
     for (int j : FootJoints(roles)) floor = std::min(floor, p[j].y);
   }
-  if (!content_pos.empty()) KeepFeetAboveFloor(sk, roles, floor, &*cleaned);
+  for (LocalPose& pose : *cleaned) KeepFeetAboveFloor(sk, roles, floor, &pose);
   if (n == 0) return output;
   Motion result = output;
   // Continuity starts from the output's own first frame (in a stream, the

@@ -118,12 +118,12 @@ absl::StatusOr<std::vector<LocalPose>> PostProcessPoses(
 void PlaceAnkle(const Skeleton& skeleton, const GlobalPose& posed, int ankle, const Vec3& target,
                 LocalPose* pose);
 
-// Each leg whose ankle or toe is below `floor` (a height, Y up) in a pose
+// Each leg whose ankle or toe is below `floor` (a height, Y up) in `pose`
 // is bent up by the depth (two-bone IK at the ankle, the foot's world
-// orientation kept): no foot under the floor. PostProcess applies it with
-// the content's floor (the lowest its foot joints go).
+// orientation kept): no foot under the floor. PostProcess applies it to
+// every frame with the content's floor (the lowest its foot joints go).
 void KeepFeetAboveFloor(const Skeleton& skeleton, const HumanoidRoles& roles, double floor,
-                        std::vector<LocalPose>* poses);
+                        LocalPose* pose);
 
 // Position channels of every joint below the pelvis set to its offset (its
 // bone length and direction at rest).

@@ -493,6 +493,76 @@ absl::StatusOr<Registration> RegisterMovement(const MovementClip& content,
   return reg;
 }
 
+std::vector<PartSource> PartSources(const Skeleton& sk, const HumanoidRoles& roles,
+                                    const MovementOptions& options) {
+  std::vector<PartSource> source(sk.num_joints(), PartSource::kNetwork);
+  for (int j : BodyPartJoints(sk, roles, BodyPart::kLegs)) source[j] = options.legs;
+  for (BodyPart arm : {BodyPart::kLeftArm, BodyPart::kRightArm}) {
+    for (int j : BodyPartJoints(sk, roles, arm)) source[j] = options.arms;
+  }
+  for (int j : BodyPartJoints(sk, roles, BodyPart::kTorso)) source[j] = options.spine;
+  return source;
+}
+
+LocalPose MoveFrame(const Skeleton& sk, const HumanoidRoles& roles, const MovementClip& example,
+                    const std::vector<PartSource>& source, bool pelvis_from_example,
+                    const LocalPose& network, const FramePlacement& at, const FrameLayer* layer) {
+  const int m = example.clip.num_frames, joints = sk.num_joints();
+  const Sample s = At(at.time, m);
+  const int pelvis = roles.pelvis, pelvis_parent = sk.joint(pelvis).parent;
+  LocalPose pose = network;
+  for (int j = 0; j < joints; ++j) {
+    if (j == pelvis || source[j] == PartSource::kNetwork) continue;
+    const Quat e =
+        SlerpShort(example.poses[s.i0].rotations[j], example.poses[s.i1].rotations[j], s.a);
+    if (source[j] == PartSource::kLayer && layer != nullptr) {
+      const Quat ep =
+          SlerpShort((*layer->example)[s.i0][j], (*layer->example)[s.i1][j], s.a);
+      pose.rotations[j] = Normalized((*layer->network)[j] * Conjugate(ep) * e);
+    } else {
+      pose.rotations[j] = e;
+    }
+  }
+  if (pelvis_from_example) {
+    const double he = example.heading[s.i0] + (example.heading[s.i1] - example.heading[s.i0]) * s.a;
+    const Quat turn = YawRotation(at.heading - he);
+    const Quat rot = SlerpShort(example.pelvis_rotation[s.i0], example.pelvis_rotation[s.i1], s.a);
+    const Vec3 pos = Lerp(example.positions[s.i0][pelvis], example.positions[s.i1][pelvis], s.a);
+    const Vec3 path = Lerp(example.floor_path[s.i0], example.floor_path[s.i1], s.a);
+    // Sway about the example's path, turned to the output's facing; its
+    // height over its own floor, on the content's floor.
+    const Vec3 sway = Rotate(turn, Floor(pos - path));
+    const Vec3 world{at.floor_point.x + sway.x, pos.y - example.floor_height + at.floor,
+                     at.floor_point.z + sway.z};
+    const Quat world_rot = Normalized(turn * rot);
+    Quat parent_rot;
+    Vec3 parent_pos;
+    if (pelvis_parent >= 0) {
+      const GlobalPose g = ForwardKinematics(sk, network);
+      parent_rot = g.rotations[pelvis_parent];
+      parent_pos = g.positions[pelvis_parent];
+    }
+    pose.rotations[pelvis] = Normalized(Conjugate(parent_rot) * world_rot);
+    if (HasPositionChannel(sk.joint(pelvis))) {
+      pose.translations[pelvis] = Rotate(Conjugate(parent_rot), world - parent_pos);
+    }
+  }
+  const bool legs = source[roles.left_ankle] != PartSource::kNetwork;
+  if (at.fit_stride && legs) {
+    GlobalPose g = ForwardKinematics(sk, pose);
+    const Vec3 centre = Floor(g.positions[pelvis]);
+    for (int side = 0; side < 2; ++side) {
+      const int ankle = side == 0 ? roles.left_ankle : roles.right_ankle;
+      const Vec3 local = InFacing(g.positions[ankle] - centre, at.heading);
+      const Vec3 want_local{local.x, local.y, local.z * at.stride_scale};
+      PlaceAnkle(sk, g, ankle, centre + Rotate(YawRotation(at.heading), want_local), &pose);
+    }
+  }
+  // No foot below the content's floor.
+  if (legs) KeepFeetAboveFloor(sk, roles, at.floor, &pose);
+  return pose;
+}
+
 absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const MovementClip& content,
                                              const MovementClip& example,
                                              const Registration& registration,
@@ -514,14 +584,7 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
   if (!out_read.ok()) return out_read.status();
   const MovementClip& net = *out_read;
   const double fps = network.fps();
-  const int joints = sk.num_joints();
-
-  std::vector<PartSource> source(joints, PartSource::kNetwork);
-  for (int j : BodyPartJoints(sk, roles, BodyPart::kLegs)) source[j] = options.legs;
-  for (BodyPart arm : {BodyPart::kLeftArm, BodyPart::kRightArm}) {
-    for (int j : BodyPartJoints(sk, roles, arm)) source[j] = options.arms;
-  }
-  for (int j : BodyPartJoints(sk, roles, BodyPart::kTorso)) source[j] = options.spine;
+  const std::vector<PartSource> source = PartSources(sk, roles, options);
   const bool layered = std::count(source.begin(), source.end(), PartSource::kLayer) > 0;
   std::vector<std::vector<Quat>> net_posture, example_posture;
   if (layered) {
@@ -529,75 +592,31 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
     example_posture = Posture(example.poses, options.posture_s * fps);
   }
   const bool stepping = registration.kind == Registration::Kind::kSteps;
-  const int pelvis = roles.pelvis, pelvis_parent = sk.joint(pelvis).parent;
+  const double ve = std::max(example.step_speed, 1e-3);
 
   MovementResult result;
   result.motion = network;
   std::array<std::vector<bool>, 4> flags;
   for (auto& f : flags) f.assign(n, false);
-  std::vector<Vec3> prev_euler(joints);
+  std::vector<Vec3> prev_euler(sk.num_joints());
   for (int f = 0; f < n; ++f) {
-    const double t = registration.time[f];
-    const Sample s = At(t, m);
-    LocalPose pose = net.poses[f];
-    for (int j = 0; j < joints; ++j) {
-      if (j == pelvis || source[j] == PartSource::kNetwork) continue;
-      const Quat e =
-          SlerpShort(example.poses[s.i0].rotations[j], example.poses[s.i1].rotations[j], s.a);
-      if (source[j] == PartSource::kExample) {
-        pose.rotations[j] = e;
-      } else {
-        const Quat ep = SlerpShort(example_posture[s.i0][j], example_posture[s.i1][j], s.a);
-        pose.rotations[j] = Normalized(net_posture[f][j] * Conjugate(ep) * e);
-      }
+    FramePlacement at;
+    at.time = registration.time[f];
+    at.heading = net.heading[f];
+    at.floor_point = net.floor_path[f];
+    at.floor = content.floor_height;
+    // The example is played `step_rate` times as fast, so its stride must
+    // cover vc / (rate ve) of what it did.
+    at.fit_stride = stepping && options.fit_stride;
+    if (at.fit_stride) {
+      at.stride_scale = std::clamp(content.speed[f] / (registration.step_rate[f] * ve), 0.6, 1.6);
     }
-    if (options.pelvis) {
-      const double he =
-          example.heading[s.i0] + (example.heading[s.i1] - example.heading[s.i0]) * s.a;
-      const Quat turn = YawRotation(net.heading[f] - he);
-      const Quat rot =
-          SlerpShort(example.pelvis_rotation[s.i0], example.pelvis_rotation[s.i1], s.a);
-      const Vec3 pos = Lerp(example.positions[s.i0][pelvis], example.positions[s.i1][pelvis], s.a);
-      const Vec3 path = Lerp(example.floor_path[s.i0], example.floor_path[s.i1], s.a);
-      // Sway about the example's path, turned to the output's facing; its
-      // height over its own floor, on the content's floor.
-      const Vec3 sway = Rotate(turn, Floor(pos - path));
-      const Vec3 world{net.floor_path[f].x + sway.x,
-                       pos.y - example.floor_height + content.floor_height,
-                       net.floor_path[f].z + sway.z};
-      const Quat world_rot = Normalized(turn * rot);
-      Quat parent_rot;
-      Vec3 parent_pos;
-      if (pelvis_parent >= 0) {
-        const GlobalPose g = ForwardKinematics(sk, net.poses[f]);
-        parent_rot = g.rotations[pelvis_parent];
-        parent_pos = g.positions[pelvis_parent];
-      }
-      pose.rotations[pelvis] = Normalized(Conjugate(parent_rot) * world_rot);
-      if (HasPositionChannel(sk.joint(pelvis))) {
-        pose.translations[pelvis] = Rotate(Conjugate(parent_rot), world - parent_pos);
-      }
-    }
-    if (stepping && options.fit_stride && options.legs != PartSource::kNetwork) {
-      // The example is played `step_rate` times as fast, so its stride must
-      // cover vc / (rate ve) of what it did.
-      const double ve = std::max(example.step_speed, 1e-3);
-      const double scale =
-          std::clamp(content.speed[f] / (registration.step_rate[f] * ve), 0.6, 1.6);
-      GlobalPose g = ForwardKinematics(sk, pose);
-      const Vec3 centre = Floor(g.positions[pelvis]);
-      const double yaw = net.heading[f];
-      for (int side = 0; side < 2; ++side) {
-        const int ankle = side == 0 ? roles.left_ankle : roles.right_ankle;
-        const Vec3 local = InFacing(g.positions[ankle] - centre, yaw);
-        const Vec3 want_local{local.x, local.y, local.z * scale};
-        PlaceAnkle(sk, g, ankle, centre + Rotate(YawRotation(yaw), want_local), &pose);
-      }
-    }
+    FrameLayer layer;
+    if (layered) layer = {&net_posture[f], &example_posture};
+    const LocalPose pose = MoveFrame(sk, roles, example, source, options.pelvis, net.poses[f], at,
+                                     layered ? &layer : nullptr);
     if (options.legs != PartSource::kNetwork) {
-      // No foot below the content's floor.
-      KeepFeetAboveFloor(sk, roles, content.floor_height, &pose);
-      const int e = std::clamp(static_cast<int>(std::lround(t)), 0, m - 1);
+      const int e = std::clamp(static_cast<int>(std::lround(at.time)), 0, m - 1);
       for (int k = 0; k < 4; ++k) flags[k][f] = example.contact[k][e];
     }
     SetPose(&result.motion, f, pose, &prev_euler);

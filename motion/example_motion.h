@@ -168,6 +168,35 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
                                              const Registration& registration,
                                              const MovementOptions& options = {});
 
+// Per joint, where ApplyMovement takes it from (the pelvis is handled apart).
+std::vector<PartSource> PartSources(const Skeleton& skeleton, const HumanoidRoles& roles,
+                                    const MovementOptions& options);
+
+// Where one output frame plays the example (ApplyMovement per frame; the
+// streams' MovementFollower, motion/live_movement.h).
+struct FramePlacement {
+  double time = 0;     // The example's instant (a fractional frame).
+  double heading = 0;  // The output's facing (yaw, radians).
+  Vec3 floor_point;    // The output's pelvis floor point, without sway.
+  double floor = 0;    // The content's floor height.
+  // Stepping: the ankles' reach ahead of and behind the pelvis scaled by
+  // stride_scale (MovementOptions::fit_stride).
+  bool fit_stride = false;
+  double stride_scale = 1;
+};
+// kLayer: the network's posture at this frame and the example's per frame.
+struct FrameLayer {
+  const std::vector<Quat>* network = nullptr;
+  const std::vector<std::vector<Quat>>* example = nullptr;
+};
+// `network` with the parts `source` names taken from `example` at
+// `at.time`, the pelvis (when `pelvis`) turned and placed on the output's
+// path, the stride fitted and no foot below the floor when the legs are the
+// example's. kLayer without `layer` plays the example's rotations.
+LocalPose MoveFrame(const Skeleton& skeleton, const HumanoidRoles& roles, const MovementClip& example,
+                    const std::vector<PartSource>& source, bool pelvis, const LocalPose& network,
+                    const FramePlacement& at, const FrameLayer* layer = nullptr);
+
 // Frames [begin, end) per foot joint from per-frame contact flags; spans
 // shorter than `min_frames` are dropped.
 std::array<std::vector<ContactSpan>, 4> SpansFromFlags(

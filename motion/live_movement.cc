@@ -1,0 +1,347 @@
+#include "motion/live_movement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "motion/contacts.h"
+#include "motion/kinematics.h"
+#include "motion/resample.h"
+
+namespace stylus::motion {
+namespace {
+
+Vec3 OnFloor(const Vec3& p) { return {p.x, 0, p.z}; }
+
+// `v` (a world offset) in the frame that faces `yaw`: x left, z ahead.
+Vec3 Facing(const Vec3& v, double yaw) { return Rotate(YawRotation(-yaw), v); }
+
+double SquaredDistance(const std::vector<double>& a, const std::vector<double>& b) {
+  double d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
+  return d;
+}
+
+int Frames(double seconds, double fps) {
+  return std::max(1, static_cast<int>(std::lround(seconds * fps)));
+}
+
+// The straight line through (i, y_i) for i in [a, b], at `at`.
+template <typename Get>
+double LineAt(int64_t a, int64_t b, int64_t at, Get y) {
+  const int n = static_cast<int>(b - a + 1);
+  if (n < 2) return y(b);
+  double si = 0, sy = 0, sii = 0, siy = 0;
+  for (int64_t i = a; i <= b; ++i) {
+    const double x = static_cast<double>(i - a), v = y(i);
+    si += x;
+    sy += v;
+    sii += x * x;
+    siy += x * v;
+  }
+  const double den = n * sii - si * si;
+  const double slope = den > 0 ? (n * siy - si * sy) / den : 0;
+  return (sy - slope * si) / n + slope * static_cast<double>(at - a);
+}
+
+}  // namespace
+
+ContentTrack::ContentTrack(const Skeleton& skeleton, const HumanoidRoles& roles, double frame_time,
+                           int lookahead)
+    : skeleton_(skeleton),
+      roles_(roles),
+      fps_(1 / frame_time),
+      leg_(std::max(roles.leg_length, 1e-9)),
+      lookahead_(std::max(0, lookahead)),
+      path_window_(Frames(0.8, fps_)),
+      heading_window_(Frames(0.4, fps_)),
+      speed_window_(Frames(1.0, fps_)),
+      lag_(Frames(0.2, fps_)) {
+  for (int side = 0; side < 2; ++side) {
+    const int upper = side == 0 ? roles.left_shoulder : roles.right_shoulder;
+    const int fore = upper < 0 ? -1 : MainChild(skeleton, upper);
+    const int hand = fore < 0 ? -1 : MainChild(skeleton, fore);
+    arms_[side] = {upper, fore < 0 ? upper : fore, hand < 0 ? upper : hand};
+  }
+}
+
+void ContentTrack::Add(const LocalPose& pose) {
+  Frame fr;
+  fr.positions = ForwardKinematics(skeleton_, pose).positions;
+  const std::vector<Vec3>& p = fr.positions;
+  const Vec3 across = (p[roles_.left_hip] - p[roles_.right_hip]) +
+                      (p[roles_.left_shoulder] - p[roles_.right_shoulder]);
+  const Vec3 ahead = Cross(across, Vec3{0, 1, 0});
+  fr.yaw = std::atan2(ahead.x, ahead.z);
+  if (!frames_.empty()) {
+    const double prev = frames_.back().yaw;
+    while (fr.yaw - prev > M_PI) fr.yaw -= 2 * M_PI;
+    while (fr.yaw - prev < -M_PI) fr.yaw += 2 * M_PI;
+  }
+  frames_.push_back(std::move(fr));
+}
+
+void ContentTrack::Forget(int64_t first) {
+  const int64_t keep = first - std::max({path_window_, heading_window_, speed_window_}) - 1;
+  while (base_ < keep && frames_.size() > 1) {
+    frames_.pop_front();
+    ++base_;
+  }
+}
+
+ContentTrack::Estimate ContentTrack::At(int64_t f) const {
+  Estimate e;
+  const int64_t last = std::min(f + lookahead_, received() - 1);
+  auto frame = [&](int64_t i) -> const Frame& { return frames_[static_cast<size_t>(i - base_)]; };
+  const int pelvis = roles_.pelvis;
+  const int64_t a = std::max(base_, f - path_window_);
+  e.floor_point = {LineAt(a, last, f, [&](int64_t i) { return frame(i).positions[pelvis].x; }), 0,
+                   LineAt(a, last, f, [&](int64_t i) { return frame(i).positions[pelvis].z; })};
+  e.heading = LineAt(std::max(base_, f - heading_window_), last, f,
+                     [&](int64_t i) { return frame(i).yaw; });
+  const int64_t s = std::max(base_, last - speed_window_);
+  if (last > s) {
+    e.speed = Norm(OnFloor(frame(last).positions[pelvis] - frame(s).positions[pelvis])) * fps_ /
+              static_cast<double>(last - s) / leg_;
+  }
+  // The feet's floor: the lowest a foot joint went up to this frame.
+  double floor = floor_;
+  for (int64_t i = base_; i <= last; ++i) {
+    for (int j : FootJoints(roles_)) floor = std::min(floor, frame(i).positions[j].y);
+  }
+  e.floor = floor;
+  return e;
+}
+
+void ContentTrack::Features(int64_t f, const Estimate& at, std::vector<double>* gait,
+                            std::vector<double>* shape) {
+  const std::vector<Vec3>& p = frames_[static_cast<size_t>(f - base_)].positions;
+  auto rel = [&](int j) { return Facing(p[j] - at.floor_point, at.heading) * (1 / leg_); };
+  std::vector<double> g, s;
+  const int knees[2] = {skeleton_.joint(roles_.left_ankle).parent,
+                        skeleton_.joint(roles_.right_ankle).parent};
+  for (int j : {knees[0], knees[1], roles_.left_ankle, roles_.right_ankle, roles_.left_toe,
+                roles_.right_toe}) {
+    const Vec3 v = rel(j);
+    g.insert(g.end(), {v.x, v.y, v.z});
+  }
+  g.push_back((p[roles_.pelvis].y - at.floor) / leg_);
+  for (int side = 0; side < 2; ++side) {
+    for (int j : {arms_[side][1], arms_[side][2]}) {
+      const Vec3 v = rel(j);
+      s.insert(s.end(), {v.x, v.y, v.z});
+    }
+  }
+  for (int j : {roles_.left_ankle, roles_.right_ankle}) {
+    const Vec3 v = rel(j);
+    s.insert(s.end(), {v.x, v.y, v.z});
+  }
+  recent_.emplace_back(g, s);
+  while (static_cast<int>(recent_.size()) > lag_ + 1) recent_.pop_front();
+  const auto& [g0, s0] = recent_.front();
+  const double scale = recent_.size() > 1 ? static_cast<double>(lag_) / (recent_.size() - 1) : 0;
+  *gait = g;
+  for (size_t c = 0; c < g.size(); ++c) gait->push_back((g[c] - g0[c]) * scale);
+  *shape = s;
+  for (int c : {3, 4, 5, 9, 10, 11}) shape->push_back((s[c] - s0[c]) * scale);
+  floor_ = at.floor;
+}
+
+size_t ContentTrack::bytes() const {
+  size_t n = 0;
+  for (const Frame& f : frames_) n += f.positions.size() * sizeof(Vec3) + sizeof(Frame);
+  for (const auto& [g, s] : recent_) n += (g.size() + s.size()) * sizeof(double);
+  return n;
+}
+
+MovementFollower::MovementFollower(StreamExamples examples, const ContentTrack& track,
+                                   FollowOptions options)
+    : examples_(std::move(examples)), options_(std::move(options)) {
+  MovementOptions parts = options_.parts;
+  auto played = [](PartSource s) { return s == PartSource::kLayer ? PartSource::kExample : s; };
+  parts.legs = played(parts.legs);
+  parts.arms = played(parts.arms);
+  parts.spine = played(parts.spine);
+  step_source_ = PartSources(track.skeleton(), track.roles(), parts);
+  parts.legs = PartSource::kNetwork;
+  gesture_source_ = PartSources(track.skeleton(), track.roles(), parts);
+  warps_.resize(examples_.gestures.size());
+}
+
+double MovementFollower::gesture_time() const {
+  return gesture_ >= 0 ? warps_[gesture_].time : 0;
+}
+
+void MovementFollower::Register(const MovementClip& take, const std::vector<double>& shape,
+                                Warp* warp) const {
+  const int m = take.clip.num_frames;
+  const float hold = 1.5f;  // RegisterOptions::hold_penalty.
+  std::vector<float>& acc = warp->acc;
+  std::vector<float>& len = warp->len;
+  if (warp->frames == 0) {
+    acc.assign(m, 0);
+    len.assign(m, 0);
+    for (int j = 0; j < m; ++j) {
+      const float c = static_cast<float>(std::sqrt(SquaredDistance(shape, take.shape[j])));
+      acc[j] = j == 0 ? c : acc[j - 1] + hold * c;
+      len[j] = static_cast<float>(j + 1);
+    }
+  } else {
+    float diag_acc = 0, diag_len = 0;  // The row before's, at column j - 1.
+    for (int j = 0; j < m; ++j) {
+      const float c = static_cast<float>(std::sqrt(SquaredDistance(shape, take.shape[j])));
+      float best = acc[j] + hold * c, best_len = len[j] + 1;  // The take holds.
+      if (j > 0) {
+        if (diag_acc + c < best) best = diag_acc + c, best_len = diag_len + 1;  // Both move.
+        if (acc[j - 1] + hold * c < best) {  // The content holds (acc[j - 1]: this row's).
+          best = acc[j - 1] + hold * c;
+          best_len = len[j - 1] + 1;
+        }
+      }
+      diag_acc = acc[j];
+      diag_len = len[j];
+      acc[j] = best;
+      len[j] = best_len;
+    }
+  }
+  ++warp->frames;
+  int at = 0;
+  double score = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < m; ++j) {
+    const double sc = acc[j] / len[j];
+    if (sc < score) score = sc, at = j;
+  }
+  warp->cost = score;
+  // Forward only, at most 4 take frames per content frame.
+  warp->time = std::clamp(static_cast<double>(at), warp->time, warp->time + 4);
+}
+
+LocalPose MovementFollower::Gesture(const ContentTrack& track, const ContentTrack::Estimate& est,
+                                    int take, double time, const LocalPose& network) const {
+  FramePlacement at;
+  at.time = time;
+  at.heading = est.heading;
+  at.floor_point = est.floor_point;
+  at.floor = est.floor;
+  return MoveFrame(track.skeleton(), track.roles(), *examples_.gestures[take], gesture_source_,
+                   false, network, at);
+}
+
+LocalPose MovementFollower::Apply(ContentTrack& track, int64_t f, const LocalPose& network,
+                                  double strength, std::optional<std::array<bool, 4>>* contacts) {
+  contacts->reset();
+  const ContentTrack::Estimate est = track.At(f);
+  std::vector<double> gait, shape;
+  track.Features(f, est, &gait, &shape);
+  const int fade = Frames(options_.fade_s, track.fps());
+  const double dw = 1.0 / fade;
+
+  // Stepping: on from step_speed, off below stop_speed. On, the take whose
+  // speed and turning are nearest the content's plays, entered at the
+  // instant whose legs (and their contacts) are most as the content's.
+  if (!examples_.steps.empty()) {
+    if (!stepping_ && est.speed >= options_.step_speed) {
+      stepping_ = true;
+      if (w_steps_ <= 0) {
+        double nearest = std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < examples_.steps.size(); ++k) {
+          const MovementClip& e = *examples_.steps[k];
+          const double d = std::abs(std::log(est.speed / std::max(e.step_speed, 1e-3))) +
+                           2 * std::abs(e.turn_rate) + 4 * e.flight;
+          if (d < nearest) nearest = d, step_take_ = static_cast<int>(k);
+        }
+        const MovementClip& e = *examples_.steps[step_take_];
+        double best = std::numeric_limits<double>::infinity();
+        for (int a = e.loop_begin; a < std::max(e.loop_begin + 1, e.loop_end); ++a) {
+          const double d = SquaredDistance(gait, e.gait[a]);
+          if (d < best) best = d, t_steps_ = a;
+        }
+      }
+    } else if (stepping_ && est.speed < options_.stop_speed) {
+      stepping_ = false;
+    }
+    w_steps_ = std::clamp(w_steps_ + (stepping_ ? dw : -dw), 0.0, 1.0);
+  }
+  // Gestures: every take registered while the content stands; the best
+  // plays (a switch fades from the last one).
+  if (!warps_.empty()) {
+    int best = -1;
+    for (size_t k = 0; k < warps_.size(); ++k) {
+      Warp& w = warps_[k];
+      if (stepping_) {
+        w = Warp{};
+        continue;
+      }
+      Register(*examples_.gestures[k], shape, &w);
+      if (best < 0 || w.cost < warps_[best].cost) best = static_cast<int>(k);
+    }
+    if (best >= 0 && best != gesture_ &&
+        (gesture_ < 0 || warps_[best].cost < 0.8 * warps_[gesture_].cost)) {
+      if (gesture_ >= 0 && w_gesture_ > 0) {
+        switch_from_ = gesture_;
+        switch_time_ = warps_[gesture_].time;
+        switch_left_ = fade;
+      }
+      gesture_ = best;
+    }
+    const bool follows =
+        !stepping_ && gesture_ >= 0 && warps_[gesture_].cost <= options_.max_cost;
+    w_gesture_ = std::clamp(w_gesture_ + (follows ? dw : -dw), 0.0, 1.0);
+  }
+
+  LocalPose out = network;
+  if (gesture_ >= 0 && w_gesture_ > 0) {
+    Warp& w = warps_[gesture_];
+    LocalPose moved = Gesture(track, est, gesture_, w.time, network);
+    if (switch_left_ > 0) {
+      const LocalPose was = Gesture(track, est, switch_from_, switch_time_, network);
+      moved = BlendPoses(was, moved, 1 - static_cast<double>(switch_left_) / fade);
+      --switch_left_;
+    }
+    if (strength > 0) out = BlendPoses(out, moved, w_gesture_ * strength);
+    const int m = examples_.gestures[gesture_]->clip.num_frames;
+    if (w.time >= m - 1.5) {  // Played out: a new pass, faded from its end.
+      switch_from_ = gesture_;
+      switch_time_ = m - 1;
+      switch_left_ = fade;
+      w = Warp{};
+    }
+  }
+  if (step_take_ >= 0 && w_steps_ > 0) {
+    const MovementClip& steps = *examples_.steps[step_take_];
+    const double ve = std::max(steps.step_speed, 1e-3);
+    const RegisterOptions bounds;
+    const double rate = std::clamp(std::sqrt(std::max(est.speed, 1e-6) / ve), bounds.min_rate,
+                                   bounds.max_rate);
+    FramePlacement at;
+    at.time = t_steps_;
+    at.heading = est.heading;
+    at.floor_point = est.floor_point;
+    at.floor = est.floor;
+    at.fit_stride = options_.parts.fit_stride;
+    at.stride_scale = std::clamp(est.speed / (rate * ve), 0.6, 1.6);
+    const LocalPose moved = MoveFrame(track.skeleton(), track.roles(), steps, step_source_,
+                                      options_.parts.pelvis, network, at);
+    if (strength > 0) out = BlendPoses(out, moved, w_steps_ * strength);
+    if (w_steps_ >= 0.5 && strength >= 0.5 && options_.parts.legs != PartSource::kNetwork) {
+      const int e =
+          std::clamp(static_cast<int>(std::lround(t_steps_)), 0, steps.clip.num_frames - 1);
+      std::array<bool, 4> on;
+      for (int k = 0; k < 4; ++k) on[k] = steps.contact[k][e];
+      *contacts = on;
+    }
+    const double loop = steps.loop_end - steps.loop_begin;
+    t_steps_ += rate;
+    while (loop > 0 && t_steps_ >= steps.loop_end) t_steps_ -= loop;
+  }
+  return out;
+}
+
+size_t MovementFollower::bytes() const {
+  size_t n = (step_source_.size() + gesture_source_.size()) * sizeof(PartSource);
+  for (const Warp& w : warps_) n += (w.acc.capacity() + w.len.capacity()) * sizeof(float);
+  return n;
+}
+
+}  // namespace stylus::motion

@@ -1,0 +1,161 @@
+// Movement from examples in a stream (docs/movement.md "Streams"): the
+// same parts as a transfer's (motion/example_motion.h), decided frame by
+// frame from the content frames received so far and a look-ahead of a few.
+//
+//  - ContentTrack reads the content as it arrives: its path and facing
+//    (linear fits over the last ~0.8 s and the look-ahead, so neither lags
+//    a steady walk), its speed over the last second, and the shapes a
+//    transfer registers on (legs, hands, elbows, and their velocities).
+//  - MovementFollower plays examples on it. Stepping (the content travels):
+//    a stepping take's loop at its cadence scaled by its walk ratio to the
+//    content's speed, entered at the instant whose legs are most as the
+//    content's (the phase of its contacts), the stride fitted to the path;
+//    its contacts are the output's own. Gestures (the content stands): a
+//    gesture take registered by open-end dynamic time warping, one row per
+//    frame (a pass of the take follows the content's gesture and starts
+//    again once played out). Each fades in and out over a quarter second;
+//    the strength blends the result with the network's output.
+//
+// Everything kept is bounded by the examples' lengths and ~1.2 s of
+// content, whatever the stream's length.
+//
+// Thread-safety: one per stream, used by one thread at a time.
+#ifndef STYLUS_MOTION_LIVE_MOVEMENT_H_
+#define STYLUS_MOTION_LIVE_MOVEMENT_H_
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "motion/example_motion.h"
+#include "motion/humanoid.h"
+#include "motion/motion.h"
+
+namespace stylus::motion {
+
+class ContentTrack {
+ public:
+  // `skeleton`: the stream's frames' (Y up); `lookahead`: content frames
+  // after an output frame that may be read when it is made.
+  ContentTrack(const Skeleton& skeleton, const HumanoidRoles& roles, double frame_time,
+               int lookahead);
+
+  // The stream's next content frame.
+  void Add(const LocalPose& pose);
+  int64_t received() const { return base_ + static_cast<int64_t>(frames_.size()); }
+  // Drops what no frame from `first` on reads.
+  void Forget(int64_t first);
+
+  // At content frame `f` (received, looking at most `lookahead` ahead):
+  struct Estimate {
+    Vec3 floor_point;  // The pelvis's floor point, without sway.
+    double heading = 0;
+    double speed = 0;  // Leg lengths per second.
+    double floor = 0;  // The feet's floor so far.
+  };
+  Estimate At(int64_t f) const;
+  // Registration features at `f` (as MovementClip's), velocities taken
+  // backwards over 0.2 s; f must be the frame after the previous call's or
+  // the first.
+  void Features(int64_t f, const Estimate& at, std::vector<double>* gait,
+                std::vector<double>* shape);
+
+  const Skeleton& skeleton() const { return skeleton_; }
+  const HumanoidRoles& roles() const { return roles_; }
+  double fps() const { return fps_; }
+  size_t bytes() const;
+
+ private:
+  struct Frame {
+    std::vector<Vec3> positions;
+    double yaw = 0;  // Unwrapped.
+  };
+  Skeleton skeleton_;
+  HumanoidRoles roles_;
+  double fps_, leg_;
+  int lookahead_, path_window_, heading_window_, speed_window_, lag_;
+  std::array<std::array<int, 3>, 2> arms_ = {};
+  std::deque<Frame> frames_;
+  int64_t base_ = 0;
+  double floor_ = 1e300;
+  // The last lag + 1 frames' position features (for velocities).
+  std::deque<std::pair<std::vector<double>, std::vector<double>>> recent_;
+};
+
+// The examples a stream plays: takes of its style.
+struct StreamExamples {
+  // Takes that step forward; when the content starts stepping, the one
+  // whose speed and turning are nearest the content's plays.
+  std::vector<std::shared_ptr<const MovementClip>> steps;
+  // Takes that do not step; each is registered to the content all along,
+  // and the one that registers best plays.
+  std::vector<std::shared_ptr<const MovementClip>> gestures;
+  std::vector<std::string> step_names, gesture_names;  // For notes and logs.
+  static constexpr int kMaxTakes = 32;  // Of each kind.
+};
+
+struct FollowOptions {
+  MovementOptions parts;  // kLayer is played as kExample (a posture needs the future).
+  double fade_s = 0.25;
+  // The content steps from this speed on, and stops below `stop_speed`
+  // (leg lengths per second).
+  double step_speed = 0.3, stop_speed = 0.15;
+  // A gesture's registration is used while its mean cost stays below this
+  // (MovementKeys::movement_max_cost).
+  double max_cost = 1;
+};
+
+class MovementFollower {
+ public:
+  MovementFollower(StreamExamples examples, const ContentTrack& track, FollowOptions options);
+
+  // Output frame `f` (each frame once, in order; the track holds content up
+  // to f + its look-ahead): `network` moved as the examples say, blended by
+  // `strength`. `contacts` gets the output's own foot contacts (FootJoints
+  // order) while the legs are the example's, else nullopt.
+  LocalPose Apply(ContentTrack& track, int64_t f, const LocalPose& network, double strength,
+                  std::optional<std::array<bool, 4>>* contacts);
+
+  // Reading, for notes and tests.
+  double step_weight() const { return w_steps_; }
+  double gesture_weight() const { return w_gesture_; }
+  double step_time() const { return t_steps_; }
+  double gesture_time() const;
+  int step_take() const { return step_take_; }  // Index into examples().steps; -1: none yet.
+  int gesture_take() const { return gesture_; }  // Index into examples().gestures; -1: none.
+  const StreamExamples& examples() const { return examples_; }
+  size_t bytes() const;
+
+ private:
+  // A gesture take's registration: the warp's last row (cost and path
+  // length per take frame), the content frames in this pass, the instant
+  // played (forward only) and its mean cost there.
+  struct Warp {
+    std::vector<float> acc, len;
+    int frames = 0;
+    double time = 0, cost = 1e300;
+  };
+  void Register(const MovementClip& take, const std::vector<double>& shape, Warp* warp) const;
+  LocalPose Gesture(const ContentTrack& track, const ContentTrack::Estimate& est, int take,
+                    double time, const LocalPose& network) const;
+
+  StreamExamples examples_;
+  FollowOptions options_;
+  std::vector<PartSource> step_source_, gesture_source_;
+  bool stepping_ = false;
+  double w_steps_ = 0, w_gesture_ = 0;
+  int step_take_ = -1;
+  double t_steps_ = 0;
+  std::vector<Warp> warps_;  // Per gesture take.
+  int gesture_ = -1;         // The take playing.
+  // A switch of take or a new pass fades from where the last one was.
+  int switch_left_ = 0, switch_from_ = -1;
+  double switch_time_ = 0;
+};
+
+}  // namespace stylus::motion
+
+#endif  // STYLUS_MOTION_LIVE_MOVEMENT_H_

@@ -1,0 +1,150 @@
+// Movement from examples frame by frame: a stream steps at the example's
+// cadence scaled by its walk ratio, never reads past its look-ahead, keeps
+// the network's legs while the content stands, and follows a gesture.
+#include "motion/live_movement.h"
+
+#include <cmath>
+
+#include "gtest/gtest.h"
+#include "motion/bvh.h"
+#include "motion/gait.h"
+#include "motion/rig_roles.h"
+#include "motion/synth.h"
+#include "tests/test_support.h"
+
+namespace stylus::motion {
+namespace {
+
+Motion Walk(const std::string& spec) { return *Synthesize(*ParseSynthStyle(spec)); }
+
+struct Followed {
+  Motion out;
+  std::vector<std::optional<std::array<bool, 4>>> contacts;
+  std::vector<double> step_weight, gesture_weight, gesture_time;
+  int gesture_take_at_end = -1;
+};
+
+// The content streamed through a follower, the network's output taken to be
+// the content itself. `all_first`: every content frame is added before the
+// first output frame is made (a stream pushed in one chunk).
+Followed Follow(const Motion& content, const StreamExamples& examples, int lookahead,
+                bool all_first = false, double strength = 1) {
+  const HumanoidRoles roles = *HumanoidRolesOf(content);
+  ContentTrack track(content.skeleton, roles, content.frame_time, lookahead);
+  MovementFollower follower(examples, track, {});
+  Followed r{content, {}, {}, {}, {}};
+  std::vector<Vec3> euler(content.skeleton.num_joints());
+  int added = 0;
+  for (int f = 0; f < content.num_frames; ++f) {
+    const int want = all_first ? content.num_frames : std::min(content.num_frames, f + lookahead + 1);
+    for (; added < want; ++added) track.Add(PoseAt(content, added));
+    std::optional<std::array<bool, 4>> on;
+    const LocalPose pose = follower.Apply(track, f, PoseAt(content, f), strength, &on);
+    track.Forget(f + 1);
+    SetPose(&r.out, f, pose, &euler);
+    r.contacts.push_back(on);
+    r.step_weight.push_back(follower.step_weight());
+    r.gesture_weight.push_back(follower.gesture_weight());
+    r.gesture_time.push_back(follower.gesture_time());
+    r.gesture_take_at_end = follower.gesture_take();
+  }
+  return r;
+}
+
+std::shared_ptr<const MovementClip> Read(const Motion& m) {
+  return std::make_shared<const MovementClip>(*AnalyzeMovement(m, *HumanoidRolesOf(m)));
+}
+
+TEST(LiveMovementTest, AStreamStepsAtTheExamplesCadenceScaledByItsWalkRatio) {
+  const Motion content = Walk("normal,frames=360,speed=130,stride=125");
+  const Motion example = Walk("normal,frames=180,speed=70,stride=70,foot_lift=5,bounce=1");
+  const HumanoidRoles roles = *HumanoidRolesOf(content);
+  StreamExamples ex;
+  ex.steps.push_back(Read(example));
+  const Followed r = Follow(content, ex, 2);
+  // Stepping from the first second on.
+  EXPECT_EQ(r.step_weight.back(), 1);
+  EXPECT_TRUE(r.contacts.back().has_value());
+  Motion tail = r.out;
+  const int skip = 60;
+  tail.num_frames -= skip;
+  tail.values.erase(tail.values.begin(),
+                    tail.values.begin() + static_cast<size_t>(skip) * content.skeleton.num_channels());
+  const GaitSummary c = MeasureGait(content, roles)->summary,
+                    e = MeasureGait(example, roles)->summary,
+                    o = MeasureGait(tail, roles)->summary;
+  ASSERT_TRUE(o.cadence.has_value());
+  const double want = e.cadence->period_s / std::sqrt(c.speed / e.speed);
+  EXPECT_NEAR(o.cadence->period_s, want, 0.15 * want);
+  EXPECT_NEAR(o.speed, c.speed, 0.08 * c.speed);
+  // At strength 0 the output is the network's.
+  const Followed none = Follow(content, ex, 2, false, 0);
+  for (size_t i = 0; i < none.out.values.size(); ++i)
+    ASSERT_NEAR(none.out.values[i], content.values[i], 1e-6);
+}
+
+TEST(LiveMovementTest, NoFrameReadsPastTheLookAhead) {
+  const Motion content = Walk("normal,frames=150,speed=130,stride=125");
+  StreamExamples ex;
+  ex.steps.push_back(Read(Walk("normal,frames=180,speed=70,stride=70")));
+  const Followed a = Follow(content, ex, 2), b = Follow(content, ex, 2, /*all_first=*/true);
+  ASSERT_EQ(a.out.values.size(), b.out.values.size());
+  for (size_t i = 0; i < a.out.values.size(); ++i) ASSERT_EQ(a.out.values[i], b.out.values[i]) << i;
+}
+
+TEST(LiveMovementTest, AStandingContentKeepsTheNetworksLegs) {
+  const Motion content = RestMotion(Walk("normal,frames=2").skeleton, 90, 1.0 / 30);
+  StreamExamples ex;
+  ex.steps.push_back(Read(Walk("normal,frames=180,speed=70,stride=70")));
+  const Followed r = Follow(content, ex, 2);
+  for (double w : r.step_weight) EXPECT_EQ(w, 0);
+  for (size_t i = 0; i < r.out.values.size(); ++i)
+    ASSERT_NEAR(r.out.values[i], content.values[i], 1e-9);
+}
+
+TEST(LiveMovementTest, AGestureTakeFollowsTheContentsGestureToItsEnd) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const std::string d = data + "/dataset-2/dataset-2_";
+  const Motion content = *ReadBvhFile(d + "raise-up-both-hands_normal_001.bvh");
+  const Motion example = *ReadBvhFile(d + "raise-up-both-hands_elderly_002.bvh");
+  StreamExamples ex;
+  ex.gestures.push_back(Read(example));
+  const Followed r = Follow(content, ex, 2);
+  const int n = content.num_frames, m = example.num_frames;
+  EXPECT_EQ(r.gesture_take_at_end, 0);
+  // It follows (the registration fits) for most of the clip, forward only.
+  int following = 0;
+  for (int f = 0; f < n; ++f) following += r.gesture_weight[f] == 1;
+  EXPECT_GT(following, n / 2);
+  double furthest = 0;
+  for (int f = 1; f < n; ++f) {
+    if (r.gesture_time[f] > 0) {
+      EXPECT_GE(r.gesture_time[f], r.gesture_time[f - 1]);
+    }
+    furthest = std::max(furthest, r.gesture_time[f]);
+  }
+  // Through the example's raise: well past its middle by the content's end.
+  EXPECT_GT(furthest, 0.6 * m);
+  // The arms are the example's, the legs the content's.
+  const HumanoidRoles roles = *HumanoidRolesOf(content);
+  const LocalPose a = PoseAt(r.out, n / 2), c = PoseAt(content, n / 2);
+  EXPECT_GT(1 - std::abs(Dot(a.rotations[roles.left_shoulder], c.rotations[roles.left_shoulder])),
+            1e-6);
+  EXPECT_EQ(a.rotations[roles.left_hip].w, c.rotations[roles.left_hip].w);
+}
+
+TEST(LiveMovementTest, OfSeveralGestureTakesTheOneThatShowsTheContentsGesturePlays) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const std::string d = data + "/dataset-2/dataset-2_";
+  const Motion content = *ReadBvhFile(d + "raise-up-left-hand_normal_003.bvh");
+  StreamExamples ex;
+  for (const char* take : {"wave-both-hands_elderly_001", "raise-up-right-hand_elderly_001",
+                           "raise-up-left-hand_elderly_004"}) {
+    ex.gestures.push_back(Read(*ReadBvhFile(d + take + ".bvh")));
+  }
+  const Followed r = Follow(content, ex, 2);
+  EXPECT_EQ(r.gesture_take_at_end, 2);
+}
+
+}  // namespace
+}  // namespace stylus::motion

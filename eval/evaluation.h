@@ -141,6 +141,9 @@ struct EvalModel {
   // library's style is the style clip's label (else the nearest by code).
   const StyleLibrary* library = nullptr;
   bool label_from_name = true;
+  // Transfers go through a stream, one frame per push as a stage sends them
+  // (StyleModel::OpenStream), post-processed by the stream itself.
+  bool stream = false;
 };
 
 // What the judges said about one output of one pair.

@@ -3,9 +3,12 @@
 #ifndef STYLUS_MODEL_FRAME_STREAMER_H_
 #define STYLUS_MODEL_FRAME_STREAMER_H_
 
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <utility>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "motion/motion.h"
@@ -50,6 +53,12 @@ class FrameStreamer {
     return absl::FailedPreconditionError(
         "this model's streams keep one style; style changes need a live model");
   }
+  // The output's own foot contacts (FootJoints order, motion/contacts.h) of
+  // the frames returned since the last call, one per frame in order, for a
+  // stream whose steps are its own (movement from examples,
+  // motion/live_movement.h); nullopt for a frame whose feet follow the
+  // input's. Empty for streams that keep the network's movement.
+  virtual std::vector<std::optional<std::array<bool, 4>>> TakeContacts() { return {}; }
   // The streamer whose steps StyleModel::StepStreams runs: this one, or the
   // one a wrapper (a resampler) feeds.
   virtual FrameStreamer* step_core() { return this; }
@@ -63,6 +72,10 @@ class WrappingStreamer : public FrameStreamer {
   bool batchable() const override { return inner_->batchable(); }
   bool has_steps() const override { return inner_->has_steps(); }
   FrameStreamer* step_core() override { return inner_->step_core(); }
+  // At the wrapped streamer's rate (a resampling wrapper's frames differ).
+  std::vector<std::optional<std::array<bool, 4>>> TakeContacts() override {
+    return inner_->TakeContacts();
+  }
   absl::Status ChangeStyle(const StyleChange& change) override {
     return inner_->ChangeStyle(change);
   }

@@ -246,6 +246,42 @@ absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
   return std::optional<ChosenExample>(std::move(chosen));
 }
 
+absl::StatusOr<motion::StreamExamples> ChooseStreamExamples(const StyleModel& model,
+                                                            const StyleCode& code,
+                                                            const MovementRequest& request,
+                                                            std::string* why) {
+  motion::StreamExamples out;
+  auto take = [&](const std::shared_ptr<const motion::MovementClip>& e, const std::string& name) {
+    const bool forward = std::acos(std::clamp(e->travel.z, -1.0, 1.0)) <= kMaxTravelAngle;
+    if (e->steps && forward && out.steps.size() < motion::StreamExamples::kMaxTakes) {
+      out.steps.push_back(e);
+      out.step_names.push_back(name);
+    } else if (!e->steps && out.gestures.size() < motion::StreamExamples::kMaxTakes) {
+      out.gestures.push_back(e);
+      out.gesture_names.push_back(name);
+    }
+  };
+  if (code.example) take(code.example, "style clip");
+  std::string label;
+  if (request.library != nullptr) {
+    absl::StatusOr<std::shared_ptr<const StyleLibrary::Converted>> lib =
+        request.library->For(model);
+    if (!lib.ok()) return lib.status();
+    label = !request.style_label.empty() ? request.style_label : NearestLibraryStyle(**lib, code);
+    const std::vector<LibraryTake>& takes = request.library->takes();
+    for (size_t i = 0; i < takes.size(); ++i) {
+      if (takes[i].style == label) take((*lib)->clips[i], fs::path(takes[i].path).filename().string());
+    }
+  }
+  if (why != nullptr && out.steps.empty() && out.gestures.empty()) {
+    *why = request.library == nullptr
+               ? "no example of the style (no style clip read, no style library)"
+               : absl::StrCat("no take of '", label, "' in the style library steps forward or "
+                              "stands, and the style clip shows neither");
+  }
+  return out;
+}
+
 double StylePace(const ChosenExample& chosen) {
   if (chosen.registration.kind == motion::Registration::Kind::kSteps) {
     return std::max(chosen.content->step_speed, 1e-3) / std::max(chosen.example->step_speed, 1e-3);

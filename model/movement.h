@@ -20,6 +20,7 @@
 
 #include "absl/status/statusor.h"
 #include "motion/example_motion.h"
+#include "motion/live_movement.h"
 #include "motion/motion.h"
 
 namespace stylus::model {
@@ -103,6 +104,17 @@ absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
     const StyleModel& model, const motion::Motion& content, const std::vector<StyleCode>& styles,
     const std::vector<double>& shares, const MovementKeys& keys, const MovementRequest& request,
     MovementNote* note);
+
+// The takes a stream of `code`'s style plays (motion/live_movement.h): the
+// style clip when the code holds its reading (EncodeStyle), then the
+// library's takes of the style (`request.style_label`, else the nearest
+// style): those that step forward as steps, those that do not step as
+// gestures, at most StreamExamples::kMaxTakes of each. Empty when there are
+// none; `why` then says why.
+absl::StatusOr<motion::StreamExamples> ChooseStreamExamples(const StyleModel& model,
+                                                            const StyleCode& code,
+                                                            const MovementRequest& request,
+                                                            std::string* why = nullptr);
 
 // How many times as long the content takes at the example's pace: steps,
 // the content's path at the example's speed (content speed / example speed);

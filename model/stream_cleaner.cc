@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <iterator>
 
+#include "motion/contacts.h"
+#include "motion/example_motion.h"
 #include "motion/kinematics.h"
 
 namespace stylus::model {
@@ -44,6 +46,31 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(motion::Motion raw, int64_t 
   for (int f = 0; f < raw.num_frames; ++f) poses.push_back(motion::PoseAt(raw, f));
   motion::PostProcessParams params;
   params.pin_at_span_start = true;
+  // Frames whose contacts are the output's own: those, the input's
+  // elsewhere.
+  while (!own_.empty() && own_base_ < from) {
+    own_.pop_front();
+    ++own_base_;
+  }
+  std::array<std::vector<motion::ContactSpan>, 4> own_spans;
+  if (std::any_of(own_.begin(), own_.end(), [](const auto& o) { return o.has_value(); })) {
+    const auto content = absl::MakeConstSpan(content_).subspan(0, static_cast<size_t>(end - from));
+    const std::array<std::vector<motion::ContactSpan>, 4> found =
+        motion::DetectContactSpans(content, roles_, raw.fps(), params.contacts);
+    std::array<std::vector<bool>, 4> flags;
+    for (int k = 0; k < 4; ++k) {
+      flags[k].assign(content.size(), false);
+      for (const motion::ContactSpan& span : found[k]) {
+        for (int f = span.begin; f < span.end; ++f) flags[k][f] = true;
+      }
+      for (size_t i = 0; i < own_.size(); ++i) {
+        const int64_t f = own_base_ + static_cast<int64_t>(i) - from;
+        if (own_[i] && f >= 0 && f < static_cast<int64_t>(content.size())) flags[k][f] = (*own_[i])[k];
+      }
+    }
+    own_spans = motion::SpansFromFlags(flags, 1);
+    params.contact_spans = &own_spans;
+  }
   // A contact that goes on keeps its pin, though the span began before the
   // history window.
   motion::ContactPins pins;
@@ -71,6 +98,11 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(motion::Motion raw, int64_t 
     posed_.clear();  // Moved from: posed afresh by the next call.
     return cleaned.status();
   }
+  // No foot below the content's floor: the lowest its feet went so far.
+  for (size_t i = 0; i < content_.size() && content_base_ + static_cast<int64_t>(i) < end; ++i) {
+    for (int j : motion::FootJoints(roles_)) floor_ = std::min(floor_, content_[i][j].y);
+  }
+  for (motion::LocalPose& pose : *cleaned) motion::KeepFeetAboveFloor(sk, roles_, floor_, &pose);
   for (int k = 0; k < 4; ++k) {
     pins_[k].reset();
     if (pins[k]) pins_[k] = std::make_pair(from + pins[k]->frame, pins[k]->pin);
@@ -103,6 +135,13 @@ absl::StatusOr<motion::Motion> StreamCleaner::Clean(motion::Motion raw, int64_t 
   posed_.erase(posed_.begin(), posed_.begin() + (keep - sent_base_));
   sent_base_ = keep;
   return fresh;
+}
+
+void StreamCleaner::NoteContacts(int64_t frame, const std::optional<std::array<bool, 4>>& on) {
+  if (post_ == motion::PostProcessMode::kNone) return;
+  if (own_.empty()) own_base_ = frame;
+  while (own_base_ + static_cast<int64_t>(own_.size()) < frame) own_.emplace_back();
+  if (own_base_ + static_cast<int64_t>(own_.size()) == frame) own_.push_back(on);
 }
 
 size_t StreamCleaner::bytes() const {

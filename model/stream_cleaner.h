@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -45,6 +46,12 @@ class StreamCleaner {
                                        const motion::Motion& input, int64_t input_base,
                                        int64_t input_end = -1);
 
+  // The output's own foot contacts at stream frame `frame` (FootJoints
+  // order; frames in order, each before it is cleaned), for a stream whose
+  // steps are its own (motion/live_movement.h); nullopt: found on the input
+  // as usual.
+  void NoteContacts(int64_t frame, const std::optional<std::array<bool, 4>>& on);
+
   // The first stream frame Clean will read from `input` for output starting
   // at `first`.
   int64_t FirstInputNeeded(int64_t first) const;
@@ -67,6 +74,10 @@ class StreamCleaner {
   int64_t content_base_ = 0;
   // Each foot's last contact: a stream frame of it and its pin.
   std::array<std::optional<std::pair<int64_t, motion::Vec3>>, 4> pins_;
+  // Noted contacts of frames [own_base_, own_base_ + size).
+  double floor_ = 1e300;  // The lowest the input's feet went so far.
+  std::deque<std::optional<std::array<bool, 4>>> own_;
+  int64_t own_base_ = 0;
 };
 
 }  // namespace stylus::model

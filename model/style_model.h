@@ -155,6 +155,9 @@ struct StreamSpec {
   motion::PostProcessMode post = motion::PostProcessMode::kFull;
   // For frames on another rig than the model's (motion/rig_roles.h).
   motion::JointMap joint_map = {};
+  // Live packages whose movement comes from examples: where the stream's
+  // takes come from besides `style.example` (ChooseStreamExamples).
+  MovementRequest movement = {};
 };
 
 class StyleModel : public std::enable_shared_from_this<StyleModel> {

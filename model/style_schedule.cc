@@ -55,7 +55,11 @@ StyleSchedule::At StyleSchedule::Advance(int64_t t) {
     // The new fade starts from wherever the style is now (mid-fade too).
     from_code_ = now_code_;
     from_strength_ = now_strength_;
-    if (c.code) to_code_ = *std::move(c.code);
+    if (c.code) {
+      to_code_ = *std::move(c.code);
+      examples_ = std::move(c.examples);
+      ++generation_;
+    }
     if (c.strength) to_strength_ = *c.strength;
     fade_start_ = c.from_frame;
     fade_len_ = std::max(1, c.fade_frames);
@@ -70,9 +74,10 @@ StyleSchedule::At StyleSchedule::Advance(int64_t t) {
     }
     now_strength_ = (1 - a) * from_strength_ + a * to_strength_;
     changed = true;
+    fade_ = a;
     if (a >= 1) fading_ = false;
   }
-  return {now_code_, now_strength_, changed};
+  return {now_code_, now_strength_, changed, fade_, generation_, &examples_};
 }
 
 size_t StyleSchedule::bytes() const {

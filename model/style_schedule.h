@@ -13,6 +13,7 @@
 
 #include "absl/status/status.h"
 #include "model/style_model.h"
+#include "motion/live_movement.h"
 
 namespace stylus::model {
 
@@ -24,6 +25,11 @@ struct StyleChange {
   std::optional<StyleCode> code;
   std::optional<double> strength;
   int fade_frames = 0;
+  // With a code, for packages whose movement comes from examples: where the
+  // new style's takes come from (ChooseStreamExamples), and the takes the
+  // streamer chose from it.
+  MovementRequest movement = {};
+  std::shared_ptr<const motion::StreamExamples> examples = nullptr;
 };
 
 class StyleSchedule {
@@ -41,10 +47,16 @@ class StyleSchedule {
   // The code and strength at frame `t` (t never decreasing from one call to
   // the next). `changed` is true when either differs from the previous
   // call's.
+  // `fade`: how far the latest change's fade has come (1 when done);
+  // `generation` counts the changes of code begun so far, and `examples` are
+  // the latest's takes (null: the first style's, or none).
   struct At {
     const StyleCode& code;
     double strength;
     bool changed;
+    double fade = 1;
+    int generation = 0;
+    const std::shared_ptr<const motion::StreamExamples>* examples = nullptr;
   };
   At Advance(int64_t t);
 
@@ -57,6 +69,9 @@ class StyleSchedule {
   int64_t fade_start_ = 0;
   int fade_len_ = 0;
   bool fading_ = false;
+  double fade_ = 1;
+  int generation_ = 0;
+  std::shared_ptr<const motion::StreamExamples> examples_;
   std::deque<StyleChange> queued_;
 };
 

@@ -90,8 +90,9 @@ void ContentTrack::Forget(int64_t first) {
   }
 }
 
-ContentTrack::Estimate ContentTrack::At(int64_t f) const {
-  Estimate e;
+ContentTrack::Reading ContentTrack::Read(int64_t f) {
+  Reading reading;
+  Estimate& e = reading.at;
   const int64_t last = std::min(f + lookahead_, received() - 1);
   auto frame = [&](int64_t i) -> const Frame& { return frames_[static_cast<size_t>(i - base_)]; };
   const int pelvis = roles_.pelvis;
@@ -100,22 +101,18 @@ ContentTrack::Estimate ContentTrack::At(int64_t f) const {
                    LineAt(a, last, f, [&](int64_t i) { return frame(i).positions[pelvis].z; })};
   e.heading = LineAt(std::max(base_, f - heading_window_), last, f,
                      [&](int64_t i) { return frame(i).yaw; });
-  const int64_t s = std::max(base_, last - speed_window_);
-  if (last > s) {
-    e.speed = Norm(OnFloor(frame(last).positions[pelvis] - frame(s).positions[pelvis])) * fps_ /
-              static_cast<double>(last - s) / leg_;
+  const int64_t since = std::max(base_, last - speed_window_);
+  if (last > since) {
+    e.speed = Norm(OnFloor(frame(last).positions[pelvis] - frame(since).positions[pelvis])) * fps_ /
+              static_cast<double>(last - since) / leg_;
   }
   // The feet's floor: the lowest a foot joint went up to this frame.
   double floor = floor_;
   for (int64_t i = base_; i <= last; ++i) {
     for (int j : FootJoints(roles_)) floor = std::min(floor, frame(i).positions[j].y);
   }
-  e.floor = floor;
-  return e;
-}
-
-void ContentTrack::Features(int64_t f, const Estimate& at, std::vector<double>* gait,
-                            std::vector<double>* shape) {
+  e.floor = floor_ = floor;
+  const Estimate& at = e;
   const std::vector<Vec3>& p = frames_[static_cast<size_t>(f - base_)].positions;
   auto rel = [&](int j) { return Facing(p[j] - at.floor_point, at.heading) * (1 / leg_); };
   std::vector<double> g, s;
@@ -141,11 +138,11 @@ void ContentTrack::Features(int64_t f, const Estimate& at, std::vector<double>* 
   while (static_cast<int>(recent_.size()) > lag_ + 1) recent_.pop_front();
   const auto& [g0, s0] = recent_.front();
   const double scale = recent_.size() > 1 ? static_cast<double>(lag_) / (recent_.size() - 1) : 0;
-  *gait = g;
-  for (size_t c = 0; c < g.size(); ++c) gait->push_back((g[c] - g0[c]) * scale);
-  *shape = s;
-  for (int c : {3, 4, 5, 9, 10, 11}) shape->push_back((s[c] - s0[c]) * scale);
-  floor_ = at.floor;
+  reading.gait = g;
+  for (size_t c = 0; c < g.size(); ++c) reading.gait.push_back((g[c] - g0[c]) * scale);
+  reading.shape = s;
+  for (int c : {3, 4, 5, 9, 10, 11}) reading.shape.push_back((s[c] - s0[c]) * scale);
+  return reading;
 }
 
 size_t ContentTrack::bytes() const {
@@ -228,12 +225,13 @@ LocalPose MovementFollower::Gesture(const ContentTrack& track, const ContentTrac
                    false, network, at);
 }
 
-LocalPose MovementFollower::Apply(ContentTrack& track, int64_t f, const LocalPose& network,
-                                  double strength, std::optional<std::array<bool, 4>>* contacts) {
+LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack::Reading& now,
+                                  const LocalPose& network, double strength,
+                                  std::optional<std::array<bool, 4>>* contacts) {
   contacts->reset();
-  const ContentTrack::Estimate est = track.At(f);
-  std::vector<double> gait, shape;
-  track.Features(f, est, &gait, &shape);
+  const ContentTrack::Estimate& est = now.at;
+  const std::vector<double>& gait = now.gait;
+  const std::vector<double>& shape = now.shape;
   const int fade = Frames(options_.fade_s, track.fps());
   const double dw = 1.0 / fade;
 

@@ -56,12 +56,14 @@ class ContentTrack {
     double speed = 0;  // Leg lengths per second.
     double floor = 0;  // The feet's floor so far.
   };
-  Estimate At(int64_t f) const;
-  // Registration features at `f` (as MovementClip's), velocities taken
-  // backwards over 0.2 s; f must be the frame after the previous call's or
-  // the first.
-  void Features(int64_t f, const Estimate& at, std::vector<double>* gait,
-                std::vector<double>* shape);
+  // With the registration features at `f` (as MovementClip's, velocities
+  // taken backwards over 0.2 s).
+  struct Reading {
+    Estimate at;
+    std::vector<double> gait, shape;
+  };
+  // Frame `f`: each frame once, in order.
+  Reading Read(int64_t f);
 
   const Skeleton& skeleton() const { return skeleton_; }
   const HumanoidRoles& roles() const { return roles_; }
@@ -112,11 +114,12 @@ class MovementFollower {
  public:
   MovementFollower(StreamExamples examples, const ContentTrack& track, FollowOptions options);
 
-  // Output frame `f` (each frame once, in order; the track holds content up
-  // to f + its look-ahead): `network` moved as the examples say, blended by
+  // Output frame `f` (each frame once, in order; `now`: the track's Read of
+  // it, the track holding content up to f + its look-ahead): `network` moved as the examples say, blended by
   // `strength`. `contacts` gets the output's own foot contacts (FootJoints
   // order) while the legs are the example's, else nullopt.
-  LocalPose Apply(ContentTrack& track, int64_t f, const LocalPose& network, double strength,
+  LocalPose Apply(const ContentTrack& track, const ContentTrack::Reading& now,
+                  const LocalPose& network, double strength,
                   std::optional<std::array<bool, 4>>* contacts);
 
   // Reading, for notes and tests.

@@ -88,6 +88,11 @@ absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
                                               const HostedModel& model, const v1::StyleRef& ref,
                                               const std::string& what);
 
+// What movement from examples may draw on for a style: the server's style
+// library, and the style's label there when `ref` names a saved style whose
+// name is one of the library's styles (else the nearest by code).
+model::MovementRequest MovementFor(const ServiceContext& service, const v1::StyleRef& ref);
+
 }  // namespace stylus::server
 
 #endif  // STYLUS_SERVER_SERVICES_H_

@@ -304,14 +304,15 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, *m, config.style(), "config style");
     if (!style.ok()) return style.status();
-    // Streams keep the network's movement: the style clip itself is not
-    // held for the stream's lifetime (docs/movement.md "Streams").
+    // A stream's movement comes from the style library, not from the style
+    // clip: its reading is not held for the stream's lifetime
+    // (docs/movement.md "Streams").
     style->example = nullptr;
     absl::StatusOr<motion::JointMap> joint_map =
         wire::JointMapFromProto(config.skeleton(), "config");
     if (!joint_map.ok()) return joint_map.status();
-    absl::StatusOr<std::unique_ptr<model::FrameStreamer>> streamer =
-        m->model->OpenStream({*style, *sk, 1.0 / config.fps(), *post, *joint_map});
+    absl::StatusOr<std::unique_ptr<model::FrameStreamer>> streamer = m->model->OpenStream(
+        {*style, *sk, 1.0 / config.fps(), *post, *joint_map, MovementFor(*service_, config.style())});
     if (!streamer.ok()) return streamer.status();
     streamer_ = *std::move(streamer);
     model_ = m->model;
@@ -342,6 +343,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
       if (!code.ok()) return code.status();
       c.code = *std::move(code);
       c.code->example = nullptr;
+      c.movement = MovementFor(*service_, change.style());
     } else if (change.has_blend()) {
       const v1::StyleBlend& blend = change.blend();
       if (blend.styles_size() == 0 || blend.weights_size() != blend.styles_size()) {
@@ -361,6 +363,10 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
         weights.push_back(blend.weights(i));
       }
       c.code = model::MixStyles(codes, weights);
+      // The movement of the style with the largest weight.
+      const int main = static_cast<int>(std::max_element(weights.begin(), weights.end()) -
+                                        weights.begin());
+      c.movement = MovementFor(*service_, blend.styles(main));
     }
     return streamer_->ChangeStyle(c);
   }

@@ -84,9 +84,8 @@ void NoteContacts(const std::optional<model::TransferResult::Contacts>& contacts
   }
 }
 
-// What movement from examples may draw on for a style: the server's style
-// library, and the style's label there when the request names a saved style
-// whose name is one of the library's styles (else the nearest by code).
+}  // namespace
+
 model::MovementRequest MovementFor(const ServiceContext& service, const v1::StyleRef& ref) {
   model::MovementRequest r;
   r.library = service.style_library;
@@ -97,8 +96,6 @@ model::MovementRequest MovementFor(const ServiceContext& service, const v1::Styl
   }
   return r;
 }
-
-}  // namespace
 
 absl::StatusOr<model::StyleCode> ResolveStyle(const ServiceContext& service,
                                               const HostedModel& model, const v1::StyleRef& ref,

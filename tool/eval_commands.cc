@@ -257,13 +257,16 @@ int Eval(const Argv& argv) {
       "the held-out takes under DIR (takes in the training split of --data, the\n"
       "judges' takes, are left out, so a library and its judges never share a\n"
       "take). --library-label code finds the library's style by the style code\n"
-      "(as the server does) instead of the style clip's name.\n";
+      "(as the server does) instead of the style clip's name.\n"
+      "--stream sends each content clip through a stream, one frame per push as a\n"
+      "stage would, post-processed by the stream (live packages: the causal\n"
+      "network and movement from examples within the look-ahead).\n";
   int code = 0;
   auto args =
       ParseOrExit("eval", argv,
                   {{"model", "judges", "data", "out", "pairs-per-content", "threads", "ablation",
                     "verdicts", "second-judges", "pair-kind", "split", "library", "library-label"},
-                   {"own-style", "timing-style"}},
+                   {"own-style", "timing-style", "stream"}},
                   kHelp, &code);
   if (!args) return code;
   if (!args->Has("model") || !args->Has("judges") || !args->Has("data") || !args->Has("out")) {
@@ -276,8 +279,10 @@ int Eval(const Argv& argv) {
   if (!per.ok()) return Fail("eval", per.status());
   if (!threads.ok()) return Fail("eval", threads.status());
   model::SetComputeThreads(*threads);
-  auto m = LoadModelSpec(args->Get("model"));
-  if (!m.ok()) return Fail("eval", m.status());
+  auto loaded = LoadModelSpec(args->Get("model"));
+  if (!loaded.ok()) return Fail("eval", loaded.status());
+  // Shared: streams (--stream) hold their model.
+  const std::shared_ptr<model::StyleModel> m = *std::move(loaded);
   auto judges = model::Judges::Load(args->Get("judges"));
   if (!judges.ok()) return Fail("eval", judges.status());
   std::unique_ptr<model::Judges> second;
@@ -286,7 +291,7 @@ int Eval(const Argv& argv) {
     if (!j.ok()) return Fail("eval", j.status());
     second = *std::move(j);
   }
-  std::vector<model::EvalModel> models = {{"model", m->get(), true}};
+  std::vector<model::EvalModel> models = {{"model", m.get(), true}};
   std::vector<std::unique_ptr<model::StyleModel>> ablations;
   for (const std::string& spec : args->All("ablation")) {
     const size_t eq = spec.find('=');
@@ -300,10 +305,10 @@ int Eval(const Argv& argv) {
     models.push_back({spec.substr(0, eq), ablations.back().get(), false});
   }
   if (args->switches.count("own-style")) {
-    models.push_back({"model with its own style", m->get(), false, /*own_style=*/true});
+    models.push_back({"model with its own style", m.get(), false, /*own_style=*/true});
   }
   if (args->switches.count("timing-style")) {
-    models.push_back({"model, style timing", m->get(), /*postprocess=*/true, /*own_style=*/false,
+    models.push_back({"model, style timing", m.get(), /*postprocess=*/true, /*own_style=*/false,
                       /*style_timing=*/true});
   }
   std::unique_ptr<model::FeatureJudge> features;
@@ -360,6 +365,7 @@ int Eval(const Argv& argv) {
     return Fail("eval", absl::InvalidArgumentError("--library-label is 'name' or 'code'"));
   }
   for (model::EvalModel& em : models) {
+    em.stream = args->switches.count("stream") > 0;
     em.library = library.get();
     em.label_from_name = label_by == "name";
   }

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "model/movement.h"
+#include "motion/resample.h"
 
 namespace stylus::model {
 namespace {
@@ -12,6 +14,8 @@ namespace {
 // start (three frames at the model's 30 Hz) and the smoothing of rotations
 // over +-2 frames.
 constexpr int kCleanHistory = 6;
+// Own contacts kept for TakeContacts when nobody takes them.
+constexpr size_t kMaxKeptContacts = 256;
 
 }  // namespace
 
@@ -28,13 +32,21 @@ absl::StatusOr<std::unique_ptr<LiveStreamer>> LiveStreamer::Create(
   if (absl::Status s = CheckClipFitsModel(probe, model->data(), "stream"); !s.ok()) return s;
   probe.num_frames = 0;
   probe.values.clear();
-  return std::unique_ptr<LiveStreamer>(
-      new LiveStreamer(std::move(model), probe, spec.style, *std::move(params), spec.post));
+  std::shared_ptr<const motion::StreamExamples> examples;
+  if (model->moves_from_examples()) {
+    absl::StatusOr<motion::StreamExamples> chosen =
+        ChooseStreamExamples(*model, spec.style, spec.movement);
+    if (!chosen.ok()) return chosen.status();
+    examples = std::make_shared<const motion::StreamExamples>(*std::move(chosen));
+  }
+  return std::unique_ptr<LiveStreamer>(new LiveStreamer(
+      std::move(model), probe, spec.style, *std::move(params), spec.post, std::move(examples)));
 }
 
 LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
                            const motion::Motion& empty, StyleCode style, std::vector<float> params,
-                           motion::PostProcessMode post)
+                           motion::PostProcessMode post,
+                           std::shared_ptr<const motion::StreamExamples> examples)
     : model_(std::move(model)),
       dim_(model_->config().dim),
       shift_(model_->config().lookahead - 1),
@@ -50,6 +62,16 @@ LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
       empty_(empty),
       cleaner_(model_->data().roles, post, kCleanHistory) {
   generated_.dim = dim_;
+  if (examples) {
+    const MovementKeys& keys = model_->config();
+    follow_.parts.arms = *motion::ParsePartSource(keys.movement_arms);
+    follow_.parts.spine = *motion::ParsePartSource(keys.movement_spine);
+    follow_.parts.fit_stride = keys.movement_fit_stride;
+    follow_.max_cost = keys.movement_max_cost;
+    track_.emplace(empty.skeleton, model_->data().roles, empty.frame_time, lookahead_);
+    follower_ = std::make_unique<motion::MovementFollower>(*examples, *track_, follow_);
+    step_style_.examples = std::move(examples);
+  }
 }
 
 absl::Status LiveStreamer::Feed(const motion::Motion& frames, bool end) {
@@ -74,6 +96,7 @@ absl::Status LiveStreamer::Feed(const motion::Motion& frames, bool end) {
     input_.values.insert(input_.values.end(), frame, frame + channels);
     ++input_.num_frames;
     ++received_;
+    if (track_) track_->Add(motion::PoseAt(input_, input_.num_frames - 1));
     if (features_.Push(frame, row.data())) {
       model_->data().norm.Normalize(row.data());
       queue_.push_back(row);
@@ -103,6 +126,12 @@ bool LiveStreamer::NextStep(LiveStep* step) {
       if (p.ok()) params_ = *std::move(p);
     }
     strength_ = at.strength;
+    step_style_.strength = at.strength;
+    step_style_.fade = at.fade;
+    if (at.generation != step_style_.generation) {
+      step_style_.generation = at.generation;
+      step_style_.examples = *at.examples;
+    }
   }
   *step = {&carry_, queue_.front().data(), params_.data(), out_.data()};
   return true;
@@ -133,6 +162,43 @@ void LiveStreamer::StepDone() {
   model_->data().norm.Denormalize(out_.data());
   generated_.values.insert(generated_.values.end(), out_.begin(), out_.end());
   ++generated_.frames;
+  if (track_) frame_styles_.push_back(step_style_);
+}
+
+void LiveStreamer::Move(motion::Motion* one) {
+  if (!track_) return;
+  const FrameStyle style = std::move(frame_styles_.front());
+  frame_styles_.pop_front();
+  if (style.generation != generation_) {  // A change of style: its takes fade in.
+    generation_ = style.generation;
+    fading_ = std::move(follower_);
+    follower_.reset();
+    if (style.examples) {
+      follower_ = std::make_unique<motion::MovementFollower>(*style.examples, *track_, follow_);
+    }
+  }
+  const motion::ContentTrack::Reading now = track_->Read(emitted_);
+  const motion::LocalPose network = motion::PoseAt(*one, 0);
+  std::optional<std::array<bool, 4>> contacts, fading_contacts;
+  motion::LocalPose pose =
+      follower_ ? follower_->Apply(*track_, now, network, style.strength, &contacts) : network;
+  if (fading_ && style.fade < 1) {
+    const motion::LocalPose was =
+        fading_->Apply(*track_, now, network, style.strength, &fading_contacts);
+    pose = motion::BlendPoses(was, pose, style.fade);
+    if (style.fade < 0.5) contacts = fading_contacts;
+  } else {
+    fading_.reset();
+  }
+  if (moved_euler_.empty()) moved_euler_.assign(one->skeleton.num_joints(), motion::Vec3{});
+  motion::SetPose(one, 0, pose, &moved_euler_);
+  cleaner_.NoteContacts(emitted_, contacts);
+  // Bounded: for a caller that never takes them, the last frames.
+  if (contacts_.size() >= 2 * kMaxKeptContacts) {
+    contacts_.erase(contacts_.begin(), contacts_.end() - kMaxKeptContacts);
+  }
+  contacts_.push_back(contacts);
+  track_->Forget(emitted_ + 1);
 }
 
 absl::StatusOr<motion::Motion> LiveStreamer::Collect() {
@@ -150,6 +216,7 @@ absl::StatusOr<motion::Motion> LiveStreamer::Collect() {
   // output.
   const int channels = input_.skeleton.num_channels();
   if (raw.num_frames == 1) {
+    Move(&raw);
     absl::StatusOr<motion::Motion> clean =
         cleaner_.Clean(std::move(raw), emitted_, input_, base_, emitted_ + lookahead_ + 1);
     if (clean.ok()) ++emitted_;
@@ -161,6 +228,7 @@ absl::StatusOr<motion::Motion> LiveStreamer::Collect() {
     motion::Motion one = raw;
     one.num_frames = 1;
     one.values.assign(raw.values.begin() + f * channels, raw.values.begin() + (f + 1) * channels);
+    Move(&one);
     absl::StatusOr<motion::Motion> clean =
         cleaner_.Clean(std::move(one), emitted_, input_, base_, emitted_ + lookahead_ + 1);
     if (!clean.ok()) return clean.status();
@@ -208,7 +276,14 @@ absl::Status LiveStreamer::RunSteps() {
 }
 
 absl::Status LiveStreamer::ChangeStyle(const StyleChange& change) {
-  return schedule_.Add(change, std::max<int64_t>(0, stepped_ - shift_));
+  if (!change.code || !track_) return schedule_.Add(change, std::max<int64_t>(0, stepped_ - shift_));
+  // The new style's takes, chosen now (not on the stepping thread).
+  absl::StatusOr<motion::StreamExamples> chosen =
+      ChooseStreamExamples(*model_, *change.code, change.movement);
+  if (!chosen.ok()) return chosen.status();
+  StyleChange with = change;
+  with.examples = std::make_shared<const motion::StreamExamples>(*std::move(chosen));
+  return schedule_.Add(std::move(with), std::max<int64_t>(0, stepped_ - shift_));
 }
 
 size_t LiveStreamer::state_bytes() const {
@@ -217,6 +292,10 @@ size_t LiveStreamer::state_bytes() const {
   for (const auto& r : recent_) n += r.size() * sizeof(float);
   n += input_.values.size() * sizeof(double);
   n += generated_.values.size() * sizeof(float);
+  if (track_) n += track_->bytes() + frame_styles_.size() * sizeof(FrameStyle);
+  n += contacts_.size() * sizeof(contacts_[0]);
+  if (follower_) n += follower_->bytes();
+  if (fading_) n += fading_->bytes();
   return n + cleaner_.bytes();
 }
 

@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -25,6 +27,7 @@
 #include "model/stream_cleaner.h"
 #include "model/style_schedule.h"
 #include "motion/features.h"
+#include "motion/live_movement.h"
 #include "motion/motion.h"
 
 namespace stylus::model {
@@ -61,6 +64,9 @@ class LiveStreamer : public FrameStreamer {
   // cross-faded; a change naming a frame already generated applies from the
   // next one.
   absl::Status ChangeStyle(const StyleChange& change) override;
+  std::vector<std::optional<std::array<bool, 4>>> TakeContacts() override {
+    return std::exchange(contacts_, {});
+  }
   int pending_steps() const { return static_cast<int>(queue_.size()); }
 
   // Bytes this stream holds, all of it bounded: the networks' carried state
@@ -71,7 +77,11 @@ class LiveStreamer : public FrameStreamer {
 
  private:
   LiveStreamer(std::shared_ptr<const ContrastiveModel> model, const motion::Motion& empty,
-               StyleCode style, std::vector<float> params, motion::PostProcessMode post);
+               StyleCode style, std::vector<float> params, motion::PostProcessMode post,
+               std::shared_ptr<const motion::StreamExamples> examples);
+  // The output frame `emitted_` moved as the takes say (movement from
+  // examples), and its own contacts noted for the cleaner.
+  void Move(motion::Motion* one);
   absl::Status RunSteps();  // Every queued step, one at a time.
   void Trim();              // Drops the input frames no longer needed.
 
@@ -93,6 +103,22 @@ class LiveStreamer : public FrameStreamer {
   bool ended_ = false;
   motion::DecodeState decode_;
   StreamCleaner cleaner_;
+  // Movement from examples (model/movement.h, motion/live_movement.h): the
+  // content as it arrives, the takes playing and, during a change of style's
+  // fade, the last style's; per generated frame not yet moved, its style.
+  struct FrameStyle {
+    double strength, fade;
+    int generation;
+    std::shared_ptr<const motion::StreamExamples> examples;
+  };
+  motion::FollowOptions follow_;
+  std::optional<motion::ContentTrack> track_;
+  std::unique_ptr<motion::MovementFollower> follower_, fading_;
+  int generation_ = 0;
+  FrameStyle step_style_ = {1, 1, 0, nullptr};  // The running step's.
+  std::deque<FrameStyle> frame_styles_;
+  std::vector<motion::Vec3> moved_euler_;
+  std::vector<std::optional<std::array<bool, 4>>> contacts_;  // Since TakeContacts.
 };
 
 }  // namespace stylus::model

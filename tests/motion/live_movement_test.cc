@@ -39,7 +39,7 @@ Followed Follow(const Motion& content, const StreamExamples& examples, int looka
     const int want = all_first ? content.num_frames : std::min(content.num_frames, f + lookahead + 1);
     for (; added < want; ++added) track.Add(PoseAt(content, added));
     std::optional<std::array<bool, 4>> on;
-    const LocalPose pose = follower.Apply(track, f, PoseAt(content, f), strength, &on);
+    const LocalPose pose = follower.Apply(track, track.Read(f), PoseAt(content, f), strength, &on);
     track.Forget(f + 1);
     SetPose(&r.out, f, pose, &euler);
     r.contacts.push_back(on);

@@ -176,62 +176,6 @@ absl::StatusOr<std::vector<EvalPair>> MakeEvalPairs(const std::vector<std::strin
   return pairs;
 }
 
-namespace {
-
-// `content` through a stream of `model`, one frame per push. `contacts`
-// (when given) gets the output's own foot contacts when its steps are its
-// own (the content's where they are not), else stays empty.
-absl::StatusOr<motion::Motion> Streamed(const StyleModel& model, const motion::Motion& content,
-                                        const StyleCode& code, motion::PostProcessMode post,
-                                        const MovementRequest& movement,
-                                        TransferResult::Contacts* contacts = nullptr) {
-  StreamSpec spec;
-  spec.style = code;
-  spec.skeleton = content.skeleton;
-  spec.frame_time = content.frame_time;
-  spec.post = post;
-  spec.movement = movement;
-  absl::StatusOr<std::unique_ptr<FrameStreamer>> stream = model.OpenStream(spec);
-  if (!stream.ok()) return stream.status();
-  motion::Motion out = motion::RestMotion(content.skeleton, 0, content.frame_time);
-  std::vector<std::optional<std::array<bool, 4>>> own;
-  auto append = [&](const motion::Motion& m) {
-    out.values.insert(out.values.end(), m.values.begin(), m.values.end());
-    out.num_frames += m.num_frames;
-    for (auto& c : (*stream)->TakeContacts()) own.push_back(c);
-  };
-  const size_t channels = content.skeleton.num_channels();
-  motion::Motion one = motion::RestMotion(content.skeleton, 1, content.frame_time);
-  for (int f = 0; f < content.num_frames; ++f) {
-    std::copy_n(content.values.begin() + f * channels, channels, one.values.begin());
-    absl::StatusOr<motion::Motion> got = (*stream)->Push(one);
-    if (!got.ok()) return got.status();
-    append(*got);
-  }
-  absl::StatusOr<motion::Motion> rest = (*stream)->Finish();
-  if (!rest.ok()) return rest.status();
-  append(*rest);
-  if (contacts != nullptr && own.size() == static_cast<size_t>(content.num_frames) &&
-      std::any_of(own.begin(), own.end(), [](const auto& c) { return c.has_value(); })) {
-    const std::array<std::vector<motion::ContactSpan>, 4> found = motion::DetectContactSpans(
-        motion::GlobalPositions(content), model.data().roles, content.fps());
-    std::array<std::vector<bool>, 4> flags;
-    for (int k = 0; k < 4; ++k) {
-      flags[k].assign(content.num_frames, false);
-      for (const motion::ContactSpan& span : found[k]) {
-        for (int f = span.begin; f < span.end; ++f) flags[k][f] = true;
-      }
-      for (int f = 0; f < content.num_frames; ++f) {
-        if (own[f]) flags[k][f] = (*own[f])[k];
-      }
-    }
-    *contacts = motion::SpansFromFlags(flags, 1);
-  }
-  return out;
-}
-
-}  // namespace
-
 absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const Judges& judges,
                                     const FeatureJudge* features,
                                     const std::vector<motion::Motion>& reference,
@@ -294,13 +238,13 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
       if (m.label_from_name) options.movement.style_label = style_label->style;
       absl::StatusOr<TransferResult> transferred;
       if (m.stream) {
-        TransferResult::Contacts own;
-        absl::StatusOr<motion::Motion> streamed = Streamed(
+        std::optional<TransferResult::Contacts> own;
+        absl::StatusOr<motion::Motion> streamed = StreamClip(
             *m.model, *content, *code, motion::PostProcessMode::kNone, options.movement, &own);
         if (!streamed.ok()) return streamed.status();
         transferred = TransferResult{};
         transferred->motion = *std::move(streamed);
-        if (!own[0].empty() || !own[2].empty()) transferred->contacts = own;
+        transferred->contacts = std::move(own);
       } else {
         transferred = m.model->Transfer(*content, *code, options);
       }
@@ -345,8 +289,8 @@ absl::StatusOr<EvalReport> Evaluate(const std::vector<EvalModel>& models, const 
         motion::PostProcessParams params;
         params.contact_spans = planted;
         absl::StatusOr<motion::Motion> full =
-            m.stream ? Streamed(*m.model, *content, *code, motion::PostProcessMode::kFull,
-                                options.movement)
+            m.stream ? StreamClip(*m.model, *content, *code, motion::PostProcessMode::kFull,
+                                  options.movement)
                      : motion::PostProcess(*raw, planted ? *raw : *timed, roles,
                                            motion::PostProcessMode::kFull, params);
         if (!full.ok()) return full.status();

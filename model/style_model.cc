@@ -12,6 +12,8 @@
 #include "model/retargeting_streamer.h"
 #include "motion/cadence.h"
 #include "motion/features.h"
+#include "motion/kinematics.h"
+#include "motion/postprocess.h"
 #include "motion/resample.h"
 #include "motion/rig_roles.h"
 
@@ -426,6 +428,60 @@ absl::StatusOr<StyleCode> StyleModel::EncodeAnyRigStyle(const motion::Motion& cl
     }
   }
   return code;
+}
+
+absl::StatusOr<motion::Motion> StreamClip(
+    const StyleModel& model, const motion::Motion& content, const StyleCode& code,
+    motion::PostProcessMode post, const MovementRequest& movement,
+    std::optional<std::array<std::vector<motion::ContactSpan>, 4>>* contacts) {
+  StreamSpec spec;
+  spec.style = code;
+  spec.skeleton = content.skeleton;
+  spec.frame_time = content.frame_time;
+  spec.post = post;
+  spec.movement = movement;
+  absl::StatusOr<std::unique_ptr<FrameStreamer>> stream = model.OpenStream(spec);
+  if (!stream.ok()) return stream.status();
+  motion::Motion out = motion::RestMotion(content.skeleton, 0, content.frame_time);
+  std::vector<std::optional<std::array<bool, 4>>> own;
+  auto append = [&](const motion::Motion& m) {
+    out.values.insert(out.values.end(), m.values.begin(), m.values.end());
+    out.num_frames += m.num_frames;
+    for (auto& c : (*stream)->TakeContacts()) own.push_back(c);
+  };
+  const size_t channels = content.skeleton.num_channels();
+  motion::Motion one = motion::RestMotion(content.skeleton, 1, content.frame_time);
+  for (int f = 0; f < content.num_frames; ++f) {
+    std::copy_n(content.values.begin() + f * channels, channels, one.values.begin());
+    absl::StatusOr<motion::Motion> got = (*stream)->Push(one);
+    if (!got.ok()) return got.status();
+    append(*got);
+  }
+  absl::StatusOr<motion::Motion> rest = (*stream)->Finish();
+  if (!rest.ok()) return rest.status();
+  append(*rest);
+  if (contacts == nullptr) return out;
+  contacts->reset();
+  if (own.size() != static_cast<size_t>(content.num_frames) ||
+      std::none_of(own.begin(), own.end(), [](const auto& c) { return c.has_value(); })) {
+    return out;
+  }
+  absl::StatusOr<motion::HumanoidRoles> roles = motion::HumanoidRolesOf(content);
+  if (!roles.ok()) return roles.status();
+  const std::array<std::vector<motion::ContactSpan>, 4> found =
+      motion::DetectContactSpans(motion::GlobalPositions(content), *roles, content.fps());
+  std::array<std::vector<bool>, 4> flags;
+  for (int k = 0; k < 4; ++k) {
+    flags[k].assign(content.num_frames, false);
+    for (const motion::ContactSpan& span : found[k]) {
+      for (int f = span.begin; f < span.end; ++f) flags[k][f] = true;
+    }
+    for (int f = 0; f < content.num_frames; ++f) {
+      if (own[f]) flags[k][f] = (*own[f])[k];
+    }
+  }
+  *contacts = motion::SpansFromFlags(flags, 1);
+  return out;
 }
 
 absl::StatusOr<std::unique_ptr<FrameStreamer>> StyleModel::OpenStream(

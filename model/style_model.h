@@ -160,6 +160,17 @@ struct StreamSpec {
   MovementRequest movement = {};
 };
 
+// `content` (on any rig, at any served rate) played through a stream of
+// `model` one frame per push, as a stage sends it, with `code`'s style;
+// the frames returned, in order. `contacts`, when given, gets the output's
+// own foot contacts when its steps are its own (movement from examples; the
+// content's where its feet follow the content's), else nullopt. `model`
+// must be owned by a std::shared_ptr.
+absl::StatusOr<motion::Motion> StreamClip(
+    const StyleModel& model, const motion::Motion& content, const StyleCode& code,
+    motion::PostProcessMode post, const MovementRequest& movement = {},
+    std::optional<std::array<std::vector<motion::ContactSpan>, 4>>* contacts = nullptr);
+
 class StyleModel : public std::enable_shared_from_this<StyleModel> {
  public:
   virtual ~StyleModel();

@@ -23,6 +23,14 @@ double SquaredDistance(const std::vector<double>& a, const std::vector<double>& 
   return d;
 }
 
+// The positions at the front of a shape (MovementClip::shape): hands,
+// elbows and ankles; their velocities follow.
+constexpr int kShapePositions = 18;
+
+// A gesture take plays at most this many of its frames per content frame
+// (catching up on the content in a rush reads as a wave).
+constexpr double kMaxGestureRate = 2;
+
 int Frames(double seconds, double fps) {
   return std::max(1, static_cast<int>(std::lround(seconds * fps)));
 }
@@ -160,9 +168,7 @@ MovementFollower::MovementFollower(StreamExamples examples, const ContentTrack& 
   parts.legs = played(parts.legs);
   parts.arms = played(parts.arms);
   parts.spine = played(parts.spine);
-  step_source_ = PartSources(track.skeleton(), track.roles(), parts);
-  parts.legs = PartSource::kNetwork;
-  gesture_source_ = PartSources(track.skeleton(), track.roles(), parts);
+  source_ = PartSources(track.skeleton(), track.roles(), parts);
   warps_.resize(examples_.gestures.size());
 }
 
@@ -173,22 +179,36 @@ double MovementFollower::gesture_time() const {
 void MovementFollower::Register(const MovementClip& take, const std::vector<double>& shape,
                                 Warp* warp) const {
   const int m = take.clip.num_frames;
-  const float hold = 1.5f;  // RegisterOptions::hold_penalty.
+  // The content skipping ahead of the take costs RegisterOptions'
+  // hold_penalty; the take waiting for the content (a performer standing
+  // before a gesture) costs a plain step.
+  const float hold = 1.5f, wait = 1.0f;
   std::vector<float>& acc = warp->acc;
   std::vector<float>& len = warp->len;
+  // Positions are compared from where each clip's gesture starts (the
+  // content's at the pass's first frame, the take's at its first): two
+  // performers' rest poses differ more than a raise's first tenth does.
+  if (warp->frames == 0) warp->origin.assign(shape.begin(), shape.begin() + kShapePositions);
+  std::vector<double> from_start = shape;
+  for (int c = 0; c < kShapePositions; ++c) {
+    from_start[c] += take.shape[0][c] - warp->origin[c];
+  }
+  auto cost = [&](int j) {
+    return static_cast<float>(std::sqrt(SquaredDistance(from_start, take.shape[j])));
+  };
   if (warp->frames == 0) {
     acc.assign(m, 0);
     len.assign(m, 0);
     for (int j = 0; j < m; ++j) {
-      const float c = static_cast<float>(std::sqrt(SquaredDistance(shape, take.shape[j])));
+      const float c = cost(j);
       acc[j] = j == 0 ? c : acc[j - 1] + hold * c;
       len[j] = static_cast<float>(j + 1);
     }
   } else {
     float diag_acc = 0, diag_len = 0;  // The row before's, at column j - 1.
     for (int j = 0; j < m; ++j) {
-      const float c = static_cast<float>(std::sqrt(SquaredDistance(shape, take.shape[j])));
-      float best = acc[j] + hold * c, best_len = len[j] + 1;  // The take holds.
+      const float c = cost(j);
+      float best = acc[j] + wait * c, best_len = len[j] + 1;  // The take holds.
       if (j > 0) {
         if (diag_acc + c < best) best = diag_acc + c, best_len = diag_len + 1;  // Both move.
         if (acc[j - 1] + hold * c < best) {  // The content holds (acc[j - 1]: this row's).
@@ -210,8 +230,8 @@ void MovementFollower::Register(const MovementClip& take, const std::vector<doub
     if (sc < score) score = sc, at = j;
   }
   warp->cost = score;
-  // Forward only, at most 4 take frames per content frame.
-  warp->time = std::clamp(static_cast<double>(at), warp->time, warp->time + 4);
+  // Forward only, at most kMaxGestureRate take frames per content frame.
+  warp->time = std::clamp(static_cast<double>(at), warp->time, warp->time + kMaxGestureRate);
 }
 
 LocalPose MovementFollower::Gesture(const ContentTrack& track, const ContentTrack::Estimate& est,
@@ -221,8 +241,8 @@ LocalPose MovementFollower::Gesture(const ContentTrack& track, const ContentTrac
   at.heading = est.heading;
   at.floor_point = est.floor_point;
   at.floor = est.floor;
-  return MoveFrame(track.skeleton(), track.roles(), *examples_.gestures[take], gesture_source_,
-                   false, network, at);
+  return MoveFrame(track.skeleton(), track.roles(), *examples_.gestures[take], source_,
+                   options_.parts.pelvis, network, at);
 }
 
 LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack::Reading& now,
@@ -298,7 +318,14 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
       --switch_left_;
     }
     if (strength > 0) out = BlendPoses(out, moved, w_gesture_ * strength);
-    const int m = examples_.gestures[gesture_]->clip.num_frames;
+    const MovementClip& take = *examples_.gestures[gesture_];
+    const int m = take.clip.num_frames;
+    if (w_gesture_ >= 0.5 && strength >= 0.5 && options_.parts.legs != PartSource::kNetwork) {
+      const int e = std::clamp(static_cast<int>(std::lround(w.time)), 0, m - 1);
+      std::array<bool, 4> on;
+      for (int k = 0; k < 4; ++k) on[k] = take.contact[k][e];
+      *contacts = on;
+    }
     if (w.time >= m - 1.5) {  // Played out: a new pass, faded from its end.
       switch_from_ = gesture_;
       switch_time_ = m - 1;
@@ -319,7 +346,7 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
     at.floor = est.floor;
     at.fit_stride = options_.parts.fit_stride;
     at.stride_scale = std::clamp(est.speed / (rate * ve), 0.6, 1.6);
-    const LocalPose moved = MoveFrame(track.skeleton(), track.roles(), steps, step_source_,
+    const LocalPose moved = MoveFrame(track.skeleton(), track.roles(), steps, source_,
                                       options_.parts.pelvis, network, at);
     if (strength > 0) out = BlendPoses(out, moved, w_steps_ * strength);
     if (w_steps_ >= 0.5 && strength >= 0.5 && options_.parts.legs != PartSource::kNetwork) {
@@ -337,7 +364,7 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
 }
 
 size_t MovementFollower::bytes() const {
-  size_t n = (step_source_.size() + gesture_source_.size()) * sizeof(PartSource);
+  size_t n = source_.size() * sizeof(PartSource);
   for (const Warp& w : warps_) n += (w.acc.capacity() + w.len.capacity()) * sizeof(float);
   return n;
 }

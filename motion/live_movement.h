@@ -6,15 +6,18 @@
 //    (linear fits over the last ~0.8 s and the look-ahead, so neither lags
 //    a steady walk), its speed over the last second, and the shapes a
 //    transfer registers on (legs, hands, elbows, and their velocities).
-//  - MovementFollower plays examples on it. Stepping (the content travels):
-//    a stepping take's loop at its cadence scaled by its walk ratio to the
+//  - MovementFollower plays takes of the style on it, the body's parts as
+//    a transfer's (legs, pelvis, arms, spine). Stepping (the content
+//    travels): of the stepping takes, the one nearest the content's speed
+//    and turning, its loop at its cadence scaled by its walk ratio to the
 //    content's speed, entered at the instant whose legs are most as the
-//    content's (the phase of its contacts), the stride fitted to the path;
-//    its contacts are the output's own. Gestures (the content stands): a
-//    gesture take registered by open-end dynamic time warping, one row per
-//    frame (a pass of the take follows the content's gesture and starts
-//    again once played out). Each fades in and out over a quarter second;
-//    the strength blends the result with the network's output.
+//    content's (the phase of its contacts), the stride fitted to the path.
+//    Gestures (the content stands): every standing take registered to the
+//    content by open-end dynamic time warping, one row per frame, compared
+//    from where each gesture starts; the best one plays, waiting for the
+//    content and never rushing (a pass starts again once played out). The
+//    output's contacts are the playing take's. Each fades in and out over a
+//    quarter second; the strength blends the result with the network's.
 //
 // Everything kept is bounded by the examples' lengths and ~1.2 s of
 // content, whatever the stream's length.
@@ -129,6 +132,7 @@ class MovementFollower {
   double gesture_time() const;
   int step_take() const { return step_take_; }  // Index into examples().steps; -1: none yet.
   int gesture_take() const { return gesture_; }  // Index into examples().gestures; -1: none.
+  double gesture_cost() const { return gesture_ >= 0 ? warps_[gesture_].cost : 0; }
   const StreamExamples& examples() const { return examples_; }
   size_t bytes() const;
 
@@ -138,6 +142,7 @@ class MovementFollower {
   // played (forward only) and its mean cost there.
   struct Warp {
     std::vector<float> acc, len;
+    std::vector<double> origin;  // The content's shape at the pass's start.
     int frames = 0;
     double time = 0, cost = 1e300;
   };
@@ -147,7 +152,7 @@ class MovementFollower {
 
   StreamExamples examples_;
   FollowOptions options_;
-  std::vector<PartSource> step_source_, gesture_source_;
+  std::vector<PartSource> source_;  // Per joint.
   bool stepping_ = false;
   double w_steps_ = 0, w_gesture_ = 0;
   int step_take_ = -1;

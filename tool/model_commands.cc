@@ -439,7 +439,7 @@ std::string MovementText(const model::StyleModel& m, const model::MovementNote& 
 // MovementText's text.
 absl::Status TransferOne(const model::StyleModel& m, const std::string& content_path,
                          const std::string& style_path, const std::string& out_path,
-                         const model::TransferOptions& options, std::string* note) {
+                         const model::TransferOptions& options, bool stream, std::string* note) {
   const motion::JointMap& joint_map = options.joint_map;
   absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(content_path);
   if (!content.ok()) return content.status();
@@ -451,6 +451,15 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
   if (!code.ok())
     return absl::Status(code.status().code(),
                         absl::StrCat(style_path, ": ", code.status().message()));
+  if (stream) {
+    absl::StatusOr<motion::Motion> streamed =
+        model::StreamClip(m, *content, *code, options.post, options.movement);
+    if (!streamed.ok())
+      return absl::Status(streamed.status().code(),
+                          absl::StrCat(content_path, ": ", streamed.status().message()));
+    *note = " (through a stream)";
+    return motion::WriteBvhFile(*streamed, out_path);
+  }
   absl::StatusOr<model::TransferResult> out = m.Transfer(*content, *code, options);
   if (!out.ok())
     return absl::Status(out.status().code(),
@@ -497,6 +506,10 @@ int Transfer(const Argv& argv) {
       "which of the library's styles is wanted (default: the nearest to the\n"
       "style clip's code). The printed note says which example moved it\n"
       "(docs/movement.md).\n\n"
+      "--stream plays the content through a stream, one frame per push as a stage\n"
+      "sends it, and writes what the stream returns (a live package: its causal\n"
+      "network and its movement from examples within the look-ahead; the stream's\n"
+      "own post-processing; --timing and --fit-frames do not apply).\n\n"
       "--shard-count N [--shard-index I] runs only rows I, I+N, I+2N, ... (rows\n"
       "counted from 0, header excluded), so N workers share a library; I defaults\n"
       "to $JOB_COMPLETION_INDEX, which a Kubernetes Indexed Job sets\n"
@@ -506,7 +519,7 @@ int Transfer(const Argv& argv) {
                           {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
                             "postprocess", "shard-count", "shard-index", "joint-map", "timing",
                             "style-library", "style-library-labels", "style-label", "fit-frames"},
-                           {}},
+                           {"stream"}},
                           kHelp, &code);
   if (!args) return code;
   const bool batch = args->Has("pairs");
@@ -567,12 +580,19 @@ int Transfer(const Argv& argv) {
     return Fail("transfer", absl::InvalidArgumentError(
                                 "--style-label and --style-library-labels need --style-library"));
   }
-  absl::StatusOr<std::unique_ptr<model::StyleModel>> m = LoadModelSpec(args->Get("model"));
-  if (!m.ok()) return Fail("transfer", m.status());
+  absl::StatusOr<std::unique_ptr<model::StyleModel>> loaded = LoadModelSpec(args->Get("model"));
+  if (!loaded.ok()) return Fail("transfer", loaded.status());
+  const std::shared_ptr<model::StyleModel> model = *std::move(loaded);  // Streams hold it.
+  const bool stream = args->switches.count("stream") > 0;
+  if (stream && (options.timing == model::Timing::kStyle || options.fit_frames > 0)) {
+    return Fail("transfer", absl::InvalidArgumentError(
+                                "--stream keeps the content's timing: drop --timing style and "
+                                "--fit-frames"));
+  }
   if (!batch) {
     std::string note;
-    if (absl::Status s = TransferOne(**m, args->Get("content"), args->Get("style"),
-                                     args->Get("out"), options, &note);
+    if (absl::Status s = TransferOne(*model, args->Get("content"), args->Get("style"),
+                                     args->Get("out"), options, stream, &note);
         !s.ok()) {
       return Fail("transfer", s);
     }
@@ -613,7 +633,7 @@ int Transfer(const Argv& argv) {
     const std::string out =
         absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
     std::string note;
-    if (absl::Status s = TransferOne(**m, cols[0], cols[1], out, options, &note);
+    if (absl::Status s = TransferOne(*model, cols[0], cols[1], out, options, stream, &note);
         !s.ok()) {
       std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
                    std::string(s.message()).c_str());

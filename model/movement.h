@@ -108,8 +108,8 @@ absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
 // The takes a stream of `code`'s style plays (motion/live_movement.h): the
 // style clip when the code holds its reading (EncodeStyle), then the
 // library's takes of the style (`request.style_label`, else the nearest
-// style): those that step forward as steps, those that do not step as
-// gestures, at most StreamExamples::kMaxTakes of each. Empty when there are
+// style): those that step as steps, the others as gestures, at most
+// StreamExamples::kMaxTakes of each. Empty when there are
 // none; `why` then says why.
 absl::StatusOr<motion::StreamExamples> ChooseStreamExamples(const StyleModel& model,
                                                             const StyleCode& code,

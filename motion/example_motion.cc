@@ -141,6 +141,18 @@ std::array<std::vector<ContactSpan>, 4> SpansFromFlags(
   return spans;
 }
 
+size_t MovementClipBytes(const MovementClip& m) {
+  size_t n = sizeof(MovementClip) + m.clip.values.size() * sizeof(double);
+  for (const LocalPose& p : m.poses)
+    n += p.rotations.size() * sizeof(Quat) + p.translations.size() * sizeof(Vec3);
+  for (const auto& p : m.positions) n += p.size() * sizeof(Vec3);
+  for (const auto& v : m.shape) n += v.size() * sizeof(double);
+  for (const auto& v : m.gait) n += v.size() * sizeof(double);
+  n += m.heading.size() * (2 * sizeof(double) + sizeof(Vec3) + sizeof(Quat));
+  for (const auto& c : m.contact) n += c.size() / 8;
+  return n;
+}
+
 absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidRoles& roles) {
   const int n = clip.num_frames;
   if (n < 2) return absl::InvalidArgumentError("movement: the clip has fewer than 2 frames");

@@ -89,6 +89,10 @@ struct MovementClip {
   std::array<std::array<int, 3>, 2> arms = {};
 };
 
+// The bytes a clip's reading holds (its frames, poses, positions and
+// features).
+size_t MovementClipBytes(const MovementClip& m);
+
 // INVALID_ARGUMENT when the clip is empty, its rig's up axis is not Y, or an
 // arm has no forearm and hand below its upper arm.
 absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidRoles& roles);

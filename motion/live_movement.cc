@@ -31,14 +31,27 @@ constexpr int kShapePositions = 18;
 // (catching up on the content in a rush reads as a wave).
 constexpr double kMaxGestureRate = 2;
 
+// Stepping: how often another take may take over (seconds), and by how much
+// nearer it must be than the one playing.
+constexpr double kRecheckS = 0.5;
+constexpr double kKeepMargin = 0.15;
+
+// Gestures: what the content's hands did is read over this long, and a take
+// whose arms do another thing counts its cost this many times.
+constexpr double kArmWindowS = 3;
+constexpr double kOtherArmsFactor = 2;
+constexpr double kHeldS = 1;  // A hand up this long without a swing: no wave.
+
 int Frames(double seconds, double fps) {
   return std::max(1, static_cast<int>(std::lround(seconds * fps)));
 }
 
-// The straight line through (i, y_i) for i in [a, b], at `at`.
+// The straight line through (i, y_i) for i in [a, b], at `at`; its slope
+// (per frame) in `slope_out` when given.
 template <typename Get>
-double LineAt(int64_t a, int64_t b, int64_t at, Get y) {
+double LineAt(int64_t a, int64_t b, int64_t at, Get y, double* slope_out = nullptr) {
   const int n = static_cast<int>(b - a + 1);
+  if (slope_out != nullptr) *slope_out = 0;
   if (n < 2) return y(b);
   double si = 0, sy = 0, sii = 0, siy = 0;
   for (int64_t i = a; i <= b; ++i) {
@@ -50,6 +63,7 @@ double LineAt(int64_t a, int64_t b, int64_t at, Get y) {
   }
   const double den = n * sii - si * si;
   const double slope = den > 0 ? (n * siy - si * sy) / den : 0;
+  if (slope_out != nullptr) *slope_out = slope;
   return (sy - slope * si) / n + slope * static_cast<double>(at - a);
 }
 
@@ -111,8 +125,13 @@ ContentTrack::Reading ContentTrack::Read(int64_t f) {
                      [&](int64_t i) { return frame(i).yaw; });
   const int64_t since = std::max(base_, last - speed_window_);
   if (last > since) {
-    e.speed = Norm(OnFloor(frame(last).positions[pelvis] - frame(since).positions[pelvis])) * fps_ /
-              static_cast<double>(last - since) / leg_;
+    const Vec3 moved = OnFloor(frame(last).positions[pelvis] - frame(since).positions[pelvis]);
+    e.speed = Norm(moved) * fps_ / static_cast<double>(last - since) / leg_;
+    e.travel = Normalized(Facing(moved, e.heading), Vec3{0, 0, 1});
+    double slope = 0;
+    LineAt(
+        since, last, last, [&](int64_t i) { return frame(i).yaw; }, &slope);
+    e.turn_rate = slope * fps_;
   }
   // The feet's floor: the lowest a foot joint went up to this frame.
   double floor = floor_;
@@ -262,29 +281,41 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
     if (!stepping_ && est.speed >= options_.step_speed) {
       stepping_ = true;
       if (w_steps_ <= 0) {
-        double nearest = std::numeric_limits<double>::infinity();
-        for (size_t k = 0; k < examples_.steps.size(); ++k) {
-          const MovementClip& e = *examples_.steps[k];
-          const double d = std::abs(std::log(est.speed / std::max(e.step_speed, 1e-3))) +
-                           2 * std::abs(e.turn_rate) + 4 * e.flight;
-          if (d < nearest) nearest = d, step_take_ = static_cast<int>(k);
-        }
-        const MovementClip& e = *examples_.steps[step_take_];
-        double best = std::numeric_limits<double>::infinity();
-        for (int a = e.loop_begin; a < std::max(e.loop_begin + 1, e.loop_end); ++a) {
-          const double d = SquaredDistance(gait, e.gait[a]);
-          if (d < best) best = d, t_steps_ = a;
-        }
+        step_take_ = NearestSteps(est, -1);
+        t_steps_ = Entry(*examples_.steps[step_take_], gait);
+        next_check_ = fade;
       }
     } else if (stepping_ && est.speed < options_.stop_speed) {
       stepping_ = false;
+    }
+    // While stepping, every stride or so: does another take show the
+    // content's stepping (a run after a walk, a turn) better? It takes over,
+    // entered at its matching phase, faded in.
+    if (stepping_ && w_steps_ >= 1 && --next_check_ <= 0) {
+      next_check_ = Frames(kRecheckS, track.fps());
+      const int better = NearestSteps(est, step_take_);
+      if (better != step_take_) {
+        step_from_ = step_take_;
+        step_from_time_ = t_steps_;
+        step_switch_left_ = fade;
+        step_take_ = better;
+        t_steps_ = Entry(*examples_.steps[step_take_], gait);
+      }
     }
     w_steps_ = std::clamp(w_steps_ + (stepping_ ? dw : -dw), 0.0, 1.0);
   }
   // Gestures: every take registered while the content stands; the best
   // plays (a switch fades from the last one).
   if (!warps_.empty()) {
+    // What the content's hands did over the last seconds: which travel and
+    // whether they swing (SameArmAction's reading, causally). A take whose
+    // arms do another thing is chosen only when no other fits.
+    hands_.push_back({shape[3], shape[4], shape[9], shape[10]});
+    while (static_cast<int>(hands_.size()) > Frames(kArmWindowS, track.fps())) hands_.pop_front();
+    const ArmReading arms = ReadArms();
     int best = -1;
+    double best_score = 0;
+    std::vector<double> score(warps_.size(), 0);
     for (size_t k = 0; k < warps_.size(); ++k) {
       Warp& w = warps_[k];
       if (stepping_) {
@@ -292,10 +323,11 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
         continue;
       }
       Register(*examples_.gestures[k], shape, &w);
-      if (best < 0 || w.cost < warps_[best].cost) best = static_cast<int>(k);
+      const bool differ = ArmsDiffer(arms, *examples_.gestures[k], Frames(kHeldS, track.fps()));
+      score[k] = w.cost * (differ ? kOtherArmsFactor : 1);
+      if (best < 0 || score[k] < best_score) best = static_cast<int>(k), best_score = score[k];
     }
-    if (best >= 0 && best != gesture_ &&
-        (gesture_ < 0 || warps_[best].cost < 0.8 * warps_[gesture_].cost)) {
+    if (best >= 0 && best != gesture_ && (gesture_ < 0 || score[best] < 0.8 * score[gesture_])) {
       if (gesture_ >= 0 && w_gesture_ > 0) {
         switch_from_ = gesture_;
         switch_time_ = warps_[gesture_].time;
@@ -335,19 +367,15 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
   }
   if (step_take_ >= 0 && w_steps_ > 0) {
     const MovementClip& steps = *examples_.steps[step_take_];
-    const double ve = std::max(steps.step_speed, 1e-3);
-    const RegisterOptions bounds;
-    const double rate = std::clamp(std::sqrt(std::max(est.speed, 1e-6) / ve), bounds.min_rate,
-                                   bounds.max_rate);
-    FramePlacement at;
-    at.time = t_steps_;
-    at.heading = est.heading;
-    at.floor_point = est.floor_point;
-    at.floor = est.floor;
-    at.fit_stride = options_.parts.fit_stride;
-    at.stride_scale = std::clamp(est.speed / (rate * ve), 0.6, 1.6);
-    const LocalPose moved = MoveFrame(track.skeleton(), track.roles(), steps, source_,
-                                      options_.parts.pelvis, network, at);
+    double rate = 1;
+    LocalPose moved = Steps(track, est, step_take_, t_steps_, network, &rate);
+    if (step_switch_left_ > 0) {  // Another take took over: faded in.
+      double was_rate = 1;
+      const LocalPose was = Steps(track, est, step_from_, step_from_time_, network, &was_rate);
+      moved = BlendPoses(was, moved, 1 - static_cast<double>(step_switch_left_) / fade);
+      --step_switch_left_;
+      step_from_time_ = Advance(*examples_.steps[step_from_], step_from_time_, was_rate);
+    }
     if (strength > 0) out = BlendPoses(out, moved, w_steps_ * strength);
     if (w_steps_ >= 0.5 && strength >= 0.5 && options_.parts.legs != PartSource::kNetwork) {
       const int e =
@@ -356,11 +384,118 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
       for (int k = 0; k < 4; ++k) on[k] = steps.contact[k][e];
       *contacts = on;
     }
-    const double loop = steps.loop_end - steps.loop_begin;
-    t_steps_ += rate;
-    while (loop > 0 && t_steps_ >= steps.loop_end) t_steps_ -= loop;
+    t_steps_ = Advance(steps, t_steps_, rate);
   }
   return out;
+}
+
+MovementFollower::ArmReading MovementFollower::ReadArms() const {
+  ArmReading r;
+  for (int side = 0; side < 2; ++side) {
+    double lo = 1e300, hi = -1e300;
+    for (const auto& h : hands_)
+      lo = std::min(lo, h[2 * side + 1]), hi = std::max(hi, h[2 * side + 1]);
+    r.reach[side] = hands_.empty() ? 0 : hi - lo;
+    for (const auto& h : hands_) r.held[side] += h[2 * side + 1] > lo + 0.5 * (hi - lo);
+    // Turns of the hand's sideways or vertical path by kSwing or more.
+    for (int axis = 0; axis < 2; ++axis) {
+      double top = 0, bottom = 0;
+      int dir = 0, turns = 0;
+      bool first = true;
+      for (const auto& h : hands_) {
+        const double v = h[2 * side + axis];
+        if (first) top = bottom = v, first = false;
+        top = std::max(top, v);
+        bottom = std::min(bottom, v);
+        if (dir >= 0 && v < top - kSwing) {
+          turns += dir > 0;
+          dir = -1;
+          bottom = v;
+        } else if (dir <= 0 && v > bottom + kSwing) {
+          turns += dir < 0;
+          dir = 1;
+          top = v;
+        }
+      }
+      r.swings[side] = std::max(r.swings[side], turns);
+    }
+  }
+  return r;
+}
+
+bool MovementFollower::ArmsDiffer(const ArmReading& content, const MovementClip& take,
+                                  int held_frames) {
+  auto active = [](const std::array<double, 2>& reach, int side) {
+    return reach[side] >= kActiveReach ||
+           (reach[side] >= kActiveReach / 3 && reach[side] >= 0.5 * reach[1 - side]);
+  };
+  if (!active(content.reach, 0) && !active(content.reach, 1)) return false;  // Not yet moving.
+  for (int side = 0; side < 2; ++side) {
+    if (active(content.reach, side) != active(take.hand_reach, side)) return true;
+    // A swinging content hand needs a swinging take; the other way round
+    // the content may not have swung yet.
+    if (content.swings[side] >= kSwinging && take.hand_swings[side] < kSwinging) return true;
+    // A hand held up for a while without swinging is no wave.
+    if (active(content.reach, side) && content.held[side] >= held_frames &&
+        content.swings[side] < 2 && take.hand_swings[side] >= kSwinging) {
+      return true;
+    }
+  }
+  return false;
+}
+
+int MovementFollower::NearestSteps(const ContentTrack::Estimate& est, int current) const {
+  // Motion-matching features of stepping: speed (a log ratio), turning
+  // (rad/s) and the direction of travel in the facing frame; a take that
+  // travels more than 45 degrees off the content's way counts only when
+  // none travels closer.
+  int best = -1;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < examples_.steps.size(); ++k) {
+    const MovementClip& e = *examples_.steps[k];
+    const double cosine = std::clamp(Dot(est.travel, e.travel), -1.0, 1.0);
+    double d = std::abs(std::log(std::max(est.speed, 1e-3) / std::max(e.step_speed, 1e-3))) +
+               2 * std::abs(est.turn_rate - e.turn_rate) + 2 * (1 - cosine);
+    if (std::acos(cosine) > M_PI / 4) d += 100;
+    // The take playing keeps its place unless another is clearly nearer.
+    if (static_cast<int>(k) == current) d -= kKeepMargin;
+    if (d < nearest) nearest = d, best = static_cast<int>(k);
+  }
+  return best;
+}
+
+double MovementFollower::Entry(const MovementClip& take, const std::vector<double>& gait) const {
+  double best = std::numeric_limits<double>::infinity(), t = take.loop_begin;
+  for (int a = take.loop_begin; a < std::max(take.loop_begin + 1, take.loop_end); ++a) {
+    const double d = SquaredDistance(gait, take.gait[a]);
+    if (d < best) best = d, t = a;
+  }
+  return t;
+}
+
+double MovementFollower::Advance(const MovementClip& take, double t, double rate) const {
+  const double loop = take.loop_end - take.loop_begin;
+  t += rate;
+  while (loop > 0 && t >= take.loop_end) t -= loop;
+  return t;
+}
+
+LocalPose MovementFollower::Steps(const ContentTrack& track, const ContentTrack::Estimate& est,
+                                  int take, double time, const LocalPose& network,
+                                  double* rate) const {
+  const MovementClip& steps = *examples_.steps[take];
+  const double ve = std::max(steps.step_speed, 1e-3);
+  const RegisterOptions bounds;
+  *rate = std::clamp(std::sqrt(std::max(est.speed, 1e-6) / ve), bounds.min_rate, bounds.max_rate);
+  FramePlacement at;
+  at.time = time;
+  at.heading = est.heading;
+  at.floor_point = est.floor_point;
+  at.floor = est.floor;
+  at.fit_stride = options_.parts.fit_stride;
+  at.stride_scale = std::clamp(est.speed / (*rate * ve), 0.6, 1.6);
+  return MoveFrame(track.skeleton(), track.roles(), steps, source_, options_.parts.pelvis, network,
+                   at);
 }
 
 size_t MovementFollower::bytes() const {

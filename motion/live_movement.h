@@ -58,6 +58,10 @@ class ContentTrack {
     double heading = 0;
     double speed = 0;  // Leg lengths per second.
     double floor = 0;  // The feet's floor so far.
+    // Over the last second: the turning (rad/s, + left) and the direction
+    // of travel in the facing frame (x left, z ahead).
+    double turn_rate = 0;
+    Vec3 travel = {0, 0, 1};
   };
   // With the registration features at `f` (as MovementClip's, velocities
   // taken backwards over 0.2 s).
@@ -92,14 +96,14 @@ class ContentTrack {
 
 // The examples a stream plays: takes of its style.
 struct StreamExamples {
-  // Takes that step forward; when the content starts stepping, the one
-  // whose speed and turning are nearest the content's plays.
+  // Takes that step; while the content steps, the one whose speed, turning
+  // and direction of travel are nearest the content's plays.
   std::vector<std::shared_ptr<const MovementClip>> steps;
   // Takes that do not step; each is registered to the content all along,
   // and the one that registers best plays.
   std::vector<std::shared_ptr<const MovementClip>> gestures;
   std::vector<std::string> step_names, gesture_names;  // For notes and logs.
-  static constexpr int kMaxTakes = 32;  // Of each kind.
+  static constexpr int kMaxTakes = 64;                 // Of each kind.
 };
 
 struct FollowOptions {
@@ -149,6 +153,25 @@ class MovementFollower {
   void Register(const MovementClip& take, const std::vector<double>& shape, Warp* warp) const;
   LocalPose Gesture(const ContentTrack& track, const ContentTrack::Estimate& est, int take,
                     double time, const LocalPose& network) const;
+  // Stepping: the take nearest the content's stepping (`current` favoured);
+  // the instant of a take whose legs are most as `gait`; an instant moved on
+  // by `rate` frames, looped; the network's pose with a take's parts at an
+  // instant (and the rate it plays at).
+  int NearestSteps(const ContentTrack::Estimate& est, int current) const;
+  // Gestures: how far each of the content's hands travelled up and down
+  // lately and how many times it swung (left, right); whether a take's arms
+  // do another thing.
+  struct ArmReading {
+    std::array<double, 2> reach = {};
+    std::array<int, 2> swings = {};
+    std::array<int, 2> held = {};  // Frames in the upper half of its travel.
+  };
+  ArmReading ReadArms() const;
+  static bool ArmsDiffer(const ArmReading& content, const MovementClip& take, int held_frames);
+  double Entry(const MovementClip& take, const std::vector<double>& gait) const;
+  double Advance(const MovementClip& take, double t, double rate) const;
+  LocalPose Steps(const ContentTrack& track, const ContentTrack::Estimate& est, int take,
+                  double time, const LocalPose& network, double* rate) const;
 
   StreamExamples examples_;
   FollowOptions options_;
@@ -157,7 +180,13 @@ class MovementFollower {
   double w_steps_ = 0, w_gesture_ = 0;
   int step_take_ = -1;
   double t_steps_ = 0;
+  int next_check_ = 0;  // Frames until another stepping take may take over.
+  // A stepping take that was taken over, faded out.
+  int step_from_ = -1, step_switch_left_ = 0;
+  double step_from_time_ = 0;
   std::vector<Warp> warps_;  // Per gesture take.
+  // The content's hands lately: sideways and up per side (leg lengths).
+  std::deque<std::array<double, 4>> hands_;
   int gesture_ = -1;         // The take playing.
   // A switch of take or a new pass fades from where the last one was.
   int switch_left_ = 0, switch_from_ = -1;

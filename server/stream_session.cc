@@ -3,7 +3,6 @@
 #include <grpcpp/alarm.h>
 
 #include <chrono>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -304,10 +303,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     absl::StatusOr<model::StyleCode> style =
         ResolveStyle(*service_, *m, config.style(), "config style");
     if (!style.ok()) return style.status();
-    // A stream's movement comes from the style library, not from the style
-    // clip: its reading is not held for the stream's lifetime
-    // (docs/movement.md "Streams").
-    style->example = nullptr;
+    KeepExample(&*style);
     absl::StatusOr<motion::JointMap> joint_map =
         wire::JointMapFromProto(config.skeleton(), "config");
     if (!joint_map.ok()) return joint_map.status();
@@ -320,6 +316,21 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
     chunk_ = motion::RestMotion(*sk, 0, 1.0 / config.fps());
     prev_euler_.assign(sk->num_joints(), motion::Vec3{});
     return absl::OkStatus();
+  }
+
+  // The configured style clip's reading (movement from examples) stays
+  // with the stream while its bytes fit the server's memory pool
+  // (--max-memory-mb); when they do not, and for styles changed to later,
+  // the stream's movement comes from the style library alone.
+  void KeepExample(model::StyleCode* code) {
+    if (code->example == nullptr) return;
+    MemoryHold hold(service_->call_memory,
+                    static_cast<int64_t>(motion::MovementClipBytes(*code->example)));
+    if (!hold.ok()) {
+      code->example = nullptr;
+      return;
+    }
+    example_hold_ = std::move(hold);
   }
 
   absl::Status ChangeStyle(const v1::StyleChange& change) {
@@ -342,7 +353,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
           ResolveStyle(*service_, *hosted_, change.style(), "style change");
       if (!code.ok()) return code.status();
       c.code = *std::move(code);
-      c.code->example = nullptr;
+      c.code->example = nullptr;  // The library's takes move a changed style.
       c.movement = MovementFor(*service_, change.style());
     } else if (change.has_blend()) {
       const v1::StyleBlend& blend = change.blend();
@@ -642,6 +653,7 @@ class StreamSession : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::Byt
 
   // Touched by the executor task only (one at a time per session).
   std::unique_ptr<model::FrameStreamer> streamer_;
+  MemoryHold example_hold_;  // For the style clip's reading it keeps.
   std::shared_ptr<const model::StyleModel> model_;
   std::optional<HostedModel> hosted_;  // The model configured (style names are its).
   motion::Motion chunk_;

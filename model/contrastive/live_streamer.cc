@@ -17,6 +17,13 @@ constexpr int kCleanHistory = 6;
 // Own contacts kept for TakeContacts when nobody takes them.
 constexpr size_t kMaxKeptContacts = 256;
 
+// The schedule keeps codes only; the takes chosen hold the style clip's
+// reading.
+StyleCode WithoutExample(StyleCode code) {
+  code.example = nullptr;
+  return code;
+}
+
 }  // namespace
 
 absl::StatusOr<std::unique_ptr<LiveStreamer>> LiveStreamer::Create(
@@ -51,7 +58,7 @@ LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
       dim_(model_->config().dim),
       shift_(model_->config().lookahead - 1),
       lookahead_(model_->config().lookahead),
-      schedule_(std::move(style), model_->config().style_strength),
+      schedule_(WithoutExample(std::move(style)), model_->config().style_strength),
       params_(std::move(params)),
       strength_(model_->config().style_strength),
       features_(empty.skeleton, model_->data().roles, empty.frame_time,
@@ -283,6 +290,7 @@ absl::Status LiveStreamer::ChangeStyle(const StyleChange& change) {
   if (!chosen.ok()) return chosen.status();
   StyleChange with = change;
   with.examples = std::make_shared<const motion::StreamExamples>(*std::move(chosen));
+  with.code->example = nullptr;  // Held by the takes chosen, not by the schedule.
   return schedule_.Add(std::move(with), std::max<int64_t>(0, stepped_ - shift_));
 }
 

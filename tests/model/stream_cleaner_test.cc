@@ -12,8 +12,10 @@
 
 #include "gtest/gtest.h"
 #include "motion/bvh.h"
+#include "motion/contacts.h"
 #include "motion/kinematics.h"
 #include "motion/metrics.h"
+#include "motion/postprocess.h"
 #include "tests/test_support.h"
 
 namespace stylus::model {
@@ -41,8 +43,9 @@ Motion Swaying(const Motion& content, const motion::HumanoidRoles& roles) {
 // frames as sent, read back from their Euler angles, against the input up to
 // kLookahead frames ahead, every frame posed afresh; a contact seen before
 // keeps its pin; the history frames are final (not smoothed again; their
-// world poses those their own batch gave them); the batch's angles continue
-// from the last frame sent.
+// world poses those their own batch gave them); no foot ends below the
+// lowest the input's feet went up to the look-ahead; the batch's angles
+// continue from the last frame sent.
 Motion Reference(const Motion& raw, const Motion& input, const motion::HumanoidRoles& roles,
                  PostProcessMode mode, int chunk) {
   Motion sent = raw;
@@ -52,6 +55,7 @@ Motion Reference(const Motion& raw, const Motion& input, const motion::HumanoidR
   params.pin_at_span_start = true;
   std::array<std::optional<std::pair<int, motion::Vec3>>, 4> carried;  // Stream frame, pin.
   std::vector<motion::GlobalPose> posed_all;  // Per stream frame.
+  const std::vector<std::vector<motion::Vec3>> input_world = motion::GlobalPositions(input);
   for (int first = 0; first < raw.num_frames; first += chunk) {
     const int last = std::min(raw.num_frames, first + chunk);
     const int from = std::max(0, first - kHistory);
@@ -74,6 +78,13 @@ Motion Reference(const Motion& raw, const Motion& input, const motion::HumanoidR
     posed_all.insert(posed_all.end(), posed.begin(), posed.end());
     EXPECT_TRUE(cleaned.ok()) << cleaned.status();
     if (!cleaned.ok()) return sent;
+    double floor = 1e300;
+    const int seen = std::min(input.num_frames, last - 1 + kLookahead + 1);
+    for (int f = 0; f < seen; ++f) {
+      for (int j : motion::FootJoints(roles)) floor = std::min(floor, input_world[f][j].y);
+    }
+    for (motion::LocalPose& pose : *cleaned)
+      motion::KeepFeetAboveFloor(raw.skeleton, roles, floor, &pose);
     for (int k = 0; k < 4; ++k) {
       carried[k].reset();
       if (pins[k]) carried[k] = std::make_pair(from + pins[k]->frame, pins[k]->pin);

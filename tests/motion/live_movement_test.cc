@@ -151,34 +151,3 @@ TEST(LiveMovementTest, OfSeveralGestureTakesTheOneThatShowsTheContentsGesturePla
 
 }  // namespace
 }  // namespace stylus::motion
-
-namespace stylus::motion {
-namespace {
-TEST(LiveMovementDebug, Trace) {
-  const char* c = std::getenv("DBG_CONTENT");
-  const char* e = std::getenv("DBG_EXAMPLE");
-  if (!c || !e) GTEST_SKIP();
-  const Motion content = *ReadBvhFile(c);
-  const Motion example = *ReadBvhFile(e);
-  StreamExamples ex;
-  auto read = Read(example);
-  if (read->steps) ex.steps.push_back(read); else ex.gestures.push_back(read);
-  const Followed r = Follow(content, ex, 2);
-  for (int f = 0; f < content.num_frames; ++f)
-    std::cerr << f << " w " << r.gesture_weight[f] << " t " << r.gesture_time[f] << " c " << r.gesture_cost[f] << "\n";
-  std::cerr << "m " << example.num_frames << "\n";
-  (void)WriteBvhFile(r.out, "/tmp/dbg_follow.bvh");
-  for (int f : {0, 5, 10}) {
-    std::cerr << "ex shape " << f << ":";
-    for (double v : read->shape[f]) std::cerr << " " << v;
-    std::cerr << "\n";
-  }
-  auto cr = Read(content);
-  for (int f : {0, 5, 10}) {
-    std::cerr << "content shape " << f << ":";
-    for (double v : cr->shape[f]) std::cerr << " " << v;
-    std::cerr << "\n";
-  }
-}
-}  // namespace
-}  // namespace stylus::motion

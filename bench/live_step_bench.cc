@@ -83,7 +83,7 @@ int BatchedSteps(const model::StyleModel& m, const motion::Motion& clip,
 }
 
 int Main(int argc, char** argv) {
-  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/live/v1";
+  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/live/v2";
   int frames = 600;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--help")) {

@@ -76,6 +76,7 @@ LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
     follow_.parts.fit_stride = keys.movement_fit_stride;
     follow_.max_cost = keys.movement_max_cost;
     track_.emplace(empty.skeleton, model_->data().roles, empty.frame_time, lookahead_);
+    contacts_.reserve(2 * kMaxKeptContacts);
     follower_ = std::make_unique<motion::MovementFollower>(*examples, *track_, follow_);
     step_style_.examples = std::move(examples);
   }
@@ -294,6 +295,12 @@ absl::Status LiveStreamer::ChangeStyle(const StyleChange& change) {
   return schedule_.Add(std::move(with), std::max<int64_t>(0, stepped_ - shift_));
 }
 
+std::vector<std::optional<std::array<bool, 4>>> LiveStreamer::TakeContacts() {
+  std::vector<std::optional<std::array<bool, 4>>> taken(contacts_.begin(), contacts_.end());
+  contacts_.clear();  // Its room kept: a stream's state stays one size.
+  return taken;
+}
+
 size_t LiveStreamer::state_bytes() const {
   size_t n = carry_.bytes() + params_.size() * sizeof(float) + schedule_.bytes();
   for (const auto& q : queue_) n += q.size() * sizeof(float);
@@ -301,7 +308,7 @@ size_t LiveStreamer::state_bytes() const {
   n += input_.values.size() * sizeof(double);
   n += generated_.values.size() * sizeof(float);
   if (track_) n += track_->bytes() + frame_styles_.size() * sizeof(FrameStyle);
-  n += contacts_.size() * sizeof(contacts_[0]);
+  n += contacts_.capacity() * sizeof(contacts_[0]);
   if (follower_) n += follower_->bytes();
   if (fading_) n += fading_->bytes();
   return n + cleaner_.bytes();

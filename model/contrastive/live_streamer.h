@@ -64,9 +64,7 @@ class LiveStreamer : public FrameStreamer {
   // cross-faded; a change naming a frame already generated applies from the
   // next one.
   absl::Status ChangeStyle(const StyleChange& change) override;
-  std::vector<std::optional<std::array<bool, 4>>> TakeContacts() override {
-    return std::exchange(contacts_, {});
-  }
+  std::vector<std::optional<std::array<bool, 4>>> TakeContacts() override;
   int pending_steps() const { return static_cast<int>(queue_.size()); }
 
   // Bytes this stream holds, all of it bounded: the networks' carried state

@@ -1,11 +1,13 @@
 // Movement from examples with the shipped default package on real Bandai
 // takes: the style clip of the same action, a style library's take for a
 // style shown only by another action, a gesture registered to the content's,
-// and the network's movement kept where no example fits.
+// and the network's movement kept where no example fits; and the same
+// through a stream of the shipped live package, frame by frame.
 #include "model/movement.h"
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "gtest/gtest.h"
 #include "model/family_registry.h"
@@ -162,6 +164,115 @@ TEST_F(MovementTest, AStyleShownOnlyByAGestureWalksInItsStyleFromALibrary) {
   EXPECT_FALSE(none.movement.applied);
   EXPECT_NE(none.movement.reason.find("no take of 'masculine'"), std::string::npos)
       << none.movement.reason;
+}
+
+// The shipped live package, streamed frame by frame as a stage sends it.
+class LiveMovementTest : public MovementTest {
+ protected:
+  static void SetUpTestSuite() {
+    absl::StatusOr<std::unique_ptr<StyleModel>> m =
+        LoadStyleModel(testing::SourceDir() + "/models/live/v2");
+    ASSERT_TRUE(m.ok()) << m.status();
+    live_ = new std::shared_ptr<StyleModel>(*std::move(m));
+  }
+  static void TearDownTestSuite() { delete live_; }
+  const StyleModel& live() { return **live_; }
+  static std::shared_ptr<StyleModel>* live_;
+};
+std::shared_ptr<StyleModel>* LiveMovementTest::live_ = nullptr;
+
+TEST_F(LiveMovementTest, AnElderlyWalkStreamedTakesMoreShorterStepsOnItsOwnContacts) {
+  STYLUS_REQUIRE_BANDAI(data);
+  EXPECT_TRUE(live().moves_from_examples());
+  const motion::Motion content = Take(data, "walk_normal_004");
+  const motion::Motion style = Take(data, "walk_elderly_003");
+  std::optional<std::array<std::vector<motion::ContactSpan>, 4>> contacts;
+  absl::StatusOr<motion::Motion> out = StreamClip(live(), content, *live().EncodeStyle(style),
+                                                  motion::PostProcessMode::kFull, {}, &contacts);
+  ASSERT_TRUE(out.ok()) << out.status();
+  ASSERT_EQ(out->num_frames, content.num_frames);
+  ASSERT_TRUE(contacts.has_value()) << "the stream's steps are the take's";
+  const motion::HumanoidRoles& roles = live().data().roles;
+  const motion::GaitSummary c = motion::MeasureGait(content, roles)->summary;
+  const motion::GaitSummary o = motion::MeasureGait(*out, roles)->summary;
+  ASSERT_TRUE(c.cadence && o.cadence);
+  std::printf("streamed: period %.3f s (content %.3f), stride %.3f (content %.3f)\n",
+              o.cadence->period_s, c.cadence->period_s, o.stride, c.stride);
+  EXPECT_NEAR(o.speed, c.speed, 0.1 * c.speed);
+  EXPECT_LT(o.cadence->period_s, 0.9 * c.cadence->period_s);
+  EXPECT_LT(o.stride, 0.95 * c.stride);
+  const double skating = motion::FootSkatingOnSpans(*out, *contacts, roles);
+  const double real = motion::FootSkating(content, content, roles);
+  EXPECT_LT(skating, 1.2 * real) << skating << " vs real " << real;
+  double lowest_out = 1e300, lowest_content = 1e300;
+  for (const auto& p : motion::GlobalPositions(*out))
+    for (int j : motion::FootJoints(roles)) lowest_out = std::min(lowest_out, p[j].y);
+  for (const auto& p : motion::GlobalPositions(content))
+    for (int j : motion::FootJoints(roles)) lowest_content = std::min(lowest_content, p[j].y);
+  EXPECT_GE(lowest_out, lowest_content - 1e-6);
+}
+
+TEST_F(LiveMovementTest, HowTheFramesArriveDoesNotChangeTheMovement) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const motion::Motion content = Take(data, "walk_normal_004");
+  const StyleCode code = *live().EncodeStyle(Take(data, "walk_elderly_003"));
+  const motion::Motion one_by_one =
+      *StreamClip(live(), content, code, motion::PostProcessMode::kFull);
+  absl::StatusOr<std::unique_ptr<FrameStreamer>> s = live().OpenStream(
+      {code, content.skeleton, content.frame_time, motion::PostProcessMode::kFull});
+  ASSERT_TRUE(s.ok()) << s.status();
+  motion::Motion chunked = motion::RestMotion(content.skeleton, 0, content.frame_time);
+  std::mt19937_64 rng(7);
+  const size_t channels = content.skeleton.num_channels();
+  auto append = [&](const motion::Motion& m) {
+    chunked.values.insert(chunked.values.end(), m.values.begin(), m.values.end());
+    chunked.num_frames += m.num_frames;
+  };
+  for (int f = 0; f < content.num_frames;) {
+    const int n = std::min<int>(content.num_frames - f, 1 + rng() % 9);
+    motion::Motion part = motion::RestMotion(content.skeleton, n, content.frame_time);
+    std::copy_n(content.values.begin() + f * channels, n * channels, part.values.begin());
+    absl::StatusOr<motion::Motion> got = (*s)->Push(part);
+    ASSERT_TRUE(got.ok()) << got.status();
+    append(*got);
+    f += n;
+  }
+  append(*(*s)->Finish());
+  ASSERT_EQ(chunked.num_frames, one_by_one.num_frames);
+  EXPECT_LT(motion::MaxPositionDifference(chunked, one_by_one), 1e-6);
+}
+
+TEST_F(LiveMovementTest, AStreamWhoseStyleShowsOnlyAGestureWalksInItsStyleFromALibrary) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const std::string lib = ::testing::TempDir() + "/live_movement_library";
+  fs::remove_all(lib);
+  fs::create_directories(lib);
+  for (const char* name : {"walk_elderly_003", "raise-up-left-hand_elderly_004"}) {
+    const std::string file = std::string("dataset-2_") + name + ".bvh";
+    fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), lib + "/" + file);
+  }
+  absl::StatusOr<std::unique_ptr<StyleLibrary>> library = StyleLibrary::Load(lib);
+  ASSERT_TRUE(library.ok()) << library.status();
+  const motion::Motion content = Take(data, "walk_normal_004");
+  const StyleCode code = *live().EncodeStyle(Take(data, "raise-up-right-hand_elderly_009"));
+  MovementRequest request;
+  request.library = library->get();
+  request.style_label = "elderly";
+  std::optional<std::array<std::vector<motion::ContactSpan>, 4>> with_contacts;
+  const motion::Motion with = *StreamClip(live(), content, code, motion::PostProcessMode::kFull,
+                                          request, &with_contacts);
+  const motion::Motion without = *StreamClip(live(), content, code, motion::PostProcessMode::kFull);
+  EXPECT_TRUE(with_contacts.has_value());
+  const motion::HumanoidRoles& roles = live().data().roles;
+  const double content_period = motion::MeasureGait(content, roles)->summary.cadence->period_s;
+  const auto period = motion::MeasureGait(with, roles)->summary.cadence;
+  const auto alone = motion::MeasureGait(without, roles)->summary.cadence;
+  ASSERT_TRUE(period.has_value() && alone.has_value());
+  std::printf("step period: content %.3f s, with the library %.3f, the raise alone %.3f\n",
+              content_period, period->period_s, alone->period_s);
+  // The elderly take's many short steps; the raise alone shows none.
+  EXPECT_LT(period->period_s, 0.9 * content_period);
+  EXPECT_GT(alone->period_s, 1.1 * period->period_s);
 }
 
 TEST(StyleLibraryTest, AFolderWithoutLabelledTakesIsRefusedByName) {

@@ -1,12 +1,15 @@
 // A server with a style library: a transfer whose style clip shows another
 // kind of movement takes it from the library's take of the style, and says
-// so in its response; a library that cannot be read stops the start.
+// so in its response; a live stream moves from the style clip's and the
+// library's takes; a library that cannot be read stops the start.
 #include <grpcpp/grpcpp.h>
 
 #include <filesystem>
 #include <set>
 
 #include "gtest/gtest.h"
+#include "motion/gait.h"
+#include "motion/rig_roles.h"
 #include "stylus/v1/stylus.grpc.pb.h"
 #include "tests/server/server_test_support.h"
 #include "wire/wire.h"
@@ -87,6 +90,53 @@ TEST(MovementServerTest, AStyleLibraryGivesAWalkTheStylesStepsAndTheResponseSays
       EXPECT_NE(st.error_message().find("fit_frames"), std::string::npos) << st.error_message();
     }
   }
+}
+
+// The step period of `clip`, in seconds.
+double StepPeriod(const motion::Motion& clip) {
+  const motion::HumanoidRoles roles = *motion::HumanoidRolesOf(clip);
+  const absl::StatusOr<motion::Gait> gait = motion::MeasureGait(clip, roles);
+  EXPECT_TRUE(gait.ok() && gait->summary.cadence) << clip.num_frames;
+  return gait.ok() && gait->summary.cadence ? gait->summary.cadence->period_s : 0;
+}
+
+TEST(MovementServerTest, ALiveStreamStepsAsTheStyleClipAndTheLibraryShow) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const std::string lib = ::testing::TempDir() + "/server_stream_library";
+  fs::remove_all(lib);
+  fs::create_directories(lib);
+  const std::string file = "dataset-2_walk_elderly_003.bvh";
+  fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), lib + "/" + file);
+  const motion::Motion content =
+      *motion::ReadBvhFile(data + "/dataset-2/dataset-2_walk_normal_004.bvh");
+  CallOptions on_live;
+  on_live.model = "live";
+  const double own = StepPeriod(content);
+  // The style clip walks: its steps, at the content's speed, shorter (a
+  // server without a library).
+  std::unique_ptr<testing::LiveServer> plain = testing::LiveServer::Start();
+  ASSERT_NE(plain, nullptr);
+  const motion::Motion walk =
+      *motion::ReadBvhFile(data + "/dataset-2/dataset-2_walk_elderly_005.bvh");
+  absl::StatusOr<StreamResult> by_clip = plain->client->Stream(content, {&walk, ""}, 0, on_live);
+  ASSERT_TRUE(by_clip.ok()) << by_clip.status();
+  ASSERT_EQ(by_clip->output.num_frames, content.num_frames);
+  // The style clip only raises a hand: the library's elderly walk steps.
+  server::ServerOptions options;
+  options.style_library = lib;
+  std::unique_ptr<testing::LiveServer> live = testing::LiveServer::Start(options);
+  ASSERT_NE(live, nullptr);
+  const motion::Motion raise =
+      *motion::ReadBvhFile(data + "/dataset-2/dataset-2_raise-up-right-hand_elderly_009.bvh");
+  absl::StatusOr<StreamResult> by_library = live->client->Stream(content, {&raise, ""}, 0, on_live);
+  ASSERT_TRUE(by_library.ok()) << by_library.status();
+  ASSERT_EQ(by_library->output.num_frames, content.num_frames);
+  const double clip_period = StepPeriod(by_clip->output);
+  const double library_period = StepPeriod(by_library->output);
+  std::printf("step period: content %.3f s, by the style clip %.3f, by the library %.3f\n", own,
+              clip_period, library_period);
+  EXPECT_LT(clip_period, 0.9 * own);
+  EXPECT_LT(library_period, 0.9 * own);
 }
 
 TEST(MovementServerTest, AStyleLibraryThatCannotBeReadStopsTheStart) {

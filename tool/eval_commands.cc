@@ -388,13 +388,15 @@ int Eval(const Argv& argv) {
   const std::string second_name =
       second ? absl::StrCat("; second judges: ", args->Get("second-judges")) : "";
   std::string text = absl::StrFormat(
-      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d (%s, %s split%s).\n\n%s\nStyle / "
+      "# Evaluation of %s\n\nJudges: %s%s. Held-out pairs: %d (%s, %s split%s%s).\n\n%s\nStyle / "
       "content "
       "accuracy by dataset (the labels in the clips' names):\n\n%s\nStyle accuracy per "
       "target style%s:\n\n%s",
       args->Get("model"), args->Get("judges"), second_name, pairs->size(),
       model::PairKindName(*kind), model::EvalSplitName(*split),
-      library ? absl::StrCat("; style library: ", args->Get("library")) : "", report->Markdown(),
+      library ? absl::StrCat("; style library: ", args->Get("library")) : "",
+      args->switches.count("stream") ? "; through a stream, one frame per push" : "",
+      report->Markdown(),
       report->ByDatasetMarkdown(*pairs), motion_judge ? " (pose judge / motion-only judge)" : "",
       report->ByStyleMarkdown(*pairs));
   // Charts next to the report: accuracies of every row, and the model's

@@ -399,6 +399,22 @@ if [ -d "$bandai/dataset-2" ]; then
     -- "$tool" transfer --model "$model" --content "$bandai/dataset-2/dataset-2_walk_normal_004.bvh" \
     --style "$bandai/dataset-2/dataset-2_walk_elderly_003.bvh" -o "$work/lib_out.bvh" \
     --style-library "$work/library" --style-label proud
+  # Through a stream of the live package, one frame per push.
+  live_package=$src/models/live/v2
+  check "transfer --stream writes what the stream returned" 0 "wrote .*streamed.bvh \(through a stream\)" \
+    -- "$tool" transfer --model "$live_package" --content "$bandai/dataset-2/dataset-2_walk_normal_004.bvh" \
+    --style "$bandai/dataset-2/dataset-2_walk_elderly_003.bvh" -o "$work/streamed.bvh" --stream
+  check "the streamed output has the content's frames" 0 "frames: $(grep -m1 '^Frames:' \
+    "$bandai/dataset-2/dataset-2_walk_normal_004.bvh" | tr -dc 0-9)" -- "$tool" bvh-info "$work/streamed.bvh"
+  check "transfer --stream refuses --timing style" 1 "--stream keeps the content's timing" -- \
+    "$tool" transfer --model "$live_package" --content "$bandai/dataset-2/dataset-2_walk_normal_004.bvh" \
+    --style "$bandai/dataset-2/dataset-2_walk_elderly_003.bvh" -o "$work/streamed.bvh" --stream \
+    --timing style
+  check "eval --stream says the pairs went through a stream" 0 \
+    "Held-out pairs: [0-9]+ \(same-action, test split; through a stream, one frame per push\)" \
+    -- "$tool" eval --model "$live_package" --judges "$judges" --data "$bandai/dataset-2" \
+    --pairs-per-content 1 --out "$work/eval/streamed.md" --threads 2 --pair-kind same-action \
+    --split test --stream
 elif [ "${CI:-}" = true ]; then
   echo "FAIL: $bandai missing (required under CI)"; failed=$((failed + 1))
 fi

@@ -11,8 +11,13 @@
 //   - batched steps: B streams stepped together (StyleModel::StepStreams,
 //     what the server's step batcher runs), per frame: features (Feed), the
 //     networks' step, decoding and post-processing full (Collect), for B = 1
-//     to 256.
-// usage: live_step_bench [--model DIR] [--frames 600]
+//     to 256;
+//   - movement from examples (docs/movement.md "Streams"): a stream step,
+//     post-processing full, with no takes (the networks alone), with the
+//     style clip's take, and with a style library's takes of one style
+//     (--library DIR --style-label NAME), as ratios to the networks alone.
+// usage: live_step_bench [--model DIR] [--frames 600] [--content BVH]
+//                        [--library DIR --style-label NAME]
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -21,6 +26,7 @@
 
 #include "bench/bench_support.h"
 #include "model/family_registry.h"
+#include "model/movement.h"
 #include "model/runtime.h"
 #include "motion/bvh.h"
 
@@ -82,18 +88,81 @@ int BatchedSteps(const model::StyleModel& m, const motion::Motion& clip,
   return 0;
 }
 
+// Per frame of one stream (post full), ms: the networks alone, with the
+// style clip's take, with the library's takes of `label`.
+int MovementCost(const model::StyleModel& m, const motion::Motion& clip,
+                 const model::StyleCode& style, int frames, const std::string& library_dir,
+                 const std::string& label) {
+  std::unique_ptr<model::StyleLibrary> library;
+  if (!library_dir.empty()) {
+    auto lib = model::StyleLibrary::Load(library_dir);
+    if (!lib.ok()) {
+      std::fprintf(stderr, "live_step_bench: %s\n", lib.status().ToString().c_str());
+      return 1;
+    }
+    library = *std::move(lib);
+    if (auto converted = library->For(m); !converted.ok()) {  // Read once, before timing.
+      std::fprintf(stderr, "live_step_bench: %s\n", converted.status().ToString().c_str());
+      return 1;
+    }
+  }
+  model::StyleCode alone = style;
+  alone.example = nullptr;
+  struct Variant {
+    const char* name;
+    const model::StyleCode* code;
+    model::MovementRequest movement;
+  };
+  std::vector<Variant> variants = {{"networks alone", &alone, {}},
+                                   {"the style clip's take", &style, {}}};
+  if (library) variants.push_back({"the library's takes", &alone, {library.get(), label}});
+  std::printf(
+      "movement from examples (post full), ms per frame and ratio to the networks alone:\n");
+  double base = 0;
+  for (const Variant& v : variants) {
+    model::StreamSpec spec{*v.code, clip.skeleton, clip.frame_time, motion::PostProcessMode::kFull};
+    spec.movement = v.movement;
+    auto s = m.OpenStream(spec);
+    if (!s.ok()) {
+      std::fprintf(stderr, "live_step_bench: %s\n", s.status().ToString().c_str());
+      return 1;
+    }
+    for (int f = 0; f < 32; ++f) (void)(*s)->Push(Frames(clip, f, f + 1));  // Warm-up.
+    const Clock::time_point t0 = Clock::now();
+    for (int f = 32; f < 32 + frames; ++f) (void)(*s)->Push(Frames(clip, f, f + 1));
+    const double ms = 1000 * Since(t0) / frames;
+    if (base == 0) base = ms;
+    std::printf("  %-24s %.3f  %.2fx\n", v.name, ms, ms / base);
+  }
+  return 0;
+}
+
 int Main(int argc, char** argv) {
   std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/live/v2";
+  std::string content = std::string(STYLUS_SOURCE_DIR) + "/samples/walk_normal.bvh";
+  std::string library, label;
   int frames = 600;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--help")) {
-      std::printf("usage: live_step_bench [--model DIR] [--frames 600]\n");
+      std::printf(
+          "usage: live_step_bench [--model DIR] [--frames 600] [--content BVH]\n"
+          "                       [--library DIR --style-label NAME]\n");
       return 0;
     }
     if (i + 1 < argc && !std::strcmp(argv[i], "--model"))
       dir = argv[++i];
     else if (i + 1 < argc && !std::strcmp(argv[i], "--frames"))
       frames = std::atoi(argv[++i]);
+    else if (i + 1 < argc && !std::strcmp(argv[i], "--content"))
+      content = argv[++i];
+    else if (i + 1 < argc && !std::strcmp(argv[i], "--library"))
+      library = argv[++i];
+    else if (i + 1 < argc && !std::strcmp(argv[i], "--style-label"))
+      label = argv[++i];
+    else {
+      std::fprintf(stderr, "live_step_bench: unknown argument %s (see --help)\n", argv[i]);
+      return 2;
+    }
   }
   if (const char* core = std::getenv("OPENBLAS_CORETYPE"))
     std::printf("OPENBLAS_CORETYPE=%s (set in the environment)\n", core);
@@ -108,8 +177,12 @@ int Main(int argc, char** argv) {
     std::fprintf(stderr, "live_step_bench: %s is not a live package\n", dir.c_str());
     return 1;
   }
-  motion::Motion clip =
-      *motion::ReadBvhFile(std::string(STYLUS_SOURCE_DIR) + "/samples/walk_normal.bvh");
+  absl::StatusOr<motion::Motion> read = motion::ReadBvhFile(content);
+  if (!read.ok()) {
+    std::fprintf(stderr, "live_step_bench: %s\n", read.status().ToString().c_str());
+    return 1;
+  }
+  motion::Motion clip = *std::move(read);
   while (clip.num_frames < frames + 32) {
     clip.values.insert(clip.values.end(), clip.values.begin(), clip.values.end());
     clip.num_frames *= 2;
@@ -141,6 +214,7 @@ int Main(int argc, char** argv) {
   std::printf("stream step, post full: %.3f ms per frame\n", 1000 * per_frame[1]);
   std::printf("32-frame window recompute, post none: %.3f ms per frame; ratio to the step %.1fx\n",
               1000 * window, window / per_frame[0]);
+  if (const int r = MovementCost(**m, clip, style, frames, library, label); r != 0) return r;
   return BatchedSteps(**m, clip, style, frames);
 }
 

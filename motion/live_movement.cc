@@ -133,12 +133,34 @@ ContentTrack::Reading ContentTrack::Read(int64_t f) {
         since, last, last, [&](int64_t i) { return frame(i).yaw; }, &slope);
     e.turn_rate = slope * fps_;
   }
-  // The feet's floor: the lowest a foot joint went up to this frame.
+  // The feet's floor: the lowest a foot joint went up to this frame (and
+  // each foot joint's own lowest, for its contacts).
+  const std::array<int, 4> feet = FootJoints(roles_);
   double floor = floor_;
   for (int64_t i = base_; i <= last; ++i) {
-    for (int j : FootJoints(roles_)) floor = std::min(floor, frame(i).positions[j].y);
+    for (int k = 0; k < 4; ++k) {
+      const double y = frame(i).positions[feet[k]].y;
+      floor = std::min(floor, y);
+      joint_floor_[k] = std::min(joint_floor_[k], y);
+    }
   }
   e.floor = floor_ = floor;
+  // The share of the last second's frames with no foot joint down (low and
+  // still, as ContactParams reads them): about 0 for a walk, more for a run.
+  if (last > since) {
+    const ContactParams contact;
+    int airborne = 0;
+    for (int64_t i = since + 1; i <= last; ++i) {
+      bool down = false;
+      for (int k = 0; k < 4 && !down; ++k) {
+        const Vec3& now = frame(i).positions[feet[k]];
+        const double moved = Norm(OnFloor(now - frame(i - 1).positions[feet[k]])) * fps_;
+        down = now.y - joint_floor_[k] < contact.height * leg_ && moved < contact.speed * leg_;
+      }
+      airborne += !down;
+    }
+    e.flight = static_cast<double>(airborne) / static_cast<double>(last - since);
+  }
   const Estimate& at = e;
   const std::vector<Vec3>& p = frames_[static_cast<size_t>(f - base_)].positions;
   auto rel = [&](int j) { return Facing(p[j] - at.floor_point, at.heading) * (1 / leg_); };
@@ -274,48 +296,53 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
   const int fade = Frames(options_.fade_s, track.fps());
   const double dw = 1.0 / fade;
 
-  // Stepping: on from step_speed, off below stop_speed. On, the take whose
-  // speed and turning are nearest the content's plays, entered at the
-  // instant whose legs (and their contacts) are most as the content's.
-  if (!examples_.steps.empty()) {
-    if (!stepping_ && est.speed >= options_.step_speed) {
-      stepping_ = true;
-      if (w_steps_ <= 0) {
-        step_take_ = NearestSteps(est, -1);
-        t_steps_ = Entry(*examples_.steps[step_take_], gait);
-        next_check_ = fade;
-      }
-    } else if (stepping_ && est.speed < options_.stop_speed) {
-      stepping_ = false;
-    }
-    // While stepping, every stride or so: does another take show the
-    // content's stepping (a run after a walk, a turn) better? It takes over,
-    // entered at its matching phase, faded in.
-    if (stepping_ && w_steps_ >= 1 && --next_check_ <= 0) {
+  // Stepping: the content steps from step_speed on, until below
+  // stop_speed (with takes to play or not: a gesture take never plays on a
+  // content that travels). While it steps, every half second or so: the
+  // stepping take nearest the content's speed, turning and direction of
+  // travel, if one is near enough (max_mismatch); a new one enters at the
+  // instant whose legs (and their contacts) are most as the content's and
+  // fades in; none near enough, the network's legs fade back.
+  if (!stepping_ && est.speed >= options_.step_speed) {
+    stepping_ = true;
+    next_check_ = 0;
+  } else if (stepping_ && est.speed < options_.stop_speed) {
+    stepping_ = false;
+  }
+  bool steps_on = false;
+  if (stepping_ && !examples_.steps.empty()) {
+    if (--next_check_ <= 0) {
       next_check_ = Frames(kRecheckS, track.fps());
-      const int better = NearestSteps(est, step_take_);
-      if (better != step_take_) {
+      const int nearest = NearestSteps(est, w_steps_ > 0 ? step_take_ : -1);
+      steps_fit_ = nearest >= 0;
+      if (nearest >= 0 && w_steps_ <= 0) {
+        step_take_ = nearest;
+        t_steps_ = Entry(*examples_.steps[step_take_], gait);
+      } else if (nearest >= 0 && nearest != step_take_) {  // Another takes over, faded in.
         step_from_ = step_take_;
         step_from_time_ = t_steps_;
         step_switch_left_ = fade;
-        step_take_ = better;
+        step_take_ = nearest;
         t_steps_ = Entry(*examples_.steps[step_take_], gait);
       }
     }
-    w_steps_ = std::clamp(w_steps_ + (stepping_ ? dw : -dw), 0.0, 1.0);
+    steps_on = steps_fit_;
   }
+  w_steps_ = std::clamp(w_steps_ + (steps_on ? dw : -dw), 0.0, 1.0);
   // Gestures: every take registered while the content stands; the best
   // plays (a switch fades from the last one).
   if (!warps_.empty()) {
     // What the content's hands did over the last seconds: which travel and
     // whether they swing (SameArmAction's reading, causally). A take whose
-    // arms do another thing is chosen only when no other fits.
+    // arms do another thing is chosen only when no other fits (refusing it
+    // outright, as a transfer does, loses more style than content on the
+    // validation pairs: docs/notes/movement.md).
     hands_.push_back({shape[3], shape[4], shape[9], shape[10]});
     while (static_cast<int>(hands_.size()) > Frames(kArmWindowS, track.fps())) hands_.pop_front();
     const ArmReading arms = ReadArms();
     int best = -1;
-    double best_score = 0;
-    std::vector<double> score(warps_.size(), 0);
+    constexpr double kRefused = std::numeric_limits<double>::infinity();
+    std::vector<double> score(warps_.size(), kRefused);
     for (size_t k = 0; k < warps_.size(); ++k) {
       Warp& w = warps_[k];
       if (stepping_) {
@@ -325,7 +352,7 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
       Register(*examples_.gestures[k], shape, &w);
       const bool differ = ArmsDiffer(arms, *examples_.gestures[k], Frames(kHeldS, track.fps()));
       score[k] = w.cost * (differ ? kOtherArmsFactor : 1);
-      if (best < 0 || score[k] < best_score) best = static_cast<int>(k), best_score = score[k];
+      if (best < 0 || score[k] < score[best]) best = static_cast<int>(k);
     }
     if (best >= 0 && best != gesture_ && (gesture_ < 0 || score[best] < 0.8 * score[gesture_])) {
       if (gesture_ >= 0 && w_gesture_ > 0) {
@@ -445,20 +472,28 @@ bool MovementFollower::ArmsDiffer(const ArmReading& content, const MovementClip&
 }
 
 int MovementFollower::NearestSteps(const ContentTrack::Estimate& est, int current) const {
-  // Motion-matching features of stepping: speed (a log ratio), turning
-  // (rad/s) and the direction of travel in the facing frame; a take that
-  // travels more than 45 degrees off the content's way counts only when
-  // none travels closer.
+  // Motion-matching features of stepping, as a transfer's (StepMismatch in
+  // model/movement.cc): speed (a log ratio), turning (rad/s), the
+  // direction of travel in the facing frame and the share of frames in
+  // flight (a run is not a walk). A take that travels more than 45 degrees
+  // off the content's way, or whose kind of stepping (all but the speed,
+  // which the walk ratio absorbs, and which reads low while the content
+  // sets off) is further than max_mismatch from it, does not show the
+  // content's stepping.
   int best = -1;
   double nearest = std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < examples_.steps.size(); ++k) {
     const MovementClip& e = *examples_.steps[k];
     const double cosine = std::clamp(Dot(est.travel, e.travel), -1.0, 1.0);
-    double d = std::abs(std::log(std::max(est.speed, 1e-3) / std::max(e.step_speed, 1e-3))) +
-               2 * std::abs(est.turn_rate - e.turn_rate) + 2 * (1 - cosine);
-    if (std::acos(cosine) > M_PI / 4) d += 100;
+    if (std::acos(cosine) > M_PI / 4) continue;
+    // Its kind of stepping: turning, direction and flight.
+    double kind = 2 * std::abs(est.turn_rate - e.turn_rate) + 2 * (1 - cosine) +
+                  4 * std::abs(est.flight - e.flight);
     // The take playing keeps its place unless another is clearly nearer.
-    if (static_cast<int>(k) == current) d -= kKeepMargin;
+    if (static_cast<int>(k) == current) kind -= kKeepMargin;
+    if (kind > options_.max_mismatch) continue;
+    const double d =
+        kind + std::abs(std::log(std::max(est.speed, 1e-3) / std::max(e.step_speed, 1e-3)));
     if (d < nearest) nearest = d, best = static_cast<int>(k);
   }
   return best;

@@ -9,8 +9,8 @@
 //  - MovementFollower plays takes of the style on it, the body's parts as
 //    a transfer's (legs, pelvis, arms, spine). Stepping (the content
 //    travels): of the stepping takes, the one nearest the content's speed
-//    and turning, its loop at its cadence scaled by its walk ratio to the
-//    content's speed, entered at the instant whose legs are most as the
+//    and turning if one is near enough (else the network's legs), its loop at its cadence scaled by
+//    its walk ratio to the content's speed, entered at the instant whose legs are most as the
 //    content's (the phase of its contacts), the stride fitted to the path.
 //    Gestures (the content stands): every standing take registered to the
 //    content by open-end dynamic time warping, one row per frame, compared
@@ -62,6 +62,7 @@ class ContentTrack {
     // of travel in the facing frame (x left, z ahead).
     double turn_rate = 0;
     Vec3 travel = {0, 0, 1};
+    double flight = 0;  // The share of frames with no foot down (MovementClip::flight).
   };
   // With the registration features at `f` (as MovementClip's, velocities
   // taken backwards over 0.2 s).
@@ -90,6 +91,7 @@ class ContentTrack {
   std::deque<Frame> frames_;
   int64_t base_ = 0;
   double floor_ = 1e300;
+  std::array<double, 4> joint_floor_ = {1e300, 1e300, 1e300, 1e300};  // FootJoints order.
   // The last lag + 1 frames' position features (for velocities).
   std::deque<std::pair<std::vector<double>, std::vector<double>>> recent_;
 };
@@ -115,6 +117,9 @@ struct FollowOptions {
   // A gesture's registration is used while its mean cost stays below this
   // (MovementKeys::movement_max_cost).
   double max_cost = 1;
+  // A stepping take plays while its turning, travel and flight stay this
+  // near the content's (MovementKeys::movement_max_mismatch).
+  double max_mismatch = 1;
 };
 
 class MovementFollower {
@@ -153,7 +158,8 @@ class MovementFollower {
   void Register(const MovementClip& take, const std::vector<double>& shape, Warp* warp) const;
   LocalPose Gesture(const ContentTrack& track, const ContentTrack::Estimate& est, int take,
                     double time, const LocalPose& network) const;
-  // Stepping: the take nearest the content's stepping (`current` favoured);
+  // Stepping: the take nearest the content's stepping (`current` favoured;
+  // -1 when none is near enough);
   // the instant of a take whose legs are most as `gait`; an instant moved on
   // by `rate` frames, looped; the network's pose with a take's parts at an
   // instant (and the rate it plays at).
@@ -180,7 +186,8 @@ class MovementFollower {
   double w_steps_ = 0, w_gesture_ = 0;
   int step_take_ = -1;
   double t_steps_ = 0;
-  int next_check_ = 0;  // Frames until another stepping take may take over.
+  int next_check_ = 0;      // Frames until the stepping take is chosen again.
+  bool steps_fit_ = false;  // A stepping take shows the content's stepping.
   // A stepping take that was taken over, faded out.
   int step_from_ = -1, step_switch_left_ = 0;
   double step_from_time_ = 0;

@@ -75,6 +75,7 @@ LiveStreamer::LiveStreamer(std::shared_ptr<const ContrastiveModel> model,
     follow_.parts.spine = *motion::ParsePartSource(keys.movement_spine);
     follow_.parts.fit_stride = keys.movement_fit_stride;
     follow_.max_cost = keys.movement_max_cost;
+    follow_.max_mismatch = keys.movement_max_mismatch;
     track_.emplace(empty.skeleton, model_->data().roles, empty.frame_time, lookahead_);
     contacts_.reserve(2 * kMaxKeptContacts);
     follower_ = std::make_unique<motion::MovementFollower>(*examples, *track_, follow_);

@@ -1,6 +1,7 @@
 // Movement from examples frame by frame: a stream steps at the example's
 // cadence scaled by its walk ratio, never reads past its look-ahead, keeps
-// the network's legs while the content stands, and follows a gesture.
+// the network's legs while the content stands, follows a gesture, and plays
+// neither a gesture on a walk nor a run on a walk.
 #include "motion/live_movement.h"
 
 #include <cmath>
@@ -147,6 +148,36 @@ TEST(LiveMovementTest, OfSeveralGestureTakesTheOneThatShowsTheContentsGesturePla
   }
   const Followed r = Follow(content, ex, 2);
   EXPECT_EQ(r.gesture_take_at_end, 2);
+}
+
+TEST(LiveMovementTest, AGestureTakeNeverMovesTheLegsOfAContentThatWalks) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const std::string d = data + "/dataset-2/dataset-2_";
+  const Motion content = *ReadBvhFile(d + "walk_normal_004.bvh");
+  StreamExamples ex;
+  ex.gestures.push_back(Read(*ReadBvhFile(d + "raise-up-right-hand_elderly_009.bvh")));
+  const Followed r = Follow(content, ex, 2);
+  // Once it walks (its first second aside), the network's movement only.
+  const int n = content.num_frames;
+  for (int f = 45; f < n - 15; ++f) {
+    ASSERT_EQ(r.gesture_weight[f], 0) << "frame " << f;
+    ASSERT_FALSE(r.contacts[f].has_value()) << "frame " << f;
+  }
+}
+
+TEST(LiveMovementTest, ARunTakeDoesNotStepAWalkButAWalkTakeDoes) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const std::string d = data + "/dataset-2/dataset-2_";
+  const Motion content = *ReadBvhFile(d + "walk_normal_004.bvh");
+  const std::shared_ptr<const MovementClip> run = Read(*ReadBvhFile(d + "run_normal_002.bvh"));
+  ASSERT_TRUE(run->steps);
+  std::printf("the run take's flight: %.2f\n", run->flight);
+  StreamExamples runs;
+  runs.steps.push_back(run);
+  for (double w : Follow(content, runs, 2).step_weight) ASSERT_EQ(w, 0);
+  StreamExamples walks;
+  walks.steps.push_back(Read(*ReadBvhFile(d + "walk_elderly_003.bvh")));
+  EXPECT_EQ(Follow(content, walks, 2).step_weight[content.num_frames / 2], 1);
 }
 
 }  // namespace

@@ -129,7 +129,7 @@ int Train(const Argv& argv) {
       "averaging; steadier than the last iteration's weights).\n"
       "--live trains a live package (docs/families.md \"Live packages\"): causal\n"
       "networks that stream one frame per step, each output frame final once\n"
-      "--lookahead (1 or 2) more input frames have arrived. --frame-residual makes\n"
+      "--lookahead (1 to 8) more input frames have arrived. --frame-residual makes\n"
       "its generator give the change to each content frame. --dilation-growth G\n"
       "dilates residual block b's convolutions by G^b (networks that see further\n"
       "back at the same cost per frame; train them on longer windows).\n"
@@ -358,8 +358,8 @@ int Train(const Argv& argv) {
   if (args->Has("lookahead") && !c.live) {
     return Fail("train", absl::InvalidArgumentError("--lookahead needs --live"));
   }
-  if (!lookahead.ok() || *lookahead < 1 || *lookahead > 2) {
-    return Fail("train", absl::InvalidArgumentError("--lookahead must be 1 or 2"));
+  if (!lookahead.ok() || *lookahead < 1 || *lookahead > 8) {
+    return Fail("train", absl::InvalidArgumentError("--lookahead must be from 1 to 8"));
   }
   if (!window.ok() || *window < 4 || *window > 4096 || *window % 2) {
     return Fail("train",

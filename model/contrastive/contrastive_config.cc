@@ -119,7 +119,7 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
         s = e.Error("style_filter_taps must be odd (or 0: off)");
       return s;
     }
-    if (key == "lookahead") return e.Int(&c.lookahead, 1, 2);
+    if (key == "lookahead") return e.Int(&c.lookahead, 1, 8);
     if (key == "frame_residual") return e.Bool(&c.frame_residual);
     if (key == "dilation_growth") return e.Int(&c.dilation_growth, 1, 4);
     if (key == "alpha") return e.Double(&c.alpha, 0, 1e6);

@@ -51,7 +51,7 @@ inline std::shared_ptr<const ContrastiveModel> LivePackage(int lookahead,
                                                            int dilation_growth = 1) {
   static std::map<int, std::shared_ptr<const ContrastiveModel>>* packages =
       new std::map<int, std::shared_ptr<const ContrastiveModel>>();
-  const int key = 10 * dilation_growth + 2 * lookahead + (frame_residual ? 1 : 0);
+  const int key = 100 * dilation_growth + 2 * lookahead + (frame_residual ? 1 : 0);
   auto it = packages->find(key);
   if (it != packages->end()) return it->second;
   const std::string dir = Dir("live" + std::to_string(key));

@@ -114,7 +114,8 @@ TEST_P(LiveStreamerTest, FullPostProcessingKeepsBoneLengths) {
 
 INSTANTIATE_TEST_SUITE_P(Lookahead, LiveStreamerTest,
                          ::testing::Values(std::tuple{1, false, 1}, std::tuple{2, false, 1},
-                                           std::tuple{2, true, 1}, std::tuple{2, true, 2}));
+                                           std::tuple{2, true, 1}, std::tuple{2, true, 2},
+                                           std::tuple{8, true, 1}));
 
 TEST(LiveStreamerBatchTest, StepsBatchedAcrossStreamsEqualStepsRunAlone) {
   const auto model = LivePackage(2);

@@ -42,6 +42,15 @@ motion::Motion Frames(const motion::Motion& m, int begin, int end) {
   return out;
 }
 
+// Seconds per frame of `stream` pushed one frame at a time, after 32
+// frames of warm-up.
+double PerFrame(model::FrameStreamer* stream, const motion::Motion& clip, int frames) {
+  for (int f = 0; f < 32; ++f) (void)stream->Push(Frames(clip, f, f + 1));
+  const Clock::time_point t0 = Clock::now();
+  for (int f = 32; f < 32 + frames; ++f) (void)stream->Push(Frames(clip, f, f + 1));
+  return Since(t0) / frames;
+}
+
 // Per frame of B streams stepped together: Feed, the batched step, Collect.
 int BatchedSteps(const model::StyleModel& m, const motion::Motion& clip,
                  const model::StyleCode& style, int frames) {
@@ -127,10 +136,7 @@ int MovementCost(const model::StyleModel& m, const motion::Motion& clip,
       std::fprintf(stderr, "live_step_bench: %s\n", s.status().ToString().c_str());
       return 1;
     }
-    for (int f = 0; f < 32; ++f) (void)(*s)->Push(Frames(clip, f, f + 1));  // Warm-up.
-    const Clock::time_point t0 = Clock::now();
-    for (int f = 32; f < 32 + frames; ++f) (void)(*s)->Push(Frames(clip, f, f + 1));
-    const double ms = 1000 * Since(t0) / frames;
+    const double ms = 1000 * PerFrame(s->get(), clip, frames);
     if (base == 0) base = ms;
     std::printf("  %-24s %.3f  %.2fx\n", v.name, ms, ms / base);
   }
@@ -199,10 +205,7 @@ int Main(int argc, char** argv) {
       std::fprintf(stderr, "live_step_bench: %s\n", s.status().ToString().c_str());
       return 1;
     }
-    for (int f = 0; f < 32; ++f) (void)(*s)->Push(Frames(clip, f, f + 1));  // Warm-up.
-    const Clock::time_point t0 = Clock::now();
-    for (int f = 32; f < 32 + frames; ++f) (void)(*s)->Push(Frames(clip, f, f + 1));
-    per_frame[post == motion::PostProcessMode::kFull] = Since(t0) / frames;
+    per_frame[post == motion::PostProcessMode::kFull] = PerFrame(s->get(), clip, frames);
   }
   const int reps = std::max(20, frames / 10);
   const Clock::time_point t1 = Clock::now();

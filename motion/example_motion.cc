@@ -51,17 +51,6 @@ double Percentile(std::vector<double> v, double q) {
   return v[k];
 }
 
-Vec3 Floor(const Vec3& p) { return {p.x, 0, p.z}; }
-
-// `v` (a world offset) in the frame that faces `yaw`: x left, z ahead.
-Vec3 InFacing(const Vec3& v, double yaw) { return Rotate(YawRotation(-yaw), v); }
-
-double Dist2(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
-  return d;
-}
-
 // The example sampled at a fractional frame.
 struct Sample {
   int i0, i1;
@@ -198,7 +187,7 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
   }
   m.heading = Smooth(yaw, 0.25 * fps, 0.0);
   std::vector<Vec3> floor(n);
-  for (int f = 0; f < n; ++f) floor[f] = Floor(m.positions[f][roles.pelvis]);
+  for (int f = 0; f < n; ++f) floor[f] = OnFloor(m.positions[f][roles.pelvis]);
   m.floor_path = Smooth(floor, 0.5 * fps, Vec3{});
   m.speed.resize(n);
   for (int f = 0; f < n; ++f) {
@@ -357,13 +346,13 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
   double best = std::numeric_limits<double>::infinity();
   for (int a = s0; a < s1; ++a) {
     for (int b = a + min_len; b < std::min(s1, a + max_len + 1); ++b) {
-      best = std::min(best, Dist2(m.gait[a], m.gait[b]));
+      best = std::min(best, SquaredDistance(m.gait[a], m.gait[b]));
     }
   }
   int longest = -1;
   for (int a = s0; a < s1; ++a) {
     for (int b = a + min_len; b < std::min(s1, a + max_len + 1); ++b) {
-      if (b - a > longest && Dist2(m.gait[a], m.gait[b]) <= 1.25 * best + 1e-9) {
+      if (b - a > longest && SquaredDistance(m.gait[a], m.gait[b]) <= 1.25 * best + 1e-9) {
         longest = b - a;
         m.loop_begin = a;
         m.loop_end = b;
@@ -414,7 +403,7 @@ absl::StatusOr<Registration> RegisterMovement(const MovementClip& content,
     double best = std::numeric_limits<double>::infinity();
     double t = example.loop_begin;
     for (int a = example.loop_begin; a < example.loop_end; ++a) {
-      const double d = Dist2(content.gait[0], example.gait[a]);
+      const double d = SquaredDistance(content.gait[0], example.gait[a]);
       if (d < best) best = d, t = a;
     }
     const double loop = example.loop_end - example.loop_begin;
@@ -443,7 +432,7 @@ absl::StatusOr<Registration> RegisterMovement(const MovementClip& content,
   auto cell = [cm](int i, int j) { return static_cast<size_t>(i) * cm + j; };
   for (int i = 0; i < cn; ++i) {
     for (int j = 0; j < cm; ++j) {
-      const double c = std::sqrt(Dist2(content.shape[i * k], example.shape[j * k]));
+      const double c = std::sqrt(SquaredDistance(content.shape[i * k], example.shape[j * k]));
       if (i == 0 && j == 0) {
         acc[cell(i, j)] = static_cast<float>(c);
         continue;
@@ -543,7 +532,7 @@ LocalPose MoveFrame(const Skeleton& sk, const HumanoidRoles& roles, const Moveme
     const Vec3 path = Lerp(example.floor_path[s.i0], example.floor_path[s.i1], s.a);
     // Sway about the example's path, turned to the output's facing; its
     // height over its own floor, on the content's floor.
-    const Vec3 sway = Rotate(turn, Floor(pos - path));
+    const Vec3 sway = Rotate(turn, OnFloor(pos - path));
     const Vec3 world{at.floor_point.x + sway.x, pos.y - example.floor_height + at.floor,
                      at.floor_point.z + sway.z};
     const Quat world_rot = Normalized(turn * rot);
@@ -562,7 +551,7 @@ LocalPose MoveFrame(const Skeleton& sk, const HumanoidRoles& roles, const Moveme
   const bool legs = source[roles.left_ankle] != PartSource::kNetwork;
   if (at.fit_stride && legs) {
     GlobalPose g = ForwardKinematics(sk, pose);
-    const Vec3 centre = Floor(g.positions[pelvis]);
+    const Vec3 centre = OnFloor(g.positions[pelvis]);
     for (int side = 0; side < 2; ++side) {
       const int ankle = side == 0 ? roles.left_ankle : roles.right_ankle;
       const Vec3 local = InFacing(g.positions[ankle] - centre, at.heading);
@@ -639,6 +628,16 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
     result.contacts = DetectContactSpans(GlobalPositions(result.motion), roles, fps);
   }
   return result;
+}
+
+Vec3 OnFloor(const Vec3& p) { return {p.x, 0, p.z}; }
+
+Vec3 InFacing(const Vec3& v, double yaw) { return Rotate(YawRotation(-yaw), v); }
+
+double SquaredDistance(const std::vector<double>& a, const std::vector<double>& b) {
+  double d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
+  return d;
 }
 
 }  // namespace stylus::motion

@@ -176,6 +176,13 @@ absl::StatusOr<MovementResult> ApplyMovement(const Motion& network, const Moveme
 std::vector<PartSource> PartSources(const Skeleton& skeleton, const HumanoidRoles& roles,
                                     const MovementOptions& options);
 
+// Small geometry shared with the streams' follower: a point on the floor
+// (Y up), a world offset in the frame facing `yaw` (x left, z ahead), the
+// squared distance of two feature vectors of one length.
+Vec3 OnFloor(const Vec3& p);
+Vec3 InFacing(const Vec3& v, double yaw);
+double SquaredDistance(const std::vector<double>& a, const std::vector<double>& b);
+
 // Where one output frame plays the example (ApplyMovement per frame; the
 // streams' MovementFollower, motion/live_movement.h).
 struct FramePlacement {

@@ -12,17 +12,6 @@
 namespace stylus::motion {
 namespace {
 
-Vec3 OnFloor(const Vec3& p) { return {p.x, 0, p.z}; }
-
-// `v` (a world offset) in the frame that faces `yaw`: x left, z ahead.
-Vec3 Facing(const Vec3& v, double yaw) { return Rotate(YawRotation(-yaw), v); }
-
-double SquaredDistance(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
-  return d;
-}
-
 // The positions at the front of a shape (MovementClip::shape): hands,
 // elbows and ankles; their velocities follow.
 constexpr int kShapePositions = 18;
@@ -127,7 +116,7 @@ ContentTrack::Reading ContentTrack::Read(int64_t f) {
   if (last > since) {
     const Vec3 moved = OnFloor(frame(last).positions[pelvis] - frame(since).positions[pelvis]);
     e.speed = Norm(moved) * fps_ / static_cast<double>(last - since) / leg_;
-    e.travel = Normalized(Facing(moved, e.heading), Vec3{0, 0, 1});
+    e.travel = Normalized(InFacing(moved, e.heading), Vec3{0, 0, 1});
     double slope = 0;
     LineAt(
         since, last, last, [&](int64_t i) { return frame(i).yaw; }, &slope);
@@ -163,7 +152,7 @@ ContentTrack::Reading ContentTrack::Read(int64_t f) {
   }
   const Estimate& at = e;
   const std::vector<Vec3>& p = frames_[static_cast<size_t>(f - base_)].positions;
-  auto rel = [&](int j) { return Facing(p[j] - at.floor_point, at.heading) * (1 / leg_); };
+  auto rel = [&](int j) { return InFacing(p[j] - at.floor_point, at.heading) * (1 / leg_); };
   std::vector<double> g, s;
   const int knees[2] = {skeleton_.joint(roles_.left_ankle).parent,
                         skeleton_.joint(roles_.right_ankle).parent};

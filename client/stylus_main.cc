@@ -1,8 +1,12 @@
 // stylus: the command-line client of a Stylus server.
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <set>
 #include <string>
@@ -45,11 +49,37 @@ constexpr char kCallOptions[] =
     "                           roles not to guess, lines like 'left_foot = MyFootL'\n"
     "                           (also used for style clips on the content's rig)\n";
 
+// The server's address, for the hint when it cannot be reached.
+std::string server_address;  // NOLINT: set once in main.
+
 int Fail(const std::string& command, const absl::Status& status) {
   std::fprintf(stderr, "stylus %s: %s: %s\n", command.c_str(),
                absl::StatusCodeToString(status.code()).c_str(),
                std::string(status.message()).c_str());
+  if (status.code() == absl::StatusCode::kUnavailable) {
+    std::fprintf(stderr,
+                 "stylus %s: no Stylus server answered at %s: start one (stylus-server), or name "
+                 "its address with --server HOST:PORT or STYLUS_SERVER\n",
+                 command.c_str(), server_address.c_str());
+  }
   return 1;
+}
+
+// OK when a file can be written at `path` (its folder exists and is
+// writable): checked before a call, so that no work is lost at the end.
+absl::Status CheckWritable(const std::string& path, const std::string& flag) {
+  std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        flag, " ", path, ": the folder ", folder.string(), " does not exist; create it first"));
+  }
+  if (access(folder.c_str(), W_OK) != 0) {
+    return absl::PermissionDeniedError(
+        absl::StrCat(flag, " ", path, ": the folder ", folder.string(), " is not writable"));
+  }
+  return absl::OkStatus();
 }
 
 absl::StatusOr<stylus::motion::Motion> Read(const std::string& path, const std::string& what) {
@@ -154,6 +184,7 @@ int Transfer(stylus::Client& client, const Args& a) {
     if (style->skeleton.SameTopology(content->skeleton)) ref.joint_map = opts->joint_map;
   }
   if (a.Get("out").empty()) return Fail("transfer", absl::InvalidArgumentError("-o is required"));
+  if (absl::Status w = CheckWritable(a.Get("out"), "-o"); !w.ok()) return Fail("transfer", w);
   const std::string timing = a.Get("timing", "content");
   if (timing != "content" && timing != "style") {
     return Fail("transfer", absl::InvalidArgumentError(absl::StrCat(
@@ -226,6 +257,7 @@ int Interpolate(stylus::Client& client, const Args& a) {
   const std::string prefix = a.Get("out");
   if (prefix.empty())
     return Fail("interpolate", absl::InvalidArgumentError("-o PREFIX is required"));
+  if (absl::Status w = CheckWritable(prefix, "-o"); !w.ok()) return Fail("interpolate", w);
   std::vector<std::vector<double>> mixes;
   for (absl::string_view group : absl::StrSplit(a.Get("weights"), ',', absl::SkipEmpty())) {
     std::vector<double> mix;
@@ -267,11 +299,31 @@ int Stream(stylus::Client& client, const Args& a) {
   if (!opts.ok()) return Fail("stream", opts.status());
   auto content = Read(a.Get("content"), "content");
   if (!content.ok()) return Fail("stream", content.status());
-  auto style = Read(a.Get("style"), "style");
-  if (!style.ok()) return Fail("stream", style.status());
+  absl::StatusOr<stylus::motion::Motion> style;
+  stylus::Style ref;
+  if (a.Has("style-name")) {
+    ref.name = a.Get("style-name");
+  } else {
+    style = Read(a.Get("style"), "style");
+    if (!style.ok()) return Fail("stream", style.status());
+    ref.clip = &*style;
+    if (style->skeleton.SameTopology(content->skeleton)) ref.joint_map = opts->joint_map;
+  }
+  if (!a.Get("out").empty()) {
+    if (absl::Status w = CheckWritable(a.Get("out"), "-o"); !w.ok()) return Fail("stream", w);
+  }
   auto rate = a.GetDouble("rate", content->fps());
   if (!rate.ok() || *rate < 0) {
     return Fail("stream", absl::InvalidArgumentError("--rate must be a number >= 0"));
+  }
+  if (*rate > 0 && std::abs(*rate - content->fps()) > 0.01 * content->fps()) {
+    // The frames keep the clip's own rate; --rate only paces the sending.
+    absl::FPrintF(stderr,
+                  "stylus stream: note: the clip was recorded at %.4g fps and is sent at %.4g "
+                  "fps: it plays %.2fx %s than recorded (the server reads it at %.4g fps)\n",
+                  content->fps(), *rate,
+                  *rate < content->fps() ? content->fps() / *rate : *rate / content->fps(),
+                  *rate < content->fps() ? "slower" : "faster", content->fps());
   }
   // --change FRAME:WHAT[:FADE]; WHAT is a .bvh clip, strength=K or a saved name.
   std::vector<stylus::StreamChange> changes;
@@ -306,10 +358,7 @@ int Stream(stylus::Client& client, const Args& a) {
     }
     changes.push_back(std::move(c));
   }
-  const stylus::motion::JointMap style_map = style->skeleton.SameTopology(content->skeleton)
-                                                 ? opts->joint_map
-                                                 : stylus::motion::JointMap{};
-  auto result = client.Stream(*content, {&*style, "", style_map}, *rate, *opts, changes);
+  auto result = client.Stream(*content, ref, *rate, *opts, changes);
   if (!result.ok()) return Fail("stream", result.status());
   if (!a.Get("out").empty()) {
     if (absl::Status s = stylus::motion::WriteBvhFile(result->output, a.Get("out")); !s.ok()) {
@@ -419,13 +468,18 @@ const std::vector<Command>& Commands() {
        Interpolate},
       {"stream",
        "stream a clip's frames at a rate; per-frame latency p50/p99",
-       "--content C.bvh --style S.bvh [--rate FPS] [--change F:WHAT[:FADE]]... [-o OUT.bvh]\n\n"
-       "  --rate FPS               frames sent per second (default: the clip's rate)\n"
+       "--content C.bvh (--style S.bvh | --style-name NAME) [--rate FPS]\n"
+       "       [--change F:WHAT[:FADE]]... [-o OUT.bvh]\n\n"
+       "  --style-name NAME        a style saved with encode-style --save-as on this\n"
+       "                           model (saved names belong to one model)\n"
+       "  --rate FPS               frames sent per second (default: the clip's rate;\n"
+       "                           the frames keep the clip's rate, so another --rate\n"
+       "                           plays it slower or faster, and says so)\n"
        "  --change F:WHAT[:FADE]   from frame F on, change the style (live models):\n"
        "                           WHAT is a style clip (.bvh), a saved style name or\n"
        "                           strength=K (0..1), cross-faded over FADE frames\n"
        "                           (default 0); repeat in frame order",
-       {"content", "style", "rate", "out", "change"},
+       {"content", "style", "style-name", "rate", "out", "change"},
        true,
        Stream},
       {"metrics",
@@ -522,6 +576,7 @@ int main(int argc, char** argv) {
   const char* env_server = std::getenv("STYLUS_SERVER");
   if (env_server != nullptr && *env_server != '\0') options.address = env_server;
   if (a->Has("server")) options.address = a->Get("server");
+  server_address = options.address;
   const char* env_token = std::getenv("STYLUS_TOKEN");
   if (env_token != nullptr) options.token = env_token;
   if (a->Has("token")) options.token = a->Get("token");

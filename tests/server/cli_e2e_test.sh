@@ -12,6 +12,8 @@ check "server bad option" 2 "unknown option --bogus" -- "$server" --bogus 1
 check "server missing models" 1 "does not exist" -- "$server" --models "$work/none" --listen localhost:0
 check "cli --help" 0 "usage: stylus" -- "$cli" --help
 check "cli no server" 1 "UNAVAILABLE" -- "$cli" --server localhost:1 --deadline-s 2 models
+check "no server names the address and the fix" 1 "no Stylus server answered at localhost:1: .*--server HOST:PORT or STYLUS_SERVER" -- \
+  "$cli" --server localhost:1 --deadline-s 2 models
 
 "$server" --models "$src/models" --listen localhost:0 --port-file "$work/port" >"$work/server.log" 2>&1 &
 pid=$!
@@ -66,6 +68,14 @@ check "stream" 0 "streamed 120 frames at 60.0 fps; got 120 back; latency p50 [0-
 check "metrics" 0 '^\{"bone_length_error": .*"foot_skating": .*"trajectory_error": ' -- "$cli" "${s[@]}" metrics --output "$work/out.bvh" --content "$walk" --style "$old"
 check "encode-style --save-as" 0 "144 values; saved as 'old'" -- "$cli" "${s[@]}" encode-style --style "$old" --save-as old
 check "transfer --style-name" 0 "wrote" -- "$cli" "${s[@]}" transfer --content "$walk" --style-name old -o "$work/named.bvh"
+check "stream --style-name" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${s[@]}" stream --content "$walk" \
+  --style-name old --rate 0
+check "a missing output folder is refused before the call" 1 "-o $work/no_such_dir/x.bvh: the folder $work/no_such_dir does not exist" -- \
+  "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/no_such_dir/x.bvh"
+check "... and for interpolate and stream" 1 "the folder $work/no_such_dir does not exist" -- \
+  "$cli" "${s[@]}" stream --content "$walk" --style "$old" -o "$work/no_such_dir/x.bvh"
+check "a stream sent at another rate than the clip's says so" 0 "recorded at 30 fps and is sent at 60 fps: it plays 2.00x faster" -- \
+  "$cli" "${s[@]}" stream --content "$walk" --style "$old" --rate 60
 check "unknown style name" 1 "NOT_FOUND: .*'young'" -- "$cli" "${s[@]}" transfer --content "$walk" --style-name young -o "$work/x.bvh"
 check "unknown model" 1 "NOT_FOUND: unknown model 'cyclic/v9'" -- "$cli" "${s[@]}" transfer --model cyclic/v9 --content "$walk" --style "$old" -o "$work/x.bvh"
 check "a rig that is no humanoid" 1 "INVALID_ARGUMENT: content clip is on another rig than the model's: not a humanoid rig" -- "$cli" "${s[@]}" transfer --content "$src/tests/fixtures/bvh/good/three_joint.bvh" --style "$old" -o "$work/x.bvh"
@@ -89,7 +99,7 @@ check "missing -o" 1 "-o is required" -- "$cli" "${s[@]}" transfer --content "$w
 check "bad weights" 1 "'x' is not a number" -- "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0,x -o "$work/m"
 check "bad postprocess" 1 "--postprocess must be" -- "$cli" "${s[@]}" transfer --postprocess wobbly --content "$walk" --style "$old" -o "$work/x.bvh"
 check "unknown command" 2 "unknown command 'frobnicate'" -- "$cli" "${s[@]}" frobnicate
-check "a command's --help lists its own options" 0 "usage: stylus stream --content C.bvh --style S.bvh \[--rate FPS\]" -- \
+check "a command's --help lists its own options" 0 "usage: stylus stream --content C.bvh \(--style S.bvh \| --style-name NAME\) \[--rate FPS\]" -- \
   "$cli" stream --help
 check "a command's --help names the call options" 0 "--postprocess default\|none\|feet\|full" -- "$cli" transfer --help
 check "a command refuses another command's options" 2 "unknown option --weights" -- \

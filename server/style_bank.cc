@@ -1,6 +1,9 @@
 #include "server/style_bank.h"
 
+#include <vector>
+
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 
 namespace stylus::server {
 
@@ -40,8 +43,19 @@ absl::StatusOr<model::StyleCode> StyleBank::Get(const std::string& model_id,
   absl::MutexLock lock(&mu_);
   auto it = codes_.find({model_id, name});
   if (it == codes_.end()) {
-    return absl::NotFoundError(absl::StrCat("no style named '", name, "' saved for model ",
-                                            model_id, " (save one with EncodeStyle save_as)"));
+    // Saved names belong to one model: say where this one is saved, if
+    // anywhere (codes live in each model's own space).
+    std::vector<std::string> elsewhere;
+    for (const auto& [key, code] : codes_) {
+      if (key.second == name) elsewhere.push_back(key.first);
+    }
+    return absl::NotFoundError(absl::StrCat(
+        "no style named '", name, "' saved for model ", model_id,
+        elsewhere.empty()
+            ? " (save one with EncodeStyle save_as)"
+            : absl::StrCat(" (saved names belong to one model; '", name, "' is saved for ",
+                           absl::StrJoin(elsewhere, ", "), ": save it again on ", model_id,
+                           " with EncodeStyle save_as and model ", model_id, ")")));
   }
   return it->second;
 }

@@ -26,7 +26,8 @@ class StyleBank {
   // RESOURCE_EXHAUSTED for a new name when the model has its most (saving
   // over a name already there is always allowed).
   absl::Status Save(const std::string& model_id, const std::string& name, model::StyleCode code);
-  // NOT_FOUND names the model and the style.
+  // NOT_FOUND names the model and the style, and the models the name is
+  // saved for instead, if any.
   absl::StatusOr<model::StyleCode> Get(const std::string& model_id, const std::string& name) const;
 
  private:

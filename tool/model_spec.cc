@@ -1,7 +1,9 @@
 #include "tool/model_spec.h"
 
+#include <filesystem>
 #include <vector>
 
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "model/family_registry.h"
 #include "motion/bvh.h"
@@ -19,7 +21,21 @@ absl::StatusOr<std::unique_ptr<model::StyleModel>> LoadModelSpec(const std::stri
     }
     overrides.emplace_back(kv[0] == "kc" ? "kc_iters" : kv[0], kv[1]);
   }
-  return model::LoadStyleModel(parts[0], overrides);
+  absl::StatusOr<std::unique_ptr<model::StyleModel>> m =
+      model::LoadStyleModel(parts[0], overrides);
+  if (m.status().code() == absl::StatusCode::kNotFound &&
+      !std::filesystem::exists(parts[0])) {
+    // `stylus` names models by id; this tool reads a package folder.
+    const std::string as_id = "models/" + parts[0];
+    const std::string hint =
+        std::filesystem::is_directory(as_id)
+            ? absl::StrCat(" (stylus-tool takes a package folder: did you mean --model ", as_id,
+                           "?)")
+            : " (stylus-tool takes a package folder such as models/contrastive/v9, not a "
+              "server's model id)";
+    return absl::Status(m.status().code(), absl::StrCat(m.status().message(), hint));
+  }
+  return m;
 }
 
 absl::StatusOr<std::vector<NamedModel>> LoadModelAndComparisons(

@@ -43,5 +43,17 @@ TEST(StyleBankTest, UnknownNamesAndBadNamesAreErrors) {
   EXPECT_TRUE(bank.Save("m", std::string(200, 'x'), {}).ok());
 }
 
+TEST(StyleBankTest, ANameSavedOnAnotherModelSaysWhere) {
+  StyleBank bank;
+  ASSERT_TRUE(bank.Save("contrastive/v9", "old", model::StyleCode{{1, 2}}).ok());
+  absl::StatusOr<model::StyleCode> missing = bank.Get("live/v2", "old");
+  EXPECT_EQ(missing.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_NE(missing.status().message().find(
+                "saved names belong to one model; 'old' is saved for contrastive/v9: save it "
+                "again on live/v2"),
+            absl::string_view::npos)
+      << missing.status();
+}
+
 }  // namespace
 }  // namespace stylus::server

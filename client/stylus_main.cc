@@ -224,13 +224,16 @@ int Transfer(stylus::Client& client, const Args& a) {
             ? absl::StrFormat(" (movement: %s from %s)", movement.kind(), movement.example())
             : absl::StrCat(" (movement: the network's; ", movement.reason(), ")");
   }
-  absl::PrintF("wrote %s (%d frames)%s%s\n", a.Get("out"), out->num_frames,
-               guard.backed_off()
-                   ? absl::StrFormat(" (content guard: the configured transfer read as another "
-                                     "action; residual form at strength %g)",
-                                     guard.residual_strength())
-                   : "",
-               warp_note);
+  absl::PrintF(
+      "wrote %s (%d frames)%s%s\n", a.Get("out"), out->num_frames,
+      guard.backed_off()
+          ? absl::StrFormat(" (content guard: the transfer as configured read as another action "
+                            "than the content's; returned instead: the content plus %g x the "
+                            "change the style makes%s; docs/families.md \"The content guard\")",
+                            guard.residual_strength(),
+                            guard.residual_strength() == 0 ? ", i.e. no style" : "")
+          : "",
+      warp_note);
   return 0;
 }
 

@@ -32,6 +32,8 @@ check "models" 0 "$default \(default\)" -- "$cli" "${s[@]}" models
 check "models lists both families" 0 "cyclic/v2" -- "$cli" "${s[@]}" models
 check "model-info" 0 "window 32" -- "$cli" "${s[@]}" model-info --model contrastive
 check "model-info cyclic" 0 "window 60" -- "$cli" "${s[@]}" model-info --model cyclic
+check "a content guard's note says what it did" 0 "content guard: the transfer as configured read as another action than the content's; returned instead: the content plus [0-9.]+ x the change the style makes" -- \
+  "$cli" "${s[@]}" transfer --model cyclic --content "$walk" --style "$old" -o "$work/guarded.bvh"
 check "transfer --model cyclic" 0 "wrote .*cyc.bvh \(120 frames\)" -- "$cli" "${s[@]}" transfer --model cyclic \
   --content "$walk" --style "$old" -o "$work/cyc.bvh"
 check "stream --model cyclic" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${s[@]}" stream --model cyclic \

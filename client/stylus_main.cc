@@ -242,20 +242,26 @@ int Interpolate(stylus::Client& client, const Args& a) {
   if (!opts.ok()) return Fail("interpolate", opts.status());
   auto content = Read(a.Get("content"), "content");
   if (!content.ok()) return Fail("interpolate", content.status());
-  std::vector<stylus::motion::Motion> clips;
-  for (const std::string& p : a.All("style")) {
+  // Each --style: a clip (.bvh) or a saved style's name, in the order given.
+  const std::vector<std::string> given = a.All("style");
+  std::vector<std::unique_ptr<stylus::motion::Motion>> clips;
+  std::vector<stylus::Style> styles;
+  for (const std::string& p : given) {
+    if (!absl::EndsWith(p, ".bvh")) {
+      styles.push_back({nullptr, p});
+      continue;
+    }
     auto s = stylus::motion::ReadBvhFile(p);
     if (!s.ok()) return Fail("interpolate", s.status());
-    clips.push_back(*std::move(s));
-  }
-  if (clips.size() < 2) {
-    return Fail("interpolate", absl::InvalidArgumentError("give two or more --style clips"));
-  }
-  std::vector<stylus::Style> styles;
-  for (const auto& c : clips) {
+    clips.push_back(std::make_unique<stylus::motion::Motion>(*std::move(s)));
+    const stylus::motion::Motion& c = *clips.back();
     styles.push_back({&c, "",
                       c.skeleton.SameTopology(content->skeleton) ? opts->joint_map
                                                                  : stylus::motion::JointMap{}});
+  }
+  if (styles.size() < 2) {
+    return Fail("interpolate",
+                absl::InvalidArgumentError("give two or more --style clips (.bvh) or saved names"));
   }
   const std::string prefix = a.Get("out");
   if (prefix.empty())
@@ -272,11 +278,11 @@ int Interpolate(stylus::Client& client, const Args& a) {
       }
       mix.push_back(v);
     }
-    if (mix.size() == 1 && clips.size() == 2) mix = {1 - mix[0], mix[0]};
-    if (mix.size() != clips.size()) {
+    if (mix.size() == 1 && styles.size() == 2) mix = {1 - mix[0], mix[0]};
+    if (mix.size() != styles.size()) {
       return Fail("interpolate", absl::InvalidArgumentError(
                                      absl::StrCat("--weights: group '", group, "' has ", mix.size(),
-                                                  " weights for ", clips.size(), " styles")));
+                                                  " weights for ", styles.size(), " styles")));
     }
     mixes.push_back(mix);
   }
@@ -462,7 +468,8 @@ const std::vector<Command>& Commands() {
        Transfer},
       {"interpolate",
        "restyle a clip with blends of styles",
-       "--content C.bvh --style A.bvh --style B.bvh [--style ...] --weights W -o PREFIX\n\n"
+       "--content C.bvh --style A --style B [--style ...] --weights W -o PREFIX\n\n"
+       "  --style A                a style clip (A.bvh) or a saved style's name\n"
        "  --weights 0,0.5,1        one output per weight of the first style against\n"
        "                           the second (two styles), or\n"
        "  --weights w1:w2:...,...  one mix per comma-separated group",

@@ -70,6 +70,8 @@ check "stream" 0 "streamed 120 frames at 60.0 fps; got 120 back; latency p50 [0-
 check "metrics" 0 '^\{"bone_length_error": .*"foot_skating": .*"trajectory_error": ' -- "$cli" "${s[@]}" metrics --output "$work/out.bvh" --content "$walk" --style "$old"
 check "encode-style --save-as" 0 "144 values; saved as 'old'" -- "$cli" "${s[@]}" encode-style --style "$old" --save-as old
 check "transfer --style-name" 0 "wrote" -- "$cli" "${s[@]}" transfer --content "$walk" --style-name old -o "$work/named.bvh"
+check "interpolate a saved name with a clip" 0 "wrote .*named_mix_0.bvh \(weights 0.7:0.3\)" -- "$cli" "${s[@]}" interpolate \
+  --content "$walk" --style old --style "$run" --weights 0.3 -o "$work/named_mix"
 check "stream --style-name" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${s[@]}" stream --content "$walk" \
   --style-name old --rate 0
 check "a missing output folder is refused before the call" 1 "-o $work/no_such_dir/x.bvh: the folder $work/no_such_dir does not exist" -- \

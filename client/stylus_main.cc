@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -111,6 +112,24 @@ absl::StatusOr<stylus::CallOptions> Common(const Args& a) {
   return o;
 }
 
+// The call's style: --style-name NAME (saved on the server), else the
+// --style clip, read into `clip` (which the result points into).
+absl::StatusOr<stylus::Style> StyleArg(const Args& a, const stylus::CallOptions& opts,
+                                       const stylus::motion::Motion& content,
+                                       std::optional<stylus::motion::Motion>* clip) {
+  stylus::Style ref;
+  if (a.Has("style-name")) {
+    ref.name = a.Get("style-name");
+    return ref;
+  }
+  absl::StatusOr<stylus::motion::Motion> read = Read(a.Get("style"), "style");
+  if (!read.ok()) return read.status();
+  *clip = *std::move(read);
+  ref.clip = &**clip;
+  if ((*clip)->skeleton.SameTopology(content.skeleton)) ref.joint_map = opts.joint_map;
+  return ref;
+}
+
 double Percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -173,16 +192,9 @@ int Transfer(stylus::Client& client, const Args& a) {
   if (!opts.ok()) return Fail("transfer", opts.status());
   auto content = Read(a.Get("content"), "content");
   if (!content.ok()) return Fail("transfer", content.status());
-  absl::StatusOr<stylus::motion::Motion> style;
-  stylus::Style ref;
-  if (a.Has("style-name")) {
-    ref.name = a.Get("style-name");
-  } else {
-    style = Read(a.Get("style"), "style");
-    if (!style.ok()) return Fail("transfer", style.status());
-    ref.clip = &*style;
-    if (style->skeleton.SameTopology(content->skeleton)) ref.joint_map = opts->joint_map;
-  }
+  std::optional<stylus::motion::Motion> style_clip;
+  absl::StatusOr<stylus::Style> ref = StyleArg(a, *opts, *content, &style_clip);
+  if (!ref.ok()) return Fail("transfer", ref.status());
   if (a.Get("out").empty()) return Fail("transfer", absl::InvalidArgumentError("-o is required"));
   if (absl::Status w = CheckWritable(a.Get("out"), "-o"); !w.ok()) return Fail("transfer", w);
   const std::string timing = a.Get("timing", "content");
@@ -204,7 +216,7 @@ int Transfer(stylus::Client& client, const Args& a) {
   opts->content_guard = &guard;
   stylus::v1::TimeWarp warp;
   opts->time_warp = &warp;
-  auto out = client.Transfer(*content, ref, *opts);
+  auto out = client.Transfer(*content, *ref, *opts);
   if (!out.ok()) return Fail("transfer", out.status());
   if (absl::Status s = stylus::motion::WriteBvhFile(*out, a.Get("out")); !s.ok()) {
     return Fail("transfer", s);
@@ -308,16 +320,9 @@ int Stream(stylus::Client& client, const Args& a) {
   if (!opts.ok()) return Fail("stream", opts.status());
   auto content = Read(a.Get("content"), "content");
   if (!content.ok()) return Fail("stream", content.status());
-  absl::StatusOr<stylus::motion::Motion> style;
-  stylus::Style ref;
-  if (a.Has("style-name")) {
-    ref.name = a.Get("style-name");
-  } else {
-    style = Read(a.Get("style"), "style");
-    if (!style.ok()) return Fail("stream", style.status());
-    ref.clip = &*style;
-    if (style->skeleton.SameTopology(content->skeleton)) ref.joint_map = opts->joint_map;
-  }
+  std::optional<stylus::motion::Motion> style_clip;
+  absl::StatusOr<stylus::Style> ref = StyleArg(a, *opts, *content, &style_clip);
+  if (!ref.ok()) return Fail("stream", ref.status());
   if (!a.Get("out").empty()) {
     if (absl::Status w = CheckWritable(a.Get("out"), "-o"); !w.ok()) return Fail("stream", w);
   }
@@ -367,7 +372,7 @@ int Stream(stylus::Client& client, const Args& a) {
     }
     changes.push_back(std::move(c));
   }
-  auto result = client.Stream(*content, ref, *rate, *opts, changes);
+  auto result = client.Stream(*content, *ref, *rate, *opts, changes);
   if (!result.ok()) return Fail("stream", result.status());
   if (!a.Get("out").empty()) {
     if (absl::Status s = stylus::motion::WriteBvhFile(result->output, a.Get("out")); !s.ok()) {

@@ -59,8 +59,9 @@ int Fail(const std::string& command, const absl::Status& status) {
                std::string(status.message()).c_str());
   if (status.code() == absl::StatusCode::kUnavailable) {
     std::fprintf(stderr,
-                 "stylus %s: no Stylus server answered at %s: start one (stylus-server), or name "
-                 "its address with --server HOST:PORT or STYLUS_SERVER\n",
+                 "stylus %s: the call did not get through to a serving Stylus server at %s: "
+                 "check that one runs there (stylus-server), or name another with --server "
+                 "HOST:PORT or STYLUS_SERVER (a TLS server also needs --tls-ca)\n",
                  command.c_str(), server_address.c_str());
   }
   return 1;

@@ -243,27 +243,8 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
     }
     m.hand_reach[side] = Percentile(height, 0.95) - Percentile(height, 0.05);
     int swings = 0;
-    for (const std::vector<double>* path : {&across, &height}) {
-      const std::vector<double> s = Smooth(*path, 0.05 * fps, 0.0);
-      // Turning points with hysteresis: a turn counts once the path has come
-      // back kSwing from its extreme.
-      double hi = s[0], lo = s[0];
-      int dir = 0, turns = 0;
-      for (int f = 1; f < n; ++f) {
-        hi = std::max(hi, s[f]);
-        lo = std::min(lo, s[f]);
-        if (dir >= 0 && s[f] < hi - kSwing) {
-          turns += dir > 0;
-          dir = -1;
-          lo = s[f];
-        } else if (dir <= 0 && s[f] > lo + kSwing) {
-          turns += dir < 0;
-          dir = 1;
-          hi = s[f];
-        }
-      }
-      swings = std::max(swings, turns);
-    }
+    for (const std::vector<double>* path : {&across, &height})
+      swings = std::max(swings, CountSwings(Smooth(*path, 0.05 * fps, 0.0)));
     m.hand_swings[side] = swings;
   }
   {
@@ -362,12 +343,34 @@ absl::StatusOr<MovementClip> AnalyzeMovement(const Motion& clip, const HumanoidR
   return m;
 }
 
+bool HandTravels(const std::array<double, 2>& reach, int side) {
+  return reach[side] >= kActiveReach ||
+         (reach[side] >= kActiveReach / 3 && reach[side] >= 0.5 * reach[1 - side]);
+}
+
+int CountSwings(const std::vector<double>& path) {
+  // A turn counts once the path has come back kSwing from its extreme.
+  if (path.empty()) return 0;
+  double hi = path[0], lo = path[0];
+  int dir = 0, turns = 0;
+  for (double v : path) {
+    hi = std::max(hi, v);
+    lo = std::min(lo, v);
+    if (dir >= 0 && v < hi - kSwing) {
+      turns += dir > 0;
+      dir = -1;
+      lo = v;
+    } else if (dir <= 0 && v > lo + kSwing) {
+      turns += dir < 0;
+      dir = 1;
+      hi = v;
+    }
+  }
+  return turns;
+}
+
 bool SameArmAction(const MovementClip& a, const MovementClip& b, std::string* why) {
-  auto active = [](const MovementClip& c, int side) {
-    const double other = c.hand_reach[1 - side];
-    return c.hand_reach[side] >= kActiveReach ||
-           (c.hand_reach[side] >= kActiveReach / 3 && c.hand_reach[side] >= 0.5 * other);
-  };
+  auto active = [](const MovementClip& c, int side) { return HandTravels(c.hand_reach, side); };
   static const char* kSide[2] = {"left", "right"};
   for (int side = 0; side < 2; ++side) {
     if (active(a, side) != active(b, side)) {

@@ -108,6 +108,12 @@ inline constexpr double kActiveReach = 0.15;
 inline constexpr int kSwinging = 4;
 bool SameArmAction(const MovementClip& a, const MovementClip& b, std::string* why = nullptr);
 
+// The pieces of that reading, shared with the streams' follower: whether
+// hand `side` travels, given both hands' reach; how many times a path turns
+// back by kSwing or more (turning points with hysteresis).
+bool HandTravels(const std::array<double, 2>& reach, int side);
+int CountSwings(const std::vector<double>& path);
+
 struct Registration {
   enum class Kind { kSteps, kGesture };
   Kind kind = Kind::kGesture;

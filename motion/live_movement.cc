@@ -125,15 +125,15 @@ ContentTrack::Reading ContentTrack::Read(int64_t f) {
   // The feet's floor: the lowest a foot joint went up to this frame (and
   // each foot joint's own lowest, for its contacts).
   const std::array<int, 4> feet = FootJoints(roles_);
-  double floor = floor_;
-  for (int64_t i = base_; i <= last; ++i) {
+  for (int64_t i = std::max(base_, floored_); i <= last; ++i) {
     for (int k = 0; k < 4; ++k) {
       const double y = frame(i).positions[feet[k]].y;
-      floor = std::min(floor, y);
+      floor_ = std::min(floor_, y);
       joint_floor_[k] = std::min(joint_floor_[k], y);
     }
   }
-  e.floor = floor_ = floor;
+  floored_ = std::max(floored_, last + 1);
+  e.floor = floor_;
   // The share of the last second's frames with no foot joint down (low and
   // still, as ContactParams reads them): about 0 for a walk, more for a run.
   if (last > since) {
@@ -330,8 +330,7 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
     while (static_cast<int>(hands_.size()) > Frames(kArmWindowS, track.fps())) hands_.pop_front();
     const ArmReading arms = ReadArms();
     int best = -1;
-    constexpr double kRefused = std::numeric_limits<double>::infinity();
-    std::vector<double> score(warps_.size(), kRefused);
+    std::vector<double> score(warps_.size(), std::numeric_limits<double>::infinity());
     for (size_t k = 0; k < warps_.size(); ++k) {
       Warp& w = warps_[k];
       if (stepping_) {
@@ -413,27 +412,11 @@ MovementFollower::ArmReading MovementFollower::ReadArms() const {
       lo = std::min(lo, h[2 * side + 1]), hi = std::max(hi, h[2 * side + 1]);
     r.reach[side] = hands_.empty() ? 0 : hi - lo;
     for (const auto& h : hands_) r.held[side] += h[2 * side + 1] > lo + 0.5 * (hi - lo);
-    // Turns of the hand's sideways or vertical path by kSwing or more.
+    // Turns of the hand's sideways or vertical path.
+    std::vector<double> path(hands_.size());
     for (int axis = 0; axis < 2; ++axis) {
-      double top = 0, bottom = 0;
-      int dir = 0, turns = 0;
-      bool first = true;
-      for (const auto& h : hands_) {
-        const double v = h[2 * side + axis];
-        if (first) top = bottom = v, first = false;
-        top = std::max(top, v);
-        bottom = std::min(bottom, v);
-        if (dir >= 0 && v < top - kSwing) {
-          turns += dir > 0;
-          dir = -1;
-          bottom = v;
-        } else if (dir <= 0 && v > bottom + kSwing) {
-          turns += dir < 0;
-          dir = 1;
-          top = v;
-        }
-      }
-      r.swings[side] = std::max(r.swings[side], turns);
+      for (size_t i = 0; i < hands_.size(); ++i) path[i] = hands_[i][2 * side + axis];
+      r.swings[side] = std::max(r.swings[side], CountSwings(path));
     }
   }
   return r;
@@ -441,10 +424,7 @@ MovementFollower::ArmReading MovementFollower::ReadArms() const {
 
 bool MovementFollower::ArmsDiffer(const ArmReading& content, const MovementClip& take,
                                   int held_frames) {
-  auto active = [](const std::array<double, 2>& reach, int side) {
-    return reach[side] >= kActiveReach ||
-           (reach[side] >= kActiveReach / 3 && reach[side] >= 0.5 * reach[1 - side]);
-  };
+  const auto active = HandTravels;
   if (!active(content.reach, 0) && !active(content.reach, 1)) return false;  // Not yet moving.
   for (int side = 0; side < 2; ++side) {
     if (active(content.reach, side) != active(take.hand_reach, side)) return true;

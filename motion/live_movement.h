@@ -9,9 +9,10 @@
 //  - MovementFollower plays takes of the style on it, the body's parts as
 //    a transfer's (legs, pelvis, arms, spine). Stepping (the content
 //    travels): of the stepping takes, the one nearest the content's speed
-//    and turning if one is near enough (else the network's legs), its loop at its cadence scaled by
-//    its walk ratio to the content's speed, entered at the instant whose legs are most as the
-//    content's (the phase of its contacts), the stride fitted to the path.
+//    and turning if one is near enough (else the network's legs), its loop
+//    at its cadence scaled by its walk ratio to the content's speed, entered
+//    at the instant whose legs are most as the content's (the phase of its
+//    contacts), the stride fitted to the path.
 //    Gestures (the content stands): every standing take registered to the
 //    content by open-end dynamic time warping, one row per frame, compared
 //    from where each gesture starts; the best one plays, waiting for the
@@ -90,8 +91,11 @@ class ContentTrack {
   std::array<std::array<int, 3>, 2> arms_ = {};
   std::deque<Frame> frames_;
   int64_t base_ = 0;
+  // The lowest the foot joints went in frames [0, floored_): all of them,
+  // and each (FootJoints order).
   double floor_ = 1e300;
-  std::array<double, 4> joint_floor_ = {1e300, 1e300, 1e300, 1e300};  // FootJoints order.
+  std::array<double, 4> joint_floor_ = {1e300, 1e300, 1e300, 1e300};
+  int64_t floored_ = 0;
   // The last lag + 1 frames' position features (for velocities).
   std::deque<std::pair<std::vector<double>, std::vector<double>>> recent_;
 };
@@ -159,10 +163,9 @@ class MovementFollower {
   LocalPose Gesture(const ContentTrack& track, const ContentTrack::Estimate& est, int take,
                     double time, const LocalPose& network) const;
   // Stepping: the take nearest the content's stepping (`current` favoured;
-  // -1 when none is near enough);
-  // the instant of a take whose legs are most as `gait`; an instant moved on
-  // by `rate` frames, looped; the network's pose with a take's parts at an
-  // instant (and the rate it plays at).
+  // -1 when none is near enough); the instant of a take whose legs are most
+  // as `gait`; an instant moved on by `rate` frames, looped; the network's
+  // pose with a take's parts at an instant (and the rate it plays at).
   int NearestSteps(const ContentTrack::Estimate& est, int current) const;
   // Gestures: how far each of the content's hands travelled up and down
   // lately and how many times it swung (left, right); whether a take's arms

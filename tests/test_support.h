@@ -86,6 +86,22 @@ bool WaitFor(Condition condition, std::chrono::milliseconds timeout = std::chron
   return true;
 }
 
+// A style library folder `name` under the test's temporary folder, made
+// afresh, of links to Bandai dataset-2 takes (`takes`: names without the
+// "dataset-2_" prefix and ".bvh"); the data stays where it is. Its path.
+inline std::string LinkLibrary(const std::string& data, const std::string& name,
+                               const std::vector<std::string>& takes) {
+  namespace fs = std::filesystem;
+  const std::string dir = ::testing::TempDir() + "/" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const std::string& take : takes) {
+    const std::string file = "dataset-2_" + take + ".bvh";
+    fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), dir + "/" + file);
+  }
+  return dir;
+}
+
 inline bool UnderCi() {
   const char* ci = std::getenv("CI");
   return ci != nullptr && std::string(ci) == "true";

@@ -31,7 +31,7 @@ absl::StatusOr<std::unique_ptr<model::StyleModel>> LoadModelSpec(const std::stri
         std::filesystem::is_directory(as_id)
             ? absl::StrCat(" (stylus-tool takes a package folder: did you mean --model ", as_id,
                            "?)")
-            : " (stylus-tool takes a package folder such as models/contrastive/v9, not a "
+            : " (stylus-tool takes a package folder, models/<name>/<version>, not a "
               "server's model id)";
     return absl::Status(m.status().code(), absl::StrCat(m.status().message(), hint));
   }

@@ -132,14 +132,9 @@ TEST_F(MovementTest, WithoutAnExampleOfTheContentsMovementTheNetworksIsKept) {
 TEST_F(MovementTest, AStyleShownOnlyByAGestureWalksInItsStyleFromALibrary) {
   STYLUS_REQUIRE_BANDAI(data);
   // A library folder of links to three takes (the data stays where it is).
-  const std::string lib = ::testing::TempDir() + "/movement_library";
-  fs::remove_all(lib);
-  fs::create_directories(lib);
-  for (const char* name :
-       {"walk_elderly_003", "walk_youthful_002", "raise-up-left-hand_elderly_004"}) {
-    const std::string file = std::string("dataset-2_") + name + ".bvh";
-    fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), lib + "/" + file);
-  }
+  const std::string lib = testing::LinkLibrary(
+      data, "movement_library",
+      {"walk_elderly_003", "walk_youthful_002", "raise-up-left-hand_elderly_004"});
   std::ofstream(lib + "/notes.bvh") << "not a labelled take";  // Skipped, not fatal.
   absl::StatusOr<std::unique_ptr<StyleLibrary>> library = StyleLibrary::Load(lib);
   ASSERT_TRUE(library.ok()) << library.status();
@@ -244,13 +239,8 @@ TEST_F(LiveMovementTest, HowTheFramesArriveDoesNotChangeTheMovement) {
 
 TEST_F(LiveMovementTest, AStreamWhoseStyleShowsOnlyAGestureWalksInItsStyleFromALibrary) {
   STYLUS_REQUIRE_BANDAI(data);
-  const std::string lib = ::testing::TempDir() + "/live_movement_library";
-  fs::remove_all(lib);
-  fs::create_directories(lib);
-  for (const char* name : {"walk_elderly_003", "raise-up-left-hand_elderly_004"}) {
-    const std::string file = std::string("dataset-2_") + name + ".bvh";
-    fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), lib + "/" + file);
-  }
+  const std::string lib = testing::LinkLibrary(
+      data, "live_movement_library", {"walk_elderly_003", "raise-up-left-hand_elderly_004"});
   absl::StatusOr<std::unique_ptr<StyleLibrary>> library = StyleLibrary::Load(lib);
   ASSERT_TRUE(library.ok()) << library.status();
   const motion::Motion content = Take(data, "walk_normal_004");

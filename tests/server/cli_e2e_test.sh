@@ -12,7 +12,7 @@ check "server bad option" 2 "unknown option --bogus" -- "$server" --bogus 1
 check "server missing models" 1 "does not exist" -- "$server" --models "$work/none" --listen localhost:0
 check "cli --help" 0 "usage: stylus" -- "$cli" --help
 check "cli no server" 1 "UNAVAILABLE" -- "$cli" --server localhost:1 --deadline-s 2 models
-check "no server names the address and the fix" 1 "no Stylus server answered at localhost:1: .*--server HOST:PORT or STYLUS_SERVER" -- \
+check "no server names the address and the fix" 1 "did not get through to a serving Stylus server at localhost:1: .*--server HOST:PORT or STYLUS_SERVER" -- \
   "$cli" --server localhost:1 --deadline-s 2 models
 
 "$server" --models "$src/models" --listen localhost:0 --port-file "$work/port" >"$work/server.log" 2>&1 &
@@ -76,7 +76,9 @@ check "stream --style-name" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${
   --style-name old --rate 0
 check "a missing output folder is refused before the call" 1 "-o $work/no_such_dir/x.bvh: the folder $work/no_such_dir does not exist" -- \
   "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/no_such_dir/x.bvh"
-check "... and for interpolate and stream" 1 "the folder $work/no_such_dir does not exist" -- \
+check "... and for interpolate" 1 "the folder $work/no_such_dir does not exist" -- \
+  "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0.5 -o "$work/no_such_dir/m"
+check "... and for stream" 1 "the folder $work/no_such_dir does not exist" -- \
   "$cli" "${s[@]}" stream --content "$walk" --style "$old" -o "$work/no_such_dir/x.bvh"
 check "a stream sent at another rate than the clip's says so" 0 "recorded at 30 fps and is sent at 60 fps: it plays 2.00x faster" -- \
   "$cli" "${s[@]}" stream --content "$walk" --style "$old" --rate 60

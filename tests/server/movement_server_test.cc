@@ -4,7 +4,6 @@
 // library's takes; a library that cannot be read stops the start.
 #include <grpcpp/grpcpp.h>
 
-#include <filesystem>
 #include <set>
 
 #include "gtest/gtest.h"
@@ -17,17 +16,10 @@
 namespace stylus {
 namespace {
 
-namespace fs = std::filesystem;
-
 TEST(MovementServerTest, AStyleLibraryGivesAWalkTheStylesStepsAndTheResponseSaysWhich) {
   STYLUS_REQUIRE_BANDAI(data);
-  const std::string lib = ::testing::TempDir() + "/server_style_library";
-  fs::remove_all(lib);
-  fs::create_directories(lib);
-  for (const char* name : {"walk_elderly_003", "walk_youthful_002"}) {
-    const std::string file = std::string("dataset-2_") + name + ".bvh";
-    fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), lib + "/" + file);
-  }
+  const std::string lib =
+      testing::LinkLibrary(data, "server_style_library", {"walk_elderly_003", "walk_youthful_002"});
   server::ServerOptions options;
   options.style_library = lib;
   std::unique_ptr<testing::LiveServer> live = testing::LiveServer::Start(options);
@@ -102,11 +94,7 @@ double StepPeriod(const motion::Motion& clip) {
 
 TEST(MovementServerTest, ALiveStreamStepsAsTheStyleClipAndTheLibraryShow) {
   STYLUS_REQUIRE_BANDAI(data);
-  const std::string lib = ::testing::TempDir() + "/server_stream_library";
-  fs::remove_all(lib);
-  fs::create_directories(lib);
-  const std::string file = "dataset-2_walk_elderly_003.bvh";
-  fs::create_symlink(fs::absolute(data + "/dataset-2/" + file), lib + "/" + file);
+  const std::string lib = testing::LinkLibrary(data, "server_stream_library", {"walk_elderly_003"});
   const motion::Motion content =
       *motion::ReadBvhFile(data + "/dataset-2/dataset-2_walk_normal_004.bvh");
   CallOptions on_live;

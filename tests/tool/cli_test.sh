@@ -235,8 +235,9 @@ check "transfer bad --postprocess" 1 "'most' is not one of none, feet, full" -- 
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.bvh" --postprocess most
 check "transfer on a rig that is no humanoid" 1 "another rig than the model.s: not a humanoid rig that can be mapped" -- "$tool" transfer --model "$work/model" \
   --content "$good" --style "$work/proud.bvh" -o "$work/x.bvh"
-check "a server's model id names the package folder" 1 "did you mean --model models/contrastive/v9\\?" -- \
-  bash -c "cd '$src' && '$tool' transfer --model contrastive/v9 --content '$work/old.bvh' --style '$work/proud.bvh' -o '$work/x.bvh'"
+default_id=$(grep -v '^#' "$src/models/DEFAULT")
+check "a server's model id names the package folder" 1 "did you mean --model models/$default_id\\?" -- \
+  bash -c "cd '$src' && '$tool' transfer --model $default_id --content '$work/old.bvh' --style '$work/proud.bvh' -o '$work/x.bvh'"
 check "transfer no model" 1 "no such model directory .*takes a package folder" -- "$tool" transfer --model "$work/none" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.bvh"
 printf 'content_bvh,style_bvh\n%s,%s\n%s,%s\n' "$work/old.bvh" "$work/proud.bvh" "$good" "$work/old.bvh" > "$work/pairs.csv"

@@ -22,6 +22,7 @@
 #include "absl/strings/str_split.h"
 #include "cli/args.h"
 #include "client/client.h"
+#include "formats/scene_file.h"
 #include "motion/bvh.h"
 
 namespace {
@@ -48,7 +49,13 @@ constexpr char kCallOptions[] =
     "                           server's, full)\n"
     "  --joint-map FILE         for clips on another rig than the model's: humanoid\n"
     "                           roles not to guess, lines like 'left_foot = MyFootL'\n"
-    "                           (also used for style clips on the content's rig)\n";
+    "                           (also used for style clips on the content's rig)\n"
+    "  --animation NAME         in files with several animations (FBX, glTF), the\n"
+    "                           one to read\n\n"
+    "Clips are BVH, FBX, glTF (.gltf, .glb) or COLLADA (.dae) files; outputs are\n"
+    "written as .bvh, .gltf or .glb by their extension. A glTF output of an FBX or\n"
+    "glTF content keeps the content's nodes, meshes and skins: only the animation\n"
+    "changes.\n";
 
 // The server's address, for the hint when it cannot be reached.
 std::string server_address;  // NOLINT: set once in main.
@@ -70,6 +77,12 @@ int Fail(const std::string& command, const absl::Status& status) {
 // OK when a file can be written at `path` (its folder exists and is
 // writable): checked before a call, so that no work is lost at the end.
 absl::Status CheckWritable(const std::string& path, const std::string& flag) {
+  absl::StatusOr<stylus::formats::FileFormat> format = stylus::formats::FormatOfPath(path);
+  if (!format.ok()) return format.status();
+  if (!stylus::formats::CanWrite(*format)) {
+    return absl::InvalidArgumentError(absl::StrCat(flag, " ", path, ": stylus writes ",
+                                                   stylus::formats::WritableFormats()));
+  }
   std::filesystem::path folder = std::filesystem::path(path).parent_path();
   if (folder.empty()) folder = ".";
   std::error_code ec;
@@ -84,9 +97,25 @@ absl::Status CheckWritable(const std::string& path, const std::string& flag) {
   return absl::OkStatus();
 }
 
-absl::StatusOr<stylus::motion::Motion> Read(const std::string& path, const std::string& what) {
+// Reads a clip in any format the formats library reads; --animation picks
+// one of several in a scene file.
+absl::StatusOr<stylus::motion::Motion> Read(const std::string& path, const std::string& what,
+                                            const Args& a) {
   if (path.empty()) return absl::InvalidArgumentError(absl::StrCat("--", what, " is required"));
-  return stylus::motion::ReadBvhFile(path);
+  stylus::formats::ReadOptions options;
+  options.animation = a.Get("animation");
+  return stylus::formats::ReadMotionFile(path, options);
+}
+
+// True when `path` names a clip file by its extension (else it is a name).
+bool IsClipPath(const std::string& path) { return stylus::formats::FormatOfPath(path).ok(); }
+
+// Writes an output clip by its extension; a glTF output keeps the content
+// file's scene when the content was one.
+absl::Status Write(const stylus::motion::Motion& m, const std::string& path, const Args& a) {
+  stylus::formats::WriteOptions options;
+  options.like = a.Get("content");
+  return stylus::formats::WriteMotionFile(m, path, options);
 }
 
 absl::StatusOr<stylus::CallOptions> Common(const Args& a) {
@@ -123,7 +152,7 @@ absl::StatusOr<stylus::Style> StyleArg(const Args& a, const stylus::CallOptions&
     ref.name = a.Get("style-name");
     return ref;
   }
-  absl::StatusOr<stylus::motion::Motion> read = Read(a.Get("style"), "style");
+  absl::StatusOr<stylus::motion::Motion> read = Read(a.Get("style"), "style", a);
   if (!read.ok()) return read.status();
   *clip = *std::move(read);
   ref.clip = &**clip;
@@ -191,7 +220,7 @@ int Unload(stylus::Client& client, const Args& a) {
 int Transfer(stylus::Client& client, const Args& a) {
   auto opts = Common(a);
   if (!opts.ok()) return Fail("transfer", opts.status());
-  auto content = Read(a.Get("content"), "content");
+  auto content = Read(a.Get("content"), "content", a);
   if (!content.ok()) return Fail("transfer", content.status());
   std::optional<stylus::motion::Motion> style_clip;
   absl::StatusOr<stylus::Style> ref = StyleArg(a, *opts, *content, &style_clip);
@@ -219,7 +248,7 @@ int Transfer(stylus::Client& client, const Args& a) {
   opts->time_warp = &warp;
   auto out = client.Transfer(*content, *ref, *opts);
   if (!out.ok()) return Fail("transfer", out.status());
-  if (absl::Status s = stylus::motion::WriteBvhFile(*out, a.Get("out")); !s.ok()) {
+  if (absl::Status s = Write(*out, a.Get("out"), a); !s.ok()) {
     return Fail("transfer", s);
   }
   std::string warp_note;
@@ -253,18 +282,18 @@ int Transfer(stylus::Client& client, const Args& a) {
 int Interpolate(stylus::Client& client, const Args& a) {
   auto opts = Common(a);
   if (!opts.ok()) return Fail("interpolate", opts.status());
-  auto content = Read(a.Get("content"), "content");
+  auto content = Read(a.Get("content"), "content", a);
   if (!content.ok()) return Fail("interpolate", content.status());
   // Each --style: a clip (.bvh) or a saved style's name, in the order given.
   const std::vector<std::string> given = a.All("style");
   std::vector<std::unique_ptr<stylus::motion::Motion>> clips;
   std::vector<stylus::Style> styles;
   for (const std::string& p : given) {
-    if (!absl::EndsWith(p, ".bvh")) {
+    if (!IsClipPath(p)) {
       styles.push_back({nullptr, p});
       continue;
     }
-    auto s = stylus::motion::ReadBvhFile(p);
+    auto s = Read(p, "style", a);
     if (!s.ok()) return Fail("interpolate", s.status());
     clips.push_back(std::make_unique<stylus::motion::Motion>(*std::move(s)));
     const stylus::motion::Motion& c = *clips.back();
@@ -276,10 +305,18 @@ int Interpolate(stylus::Client& client, const Args& a) {
     return Fail("interpolate",
                 absl::InvalidArgumentError("give two or more --style clips (.bvh) or saved names"));
   }
-  const std::string prefix = a.Get("out");
+  // -o PREFIX[.bvh|.gltf|.glb]: PREFIX_0.EXT, PREFIX_1.EXT, ... (BVH by default).
+  std::string prefix = a.Get("out");
   if (prefix.empty())
     return Fail("interpolate", absl::InvalidArgumentError("-o PREFIX is required"));
-  if (absl::Status w = CheckWritable(prefix, "-o"); !w.ok()) return Fail("interpolate", w);
+  std::string extension = ".bvh";
+  if (IsClipPath(prefix)) {
+    extension = prefix.substr(prefix.find_last_of('.'));
+    prefix.resize(prefix.size() - extension.size());
+  }
+  if (absl::Status w = CheckWritable(prefix + extension, "-o"); !w.ok()) {
+    return Fail("interpolate", w);
+  }
   std::vector<std::vector<double>> mixes;
   for (absl::string_view group : absl::StrSplit(a.Get("weights"), ',', absl::SkipEmpty())) {
     std::vector<double> mix;
@@ -305,8 +342,8 @@ int Interpolate(stylus::Client& client, const Args& a) {
   for (size_t i = 0; i < mixes.size(); ++i) {
     auto out = client.Interpolate(*content, styles, mixes[i], {}, *opts);
     if (!out.ok()) return Fail("interpolate", out.status());
-    const std::string path = absl::StrCat(prefix, "_", i, ".bvh");
-    if (absl::Status s = stylus::motion::WriteBvhFile(*out, path); !s.ok()) {
+    const std::string path = absl::StrCat(prefix, "_", i, extension);
+    if (absl::Status s = Write(*out, path, a); !s.ok()) {
       return Fail("interpolate", s);
     }
     std::vector<std::string> w;
@@ -319,7 +356,7 @@ int Interpolate(stylus::Client& client, const Args& a) {
 int Stream(stylus::Client& client, const Args& a) {
   auto opts = Common(a);
   if (!opts.ok()) return Fail("stream", opts.status());
-  auto content = Read(a.Get("content"), "content");
+  auto content = Read(a.Get("content"), "content", a);
   if (!content.ok()) return Fail("stream", content.status());
   std::optional<stylus::motion::Motion> style_clip;
   absl::StatusOr<stylus::Style> ref = StyleArg(a, *opts, *content, &style_clip);
@@ -363,8 +400,8 @@ int Stream(stylus::Client& client, const Args& a) {
         return Fail("stream", bad("strength must be in [0, 1]"));
       }
       c.strength = k;
-    } else if (absl::EndsWith(what, ".bvh")) {
-      auto clip = Read(what, "style change");
+    } else if (IsClipPath(what)) {
+      auto clip = Read(what, "style change", a);
       if (!clip.ok()) return Fail("stream", clip.status());
       change_clips.push_back(std::make_unique<stylus::motion::Motion>(*std::move(clip)));
       c.style.clip = change_clips.back().get();
@@ -376,7 +413,7 @@ int Stream(stylus::Client& client, const Args& a) {
   auto result = client.Stream(*content, *ref, *rate, *opts, changes);
   if (!result.ok()) return Fail("stream", result.status());
   if (!a.Get("out").empty()) {
-    if (absl::Status s = stylus::motion::WriteBvhFile(result->output, a.Get("out")); !s.ok()) {
+    if (absl::Status s = Write(result->output, a.Get("out"), a); !s.ok()) {
       return Fail("stream", s);
     }
   }
@@ -388,15 +425,15 @@ int Stream(stylus::Client& client, const Args& a) {
 }
 
 int Metrics(stylus::Client& client, const Args& a) {
-  auto output = Read(a.Get("output"), "output");
+  auto output = Read(a.Get("output"), "output", a);
   if (!output.ok()) return Fail("metrics", output.status());
   absl::StatusOr<stylus::motion::Motion> content, style;
   if (a.Has("content")) {
-    content = stylus::motion::ReadBvhFile(a.Get("content"));
+    content = Read(a.Get("content"), "content", a);
     if (!content.ok()) return Fail("metrics", content.status());
   }
   if (a.Has("style")) {
-    style = stylus::motion::ReadBvhFile(a.Get("style"));
+    style = Read(a.Get("style"), "style", a);
     if (!style.ok()) return Fail("metrics", style.status());
   }
   auto m = client.ComputeMetrics(*output, a.Has("content") ? &*content : nullptr,
@@ -413,12 +450,31 @@ int Metrics(stylus::Client& client, const Args& a) {
 int EncodeStyle(stylus::Client& client, const Args& a) {
   auto opts = Common(a);
   if (!opts.ok()) return Fail("encode-style", opts.status());
-  auto style = Read(a.Get("style"), "style");
+  auto style = Read(a.Get("style"), "style", a);
   if (!style.ok()) return Fail("encode-style", style.status());
   auto code = client.EncodeStyle(*style, a.Get("save-as"), *opts);
   if (!code.ok()) return Fail("encode-style", code.status());
   absl::PrintF("%d values%s\n", code->size(),
                a.Has("save-as") ? absl::StrCat("; saved as '", a.Get("save-as"), "'") : "");
+  return 0;
+}
+
+// Converts between file formats on this machine (no server): a scene file
+// to BVH for tools that read only BVH, or any clip to glTF for a viewer.
+int Convert(stylus::Client&, const Args& a) {
+  if (a.Get("in").empty() || a.Get("out").empty()) {
+    return Fail("convert", absl::InvalidArgumentError("--in FILE and -o FILE are required"));
+  }
+  if (absl::Status w = CheckWritable(a.Get("out"), "-o"); !w.ok()) return Fail("convert", w);
+  auto clip = Read(a.Get("in"), "in", a);
+  if (!clip.ok()) return Fail("convert", clip.status());
+  stylus::formats::WriteOptions options;
+  options.like = a.Get("in");
+  if (absl::Status s = stylus::formats::WriteMotionFile(*clip, a.Get("out"), options); !s.ok()) {
+    return Fail("convert", s);
+  }
+  absl::PrintF("wrote %s: %d joints, %d frames at %g fps\n", a.Get("out"),
+               clip->skeleton.num_joints(), clip->num_frames, clip->fps());
   return 0;
 }
 
@@ -474,8 +530,10 @@ const std::vector<Command>& Commands() {
        Transfer},
       {"interpolate",
        "restyle a clip with blends of styles",
-       "--content C.bvh --style A --style B [--style ...] --weights W -o PREFIX\n\n"
-       "  --style A                a style clip (A.bvh) or a saved style's name\n"
+       "--content C.bvh --style A --style B [--style ...] --weights W -o PREFIX[.EXT]\n\n"
+       "  --style A                a style clip (A.bvh, .fbx, .glb...) or a saved style's name\n"
+       "  -o PREFIX[.EXT]          writes PREFIX_0.EXT, PREFIX_1.EXT... (EXT: bvh, gltf\n"
+       "                           or glb; default bvh)\n"
        "  --weights 0,0.5,1        one output per weight of the first style against\n"
        "                           the second (two styles), or\n"
        "  --weights w1:w2:...,...  one mix per comma-separated group",
@@ -492,7 +550,7 @@ const std::vector<Command>& Commands() {
        "                           the frames keep the clip's rate, so another --rate\n"
        "                           plays it slower or faster, and says so)\n"
        "  --change F:WHAT[:FADE]   from frame F on, change the style (live models):\n"
-       "                           WHAT is a style clip (.bvh), a saved style name or\n"
+       "                           WHAT is a style clip (.bvh, .glb...), a saved name or\n"
        "                           strength=K (0..1), cross-faded over FADE frames\n"
        "                           (default 0); repeat in frame order",
        {"content", "style", "style-name", "rate", "out", "change"},
@@ -501,13 +559,25 @@ const std::vector<Command>& Commands() {
       {"metrics",
        "kinematic and style metrics of a clip (JSON)",
        "--output O.bvh [--content C.bvh] [--style S.bvh]",
-       {"output", "content", "style"},
+       {"output", "content", "style", "animation"},
        false,
        Metrics},
+      {"convert",
+       "convert a clip between formats on this machine (no server)",
+       "--in FILE -o OUT [--animation NAME]\n\n"
+       "  --in FILE                a .bvh, .fbx, .gltf, .glb or .dae clip\n"
+       "  -o OUT                   a .bvh, .gltf or .glb file (a glTF of a scene file\n"
+       "                           keeps its meshes and skins; of a BVH, a stick figure\n"
+       "                           skinned to the skeleton)\n"
+       "  --animation NAME         the animation to read from a file with several (the\n"
+       "                           error for such a file lists their names)",
+       {"in", "out", "animation"},
+       false,
+       Convert},
       {"encode-style",
        "a style clip's code, optionally saved under a name",
        "--style S.bvh [--save-as NAME] [--model M] [--joint-map FILE]",
-       {"style", "save-as", "model", "joint-map"},
+       {"style", "save-as", "model", "joint-map", "animation"},
        false,
        EncodeStyle},
   };
@@ -572,7 +642,9 @@ int main(int argc, char** argv) {
   rest.insert(rest.end(), args.begin() + at + 1, args.end());
   stylus::cli::ArgSpec spec{command->options, {}};
   spec.options.insert({"server", "deadline-s", "token", "tls-ca", "tls-cert", "tls-key"});
-  if (command->call_options) spec.options.insert({"model", "postprocess", "joint-map"});
+  if (command->call_options) {
+    spec.options.insert({"model", "postprocess", "joint-map", "animation"});
+  }
   absl::StatusOr<Args> a = stylus::cli::ParseArgs(rest, spec);
   if (!a.ok()) {
     absl::FPrintF(stderr, "stylus %s: %s\n\n", name, a.status().message());

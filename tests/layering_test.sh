@@ -34,5 +34,8 @@ rule "client/ and wire/ include no model, server or tool code" \
   '#include "(model|train|eval|server|tool)/' client wire
 rule "no family is named outside its folder" '#include "model/(contrastive|cyclic)/' \
   server client wire bench/server_bench.cc bench/transfer_bench.cc
-echo "layering: $((7 - failures)) passed, $failures failed"
+rule "file formats (assimp) only in formats/" '#include <assimp/' \
+  server client wire cli motion model train eval tool
+rule "server/, wire/ and model/ read no file formats" '#include "formats/' server wire model
+echo "layering: $((9 - failures)) passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -10,6 +10,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "formats/scene_file.h"
 #include "model/package.h"
 #include "model/runtime.h"
 #include "model/style_model.h"
@@ -439,11 +440,14 @@ std::string MovementText(const model::StyleModel& m, const model::MovementNote& 
 // MovementText's text.
 absl::Status TransferOne(const model::StyleModel& m, const std::string& content_path,
                          const std::string& style_path, const std::string& out_path,
-                         const model::TransferOptions& options, bool stream, std::string* note) {
+                         const model::TransferOptions& options, bool stream,
+                         const std::string& animation, std::string* note) {
   const motion::JointMap& joint_map = options.joint_map;
-  absl::StatusOr<motion::Motion> content = motion::ReadBvhFile(content_path);
+  formats::ReadOptions read;
+  read.animation = animation;
+  absl::StatusOr<motion::Motion> content = formats::ReadMotionFile(content_path, read);
   if (!content.ok()) return content.status();
-  absl::StatusOr<motion::Motion> style = motion::ReadBvhFile(style_path);
+  absl::StatusOr<motion::Motion> style = formats::ReadMotionFile(style_path, read);
   if (!style.ok()) return style.status();
   // The joint map names the content's rig; a style clip on that rig uses it too.
   absl::StatusOr<model::StyleCode> code = m.EncodeStyle(
@@ -458,7 +462,7 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
       return absl::Status(streamed.status().code(),
                           absl::StrCat(content_path, ": ", streamed.status().message()));
     *note = " (through a stream)";
-    return motion::WriteBvhFile(*streamed, out_path);
+    return formats::WriteMotionFile(*streamed, out_path, {content_path});
   }
   absl::StatusOr<model::TransferResult> out = m.Transfer(*content, *code, options);
   if (!out.ok())
@@ -467,7 +471,7 @@ absl::Status TransferOne(const model::StyleModel& m, const std::string& content_
   *note = GuardNote(out->note) +
           WarpNote(options, out->warp, content->num_frames, out->motion.num_frames) +
           MovementText(m, out->movement);
-  return motion::WriteBvhFile(out->motion, out_path);
+  return formats::WriteMotionFile(out->motion, out_path, {content_path});
 }
 
 }  // namespace
@@ -510,6 +514,10 @@ int Transfer(const Argv& argv) {
       "sends it, and writes what the stream returns (a live package: its causal\n"
       "network and its movement from examples within the look-ahead; the stream's\n"
       "own post-processing; --timing and --fit-frames do not apply).\n\n"
+      "Clips may be BVH, FBX, glTF (.gltf, .glb) or COLLADA (.dae) files\n"
+      "(--animation NAME picks one of several in a file); -o's extension (.bvh,\n"
+      ".gltf, .glb) picks the output's format, and a glTF of an FBX or glTF\n"
+      "content keeps its meshes and skins (docs/pipelines.md).\n\n"
       "--shard-count N [--shard-index I] runs only rows I, I+N, I+2N, ... (rows\n"
       "counted from 0, header excluded), so N workers share a library; I defaults\n"
       "to $JOB_COMPLETION_INDEX, which a Kubernetes Indexed Job sets\n"
@@ -518,7 +526,8 @@ int Transfer(const Argv& argv) {
   auto args = ParseOrExit("transfer", argv,
                           {{"model", "content", "style", "out", "pairs", "out-dir", "threads",
                             "postprocess", "shard-count", "shard-index", "joint-map", "timing",
-                            "style-library", "style-library-labels", "style-label", "fit-frames"},
+                            "style-library", "style-library-labels", "style-label", "fit-frames",
+                            "animation"},
                            {"stream"}},
                           kHelp, &code);
   if (!args) return code;
@@ -590,9 +599,16 @@ int Transfer(const Argv& argv) {
                                 "--fit-frames"));
   }
   if (!batch) {
+    absl::StatusOr<formats::FileFormat> out_format = formats::FormatOfPath(args->Get("out"));
+    if (out_format.ok() && !formats::CanWrite(*out_format)) {
+      out_format = absl::InvalidArgumentError(absl::StrCat(
+          "-o ", args->Get("out"), ": stylus-tool writes ", formats::WritableFormats()));
+    }
+    if (!out_format.ok()) return Fail("transfer", out_format.status());
     std::string note;
     if (absl::Status s = TransferOne(*model, args->Get("content"), args->Get("style"),
-                                     args->Get("out"), options, stream, &note);
+                                     args->Get("out"), options, stream, args->Get("animation"),
+                                     &note);
         !s.ok()) {
       return Fail("transfer", s);
     }
@@ -633,7 +649,7 @@ int Transfer(const Argv& argv) {
     const std::string out =
         absl::StrCat(args->Get("out-dir"), "/", Stem(cols[0]), "__", Stem(cols[1]), ".bvh");
     std::string note;
-    if (absl::Status s = TransferOne(*model, cols[0], cols[1], out, options, stream, &note);
+    if (absl::Status s = TransferOne(*model, cols[0], cols[1], out, options, stream, args->Get("animation"), &note);
         !s.ok()) {
       std::fprintf(stderr, "%s:%d: %s\n", args->Get("pairs").c_str(), line_no,
                    std::string(s.message()).c_str());
@@ -658,13 +674,16 @@ int RigInfo(const Argv& argv) {
       "names (run from the repository or the image's /opt/stylus).\n"
       "Known naming conventions: docs/rigs.md.\n";
   int code = 0;
-  auto args = ParseOrExit("rig-info", argv, {{"model", "joint-map"}, {}}, kHelp, &code);
+  auto args =
+      ParseOrExit("rig-info", argv, {{"model", "joint-map", "animation"}, {}}, kHelp, &code);
   if (!args) return code;
   if (args->positional.size() != 1) {
     std::fprintf(stderr, "stylus-tool rig-info: expected one FILE\n\n%s", kHelp);
     return 2;
   }
-  absl::StatusOr<motion::Motion> clip = motion::ReadBvhFile(args->positional[0]);
+  formats::ReadOptions read;
+  read.animation = args->Get("animation");
+  absl::StatusOr<motion::Motion> clip = formats::ReadMotionFile(args->positional[0], read);
   if (!clip.ok()) return Fail("rig-info", clip.status());
   if (clip->num_frames == 0) {
     return Fail("rig-info", absl::InvalidArgumentError(args->positional[0] + ": no frames"));

@@ -11,6 +11,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "formats/scene_file.h"
 #include "motion/bvh.h"
 #include "motion/humanoid.h"
 #include "motion/kinematics.h"
@@ -27,11 +28,11 @@ int RenderVideoCommand(const Args& args) {
   for (const auto& [flag, title] :
        {std::pair<std::string, std::string>{"content", "content"}, {"style", "style"}}) {
     if (!args.Has(flag)) continue;
-    absl::StatusOr<motion::Motion> m = motion::ReadBvhFile(args.Get(flag));
+    absl::StatusOr<motion::Motion> m = formats::ReadMotionFile(args.Get(flag));
     if (!m.ok()) return Fail("render", m.status());
     panels.push_back({title, *std::move(m)});
   }
-  absl::StatusOr<motion::Motion> clip = motion::ReadBvhFile(args.positional[0]);
+  absl::StatusOr<motion::Motion> clip = formats::ReadMotionFile(args.positional[0]);
   if (!clip.ok()) return Fail("render", clip.status());
   // The clip itself last: the video runs for its frames; the others loop.
   panels.push_back({panels.empty() ? "clip" : "output", *std::move(clip)});
@@ -80,7 +81,7 @@ int Render(const Argv& argv) {
       "red, right blue; feet green while planted. Any humanoid rig, any up axis.\n"
       "--caption TEXT runs along the bottom (e.g. the model and style). --size\n"
       "defaults to 320 pixels wide per panel by 400; --fps to 30 (at most the\n"
-      "clip's rate).\n";
+      "clip's rate). FILE and the panels may be BVH, FBX, glTF or COLLADA files.\n";
   int code = 0;
   auto args = ParseOrExit(
       "render", argv,
@@ -106,7 +107,7 @@ int Render(const Argv& argv) {
   } else if (view != "side") {
     return Fail("render", absl::InvalidArgumentError("--view must be side, front or top"));
   }
-  absl::StatusOr<motion::Motion> m = motion::ReadBvhFile(args->positional[0]);
+  absl::StatusOr<motion::Motion> m = formats::ReadMotionFile(args->positional[0]);
   if (!m.ok()) return Fail("render", m.status());
   const auto positions = motion::GlobalPositions(*m);
   // Centre on the pelvis and leave out the joints above it (often a static

@@ -191,11 +191,12 @@ int ModelInfo(stylus::Client& client, const Args& a) {
   if (!m.ok()) return Fail("model-info", m.status());
   absl::PrintF(
       "id %s\nfamily %s\nversion %s\ndefault %s\njoints %d\nfps %.3f\nwindow %d\nhop %d\n"
-      "trained_iterations %d\nstreams %s\n",
+      "trained_iterations %d\nstreams %s\nsaved_styles %s\n",
       m->id(), m->family(), m->version(), m->is_default() ? "yes" : "no",
       m->skeleton().joints_size(), m->fps(), m->window(), m->hop(), m->trained_iterations(),
       m->live() ? absl::StrCat("live, lookahead ", m->lookahead(), " frames")
-                : "in windows (offline)");
+                : "in windows (offline)",
+      m->saved_styles().empty() ? "(none)" : absl::StrJoin(m->saved_styles(), ", "));
   return 0;
 }
 

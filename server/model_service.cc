@@ -4,7 +4,8 @@
 namespace stylus::server {
 namespace {
 
-void Describe(const HostedModel& m, const std::string& default_id, v1::ModelInfo* out) {
+void Describe(const HostedModel& m, const std::string& default_id, const StyleBank* styles,
+              v1::ModelInfo* out) {
   const model::DataFiles& p = m.model->data();
   const model::ModelSummary summary = m.model->summary();
   out->set_id(m.id);
@@ -18,6 +19,9 @@ void Describe(const HostedModel& m, const std::string& default_id, v1::ModelInfo
   out->set_is_default(m.id == default_id);
   out->set_live(summary.live);
   out->set_lookahead(summary.lookahead);
+  if (styles != nullptr) {
+    for (const std::string& name : styles->Names(m.id)) out->add_saved_styles(name);
+  }
 }
 
 }  // namespace
@@ -29,7 +33,7 @@ ModelServiceImpl::ModelServiceImpl(ServiceContext* service)
       [this](const v1::ListModelsRequest&, v1::ListModelsResponse* response) {
         const std::string def = service_->registry->default_id();
         for (const HostedModel& m : service_->registry->List())
-          Describe(m, def, response->add_models());
+          Describe(m, def, service_->styles, response->add_models());
         return CallOutcome{absl::OkStatus(), "", 0};
       }));
   ServeUnary(MakeUnaryMethod<v1::GetModelRequest, v1::ModelInfo>(
@@ -37,7 +41,7 @@ ModelServiceImpl::ModelServiceImpl(ServiceContext* service)
       [this](const v1::GetModelRequest& request, v1::ModelInfo* response) {
         absl::StatusOr<HostedModel> m = service_->registry->Get(request.model());
         if (!m.ok()) return CallOutcome{m.status(), request.model(), 0};
-        Describe(*m, service_->registry->default_id(), response);
+        Describe(*m, service_->registry->default_id(), service_->styles, response);
         return CallOutcome{absl::OkStatus(), m->id, 0};
       }));
   ServeUnary(MakeUnaryMethod<v1::LoadModelRequest, v1::ModelInfo>(
@@ -45,7 +49,7 @@ ModelServiceImpl::ModelServiceImpl(ServiceContext* service)
       [this](const v1::LoadModelRequest& request, v1::ModelInfo* response) {
         absl::StatusOr<HostedModel> m = service_->registry->Load(request.model());
         if (!m.ok()) return CallOutcome{m.status(), request.model(), 0};
-        Describe(*m, service_->registry->default_id(), response);
+        Describe(*m, service_->registry->default_id(), service_->styles, response);
         return CallOutcome{absl::OkStatus(), m->id, 0};
       }));
   ServeUnary(MakeUnaryMethod<v1::UnloadModelRequest, v1::UnloadModelResponse>(

@@ -38,6 +38,16 @@ absl::Status StyleBank::Save(const std::string& model_id, const std::string& nam
   return absl::OkStatus();
 }
 
+std::vector<std::string> StyleBank::Names(const std::string& model_id) const {
+  absl::MutexLock lock(&mu_);
+  std::vector<std::string> names;
+  for (auto m = codes_.lower_bound({model_id, ""}); m != codes_.end() && m->first.first == model_id;
+       ++m) {
+    names.push_back(m->first.second);
+  }
+  return names;
+}
+
 absl::StatusOr<model::StyleCode> StyleBank::Get(const std::string& model_id,
                                                 const std::string& name) const {
   absl::MutexLock lock(&mu_);

@@ -9,6 +9,7 @@
 #include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
@@ -29,6 +30,8 @@ class StyleBank {
   // NOT_FOUND names the model and the style, and the models the name is
   // saved for instead, if any.
   absl::StatusOr<model::StyleCode> Get(const std::string& model_id, const std::string& name) const;
+  // The names saved for `model_id`, sorted.
+  std::vector<std::string> Names(const std::string& model_id) const;
 
  private:
   const int max_per_model_;

@@ -69,6 +69,7 @@ check "interpolate files" 0 "mix_0.bvh" -- ls "$work/mix_0.bvh" "$work/mix_1.bvh
 check "stream" 0 "streamed 120 frames at 60.0 fps; got 120 back; latency p50 [0-9.]+ ms, p99 [0-9.]+ ms" -- "$cli" "${s[@]}" stream --content "$walk" --style "$old" --rate 60 -o "$work/stream.bvh"
 check "metrics" 0 '^\{"bone_length_error": .*"foot_skating": .*"trajectory_error": ' -- "$cli" "${s[@]}" metrics --output "$work/out.bvh" --content "$walk" --style "$old"
 check "encode-style --save-as" 0 "144 values; saved as 'old'" -- "$cli" "${s[@]}" encode-style --style "$old" --save-as old
+check "model-info lists saved styles" 0 "saved_styles old" -- "$cli" "${s[@]}" model-info
 check "transfer --style-name" 0 "wrote" -- "$cli" "${s[@]}" transfer --content "$walk" --style-name old -o "$work/named.bvh"
 check "interpolate a saved name with a clip" 0 "wrote .*named_mix_0.bvh \(weights 0.7:0.3\)" -- "$cli" "${s[@]}" interpolate \
   --content "$walk" --style old --style "$run" --weights 0.3 -o "$work/named_mix"

@@ -159,7 +159,7 @@ class Client:
         return reply == b"\x08\x01"
 
     def models(self) -> List[stylus_pb2.ModelInfo]:
-        """Every model the server holds (id, family, skeleton, fps, live, ...)."""
+        """Every model the server holds (id, family, skeleton, fps, live, saved_styles, ...)."""
         return list(self._call("ListModels", stylus_pb2.ListModelsRequest()).models)
 
     def model(self, name: str = "") -> stylus_pb2.ModelInfo:

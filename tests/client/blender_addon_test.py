@@ -1,0 +1,116 @@
+#!/usr/bin/python3
+"""The Blender add-on in real Blender (headless) against a real stylus-server:
+installed from its zip, it restyles a BVH-imported and an FBX-imported
+armature, and each new action must match the stylus CLI's transfer of the
+same clip (rotations within 1e-4 rad). Prints the time the add-on adds.
+
+Usage: blender_addon_test.py STYLUS_SERVER STYLUS_CLI SOURCE_DIR ADDON_ZIP WORK_DIR
+"""
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+server_bin, cli, src, addon_zip, work = sys.argv[1:6]
+ci = os.environ.get("CI") == "true"
+blender = shutil.which("blender")
+rigs = os.path.join(src, "..", "shared", "data", "rigs")
+for need, what in ((blender, "Blender (Debian's blender)"), (os.path.isdir(rigs) or None, rigs)):
+    if not need:
+        print(("FAIL: " if ci else "SKIP: ") + what + " missing" + (" (required under CI)" if ci else ""))
+        sys.exit(1 if ci else 0)
+
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+failures = []
+
+
+def check(name, ok, detail=""):
+    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)))
+    if not ok:
+        failures.append(name)
+
+
+port_file = os.path.join(work, "port")
+log = open(os.path.join(work, "server.log"), "w")
+server = subprocess.Popen([server_bin, "--models", os.path.join(src, "models"), "--listen",
+                           "localhost:0", "--port-file", port_file], stdout=log, stderr=log)
+try:
+    for _ in range(300):
+        if os.path.exists(port_file) and open(port_file).read().strip():
+            break
+        time.sleep(0.1)
+    address = "localhost:" + open(port_file).read().strip()
+    style = os.path.join(src, "samples", "walk_old.bvh")
+    # mocapbank's FBX path is left out: its retargeting is ill-conditioned
+    # (collars in one place, legs stretched straight), so Blender's single-
+    # precision FBX values move its transfer by up to 3e-3 rad at a knee
+    # (docs/notes/pipelines.md).
+    for rig_name, cases in (("mixamo_55joints_30fps", ("bvh", "fbx")),
+                            ("mocapbank_19joints_30fps", ("bvh",))):
+        rig = os.path.join(rigs, rig_name + ".bvh")
+        case_dir = os.path.join(work, rig_name)
+        os.makedirs(case_dir)
+        cli_out = os.path.join(case_dir, "cli.bvh")
+        start = time.monotonic()
+        done = subprocess.run([cli, "--server", address, "transfer", "--content", rig, "--style", style,
+                               "-o", cli_out], capture_output=True, text=True)
+        cli_seconds = time.monotonic() - start
+        check(rig_name + ": CLI transfer", done.returncode == 0, done.stderr)
+        report = os.path.join(case_dir, "report.txt")
+        env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(case_dir, "blender_scripts"))
+        run = subprocess.run([blender, "-b", "--factory-startup", "--python",
+                              os.path.join(src, "tests", "client", "blender_addon_check.py"), "--",
+                              addon_zip, address, rig, style, cli_out, case_dir, report],
+                             capture_output=True, text=True, env=env)
+        with open(os.path.join(case_dir, "blender.log"), "w") as f:
+            f.write(run.stdout + run.stderr)
+        facts = {}
+        if os.path.exists(report):
+            for line in open(report):
+                case, key, value = line.split(" ", 2)
+                facts[(case, key)] = value.strip()
+        frames = None
+        with open(rig) as f:
+            for line in f:
+                if line.startswith("Frames:"):
+                    frames = int(line.split()[1])
+        check(rig_name + ": add-on enabled", facts.get(("addon", "enabled")) == "1",
+              "see " + case_dir + "/blender.log")
+        for case in cases:
+            name = "%s: %s armature" % (rig_name, case)
+            check(name + " restyled", facts.get((case, "result")) == "FINISHED", facts)
+            check(name + " new action <action>.walk_old",
+                  facts.get((case, "new_action"), "").endswith(".walk_old"), facts.get((case, "new_action")))
+            check(name + " original kept", facts.get((case, "original_kept")) == "1")
+            keyed = facts.get((case, "bones_keyed"), "0/1").split("/")
+            check(name + " every bone keyed", keyed[0] == keyed[1], keyed)
+            check(name + " the clip's frames", facts.get((case, "frames")) == str(frames),
+                  (facts.get((case, "frames")), frames))
+            diff = float(facts.get((case, "max_rotation_difference_rad"), "inf"))
+            direction = float(facts.get((case, "max_bone_direction_difference_rad"), "inf"))
+            if case == "bvh":
+                check(name + " rotations as the CLI's (<= 1e-4 rad)", diff <= 1e-4,
+                      (diff, facts.get((case, "worst_bone"))))
+            else:
+                # Through FBX, Blender's exporter and importer may turn a bone
+                # half a turn about its own axis where nothing shows it, and
+                # keep no leaf's rotation (no tail is written without leaf
+                # bones): the directions of bones with a child must agree.
+                check(name + " bone directions as the CLI's (<= 1e-4 rad)", direction <= 1e-4,
+                      (direction, facts.get((case, "worst_direction_bone"))))
+            root = float(facts.get((case, "max_root_difference"), "inf"))
+            check(name + " root as the CLI's", root <= 1e-3, root)
+            total = float(facts.get((case, "seconds_total"), "nan"))
+            print("     %s: %d frames, add-on %.2f s in all; the CLI's transfer %.2f s (server and "
+                  "files); rotations within %.2g rad, bone directions within %.2g rad" % (
+                      name, frames or 0, total, cli_seconds, diff, direction))
+        check(rig_name + ": a missing style file is reported", facts.get(("error", "reported")) == "1")
+finally:
+    server.terminate()
+    server.wait(timeout=30)
+if failures:
+    print("%d FAILED: %s" % (len(failures), ", ".join(failures)))
+    sys.exit(1)
+print("all passed")

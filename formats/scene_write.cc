@@ -68,44 +68,60 @@ aiAnimation* BuildAnimation(const motion::Motion& m, const SceneSkeleton& s, con
   return anim;
 }
 
-// A scene holding the motion's skeleton as nodes at rest and a stick figure:
-// per bone two thin crossed triangles from the parent joint to the child,
-// skinned to both ends, so viewers draw it and importers build an armature.
+// A scene holding the motion's skeleton as nodes at rest, and nothing else.
 std::unique_ptr<aiScene> SkeletonScene(const motion::Motion& m) {
   const motion::Skeleton& sk = m.skeleton;
   const int n = sk.num_joints();
   auto scene = std::make_unique<aiScene>();
   scene->mRootNode = new aiNode("Stylus");
   std::vector<aiNode*> nodes(n);
-  std::vector<Vec3> world(n);
   for (int j = 0; j < n; ++j) {
     nodes[j] = new aiNode(sk.joint(j).name);
     nodes[j]->mTransformation = ToAssimp(Affine{motion::Mat3{}, sk.joint(j).offset});
-    world[j] = sk.joint(j).offset + (j == 0 ? Vec3{} : world[sk.joint(j).parent]);
   }
   for (int j = 0; j < n; ++j) {
     std::vector<aiNode*> kids;
     for (int c : sk.children(j)) kids.push_back(nodes[c]);
     if (!kids.empty()) nodes[j]->addChildren(static_cast<unsigned>(kids.size()), kids.data());
   }
-  auto* figure = new aiNode("stick_figure");
-  figure->mNumMeshes = 1;
-  figure->mMeshes = new unsigned[1]{0};
-  aiNode* top[2] = {nodes[0], figure};
-  scene->mRootNode->addChildren(2, top);
+  scene->mRootNode->addChildren(1, &nodes[0]);
+  return scene;
+}
 
+template <typename T>
+void Append(T*** array, unsigned* count, T* item) {
+  T** grown = new T*[*count + 1];
+  std::copy(*array, *array + *count, grown);
+  grown[*count] = item;
+  delete[] *array;
+  *array = grown;
+  ++*count;
+}
+
+// When no mesh of `scene` is skinned, a stick figure skinned to the
+// skeleton's joints: per bone two thin crossed triangles from the parent
+// joint to the child, so that viewers draw it moving and importers (Blender's
+// among them) build an armature from its skin.
+void AddStickFigure(aiScene* scene, const SceneSkeleton& s) {
+  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
+    if (scene->mMeshes[i]->mNumBones > 0) return;
+  }
+  const int n = static_cast<int>(s.nodes.size());
+  std::vector<Vec3> world(n);
+  for (int j = 0; j < n; ++j) world[j] = s.rest_world[j].translation;
   std::vector<aiVector3D> vertices;
   std::vector<std::vector<aiVertexWeight>> weights(n);
   for (int j = 1; j < n; ++j) {
-    int p = sk.joint(j).parent;
-    Vec3 bone = world[j] - world[p];
-    double length = motion::Norm(bone);
+    const int p = s.parent[j];
+    const Vec3 bone = world[j] - world[p];
+    const double length = motion::Norm(bone);
     if (length < 1e-9) continue;
-    Vec3 dir = bone * (1.0 / length);
-    Vec3 u = motion::Normalized(motion::Cross(dir, std::abs(dir.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0}));
-    Vec3 v = motion::Cross(dir, u);
+    const Vec3 dir = bone * (1.0 / length);
+    const Vec3 u =
+        motion::Normalized(motion::Cross(dir, std::abs(dir.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0}));
+    const Vec3 v = motion::Cross(dir, u);
     for (const Vec3& side : {u, v}) {
-      unsigned base = static_cast<unsigned>(vertices.size());
+      const unsigned base = static_cast<unsigned>(vertices.size());
       vertices.push_back(ToAi(world[p] + side * (0.06 * length)));
       vertices.push_back(ToAi(world[p] - side * (0.06 * length)));
       vertices.push_back(ToAi(world[j]));
@@ -130,20 +146,26 @@ std::unique_ptr<aiScene> SkeletonScene(const motion::Motion& m) {
   mesh->mBones = new aiBone*[n];
   for (int j = 0; j < n; ++j) {
     auto* bone = new aiBone();
-    bone->mName = aiString(sk.joint(j).name);
-    bone->mOffsetMatrix = ToAssimp(Affine{motion::Mat3{}, world[j] * -1.0});
+    bone->mName = s.nodes[j]->mName;
+    // The mesh lies in world space (its node undoes the scene root's
+    // transform): the bind matrix is the joint's world transform at rest.
+    bone->mOffsetMatrix = ToAssimp(Inverse(s.rest_world[j]));
     bone->mNumWeights = static_cast<unsigned>(weights[j].size());
     bone->mWeights = new aiVertexWeight[std::max<size_t>(1, weights[j].size())];
     std::copy(weights[j].begin(), weights[j].end(), bone->mWeights);
     mesh->mBones[j] = bone;
   }
-  scene->mNumMeshes = 1;
-  scene->mMeshes = new aiMesh*[1]{mesh};
-  scene->mNumMaterials = 1;
-  scene->mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  auto* material = new aiMaterial();
   aiString material_name("stick_figure");
-  scene->mMaterials[0]->AddProperty(&material_name, AI_MATKEY_NAME);
-  return scene;
+  material->AddProperty(&material_name, AI_MATKEY_NAME);
+  mesh->mMaterialIndex = scene->mNumMaterials;
+  Append(&scene->mMaterials, &scene->mNumMaterials, material);
+  auto* node = new aiNode("stick_figure");
+  node->mTransformation = ToAssimp(Inverse(FromAssimp(scene->mRootNode->mTransformation)));
+  node->mNumMeshes = 1;
+  node->mMeshes = new unsigned[1]{scene->mNumMeshes};
+  Append(&scene->mMeshes, &scene->mNumMeshes, mesh);
+  scene->mRootNode->addChildren(1, &node);
 }
 
 void ReplaceAnimations(aiScene* scene, aiAnimation* animation) {
@@ -211,33 +233,26 @@ absl::Status WriteMotionFile(const motion::Motion& m, const std::string& path, c
     if (!like.ok()) return like.status();
     like_scene = *like != FileFormat::kBvh;
   }
-  if (!like_scene) {
-    std::unique_ptr<aiScene> scene = SkeletonScene(m);
-    SceneSkeleton s;
-    std::vector<std::string> names;
-    std::vector<int> parents;
-    for (const motion::Joint& j : m.skeleton.joints()) {
-      names.push_back(j.name);
-      parents.push_back(j.parent);
-    }
-    absl::StatusOr<SceneSkeleton> sk = SkeletonByNames(*scene, names, parents, path);
-    if (!sk.ok()) return sk.status();
-    ReplaceAnimations(scene.get(), BuildAnimation(m, *sk, options.animation_name));
-    return Export(*scene, *format, path);
-  }
-  Assimp::Importer importer;
-  absl::StatusOr<const aiScene*> imported = ImportScene(&importer, options.like);
-  if (!imported.ok()) return imported.status();
-  std::unique_ptr<aiScene> scene(importer.GetOrphanedScene());
   std::vector<std::string> names;
   std::vector<int> parents;
   for (const motion::Joint& j : m.skeleton.joints()) {
     names.push_back(j.name);
     parents.push_back(j.parent);
   }
-  absl::StatusOr<SceneSkeleton> sk = SkeletonByNames(*scene, names, parents, options.like);
+  std::unique_ptr<aiScene> scene;
+  Assimp::Importer importer;
+  if (like_scene) {
+    absl::StatusOr<const aiScene*> imported = ImportScene(&importer, options.like);
+    if (!imported.ok()) return imported.status();
+    scene.reset(importer.GetOrphanedScene());
+  } else {
+    scene = SkeletonScene(m);
+  }
+  absl::StatusOr<SceneSkeleton> sk =
+      SkeletonByNames(*scene, names, parents, like_scene ? options.like : path);
   if (!sk.ok()) return sk.status();
   ReplaceAnimations(scene.get(), BuildAnimation(m, *sk, options.animation_name));
+  AddStickFigure(scene.get(), *sk);
   return Export(*scene, *format, path);
 }
 

@@ -107,6 +107,30 @@ try:
                   "files); rotations within %.2g rad, bone directions within %.2g rad" % (
                       name, frames or 0, total, cli_seconds, diff, direction))
         check(rig_name + ": a missing style file is reported", facts.get(("error", "reported")) == "1")
+        # The CLI on the FBX Blender wrote (the check left it in case_dir):
+        # restyled into a glTF that Blender imports with the rig's bones and
+        # the clip's frames.
+        fbx, glb = os.path.join(case_dir, "rig.fbx"), os.path.join(case_dir, "restyled.glb")
+        done = subprocess.run([cli, "--server", address, "transfer", "--content", fbx, "--style", style,
+                               "-o", glb], capture_output=True, text=True)
+        check(rig_name + ": CLI transfer of Blender's FBX to glTF", done.returncode == 0,
+              done.stderr or done.stdout)
+        glb_report = os.path.join(case_dir, "glb.txt")
+        subprocess.run([blender, "-b", "--factory-startup", "--python",
+                        os.path.join(src, "tests", "formats", "blender_check.py"), "--", glb, glb_report,
+                        "0", "30"], capture_output=True, text=True)
+        got = {}
+        if os.path.exists(glb_report):
+            for line in open(glb_report):
+                key, _, value = line.strip().partition(" ")
+                if key in ("armatures", "frames"):
+                    got[key] = int(value)
+                elif key == "head":
+                    got["bones"] = got.get("bones", 0) + 1
+        with open(rig) as f:
+            joints = sum(1 for line in f if line.strip().split()[:1] in (["ROOT"], ["JOINT"]))
+        check(rig_name + ": the glTF imports into Blender with the rig's bones and the clip's frames",
+              got == {"armatures": 1, "frames": frames, "bones": joints}, (got, frames, joints))
 finally:
     server.terminate()
     server.wait(timeout=30)

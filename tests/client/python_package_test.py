@@ -123,6 +123,21 @@ def inside(port, cli, src, work):
     check("the C++ CLI reads the BVH Python wrote", metrics.returncode == 0
           and "foot_skating" in metrics.stdout, metrics.stderr)
 
+    # FBX, glTF and COLLADA come through the CLI's reader: a glTF of the walk.
+    from stylus_client import read_clip
+    glb = os.path.join(work, "walk.glb")
+    subprocess.check_call([cli, "convert", "--in", os.path.join(samples, "walk_normal.bvh"), "-o", glb],
+                          stdout=subprocess.DEVNULL)
+    os.environ["STYLUS_CLI"] = cli
+    from_glb = read_clip(glb)
+    check("read_clip reads a glTF through the CLI", from_glb.joint_names() == walk.joint_names()
+          and len(from_glb.frames) == len(walk.frames), (from_glb.joint_names()[:2], len(from_glb.frames)))
+    try:
+        read_clip(os.path.join(work, "missing.fbx"))
+        check("read_clip names a missing scene file", False)
+    except ValueError as e:
+        check("read_clip names a missing scene file", "missing.fbx" in str(e), e)
+
     blend = stylus.interpolate(walk, [old, run], weights=[0.5, 0.5])
     check("interpolate", len(blend.frames) == len(walk.frames))
     code = stylus.encode_style(old, save_as="old")

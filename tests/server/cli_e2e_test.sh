@@ -75,6 +75,20 @@ check "interpolate a saved name with a clip" 0 "wrote .*named_mix_0.bvh \(weight
   --content "$walk" --style old --style "$run" --weights 0.3 -o "$work/named_mix"
 check "stream --style-name" 0 "streamed 120 frames .*got 120 back" -- "$cli" "${s[@]}" stream --content "$walk" \
   --style-name old --rate 0
+check "convert a BVH to glTF (no server)" 0 "wrote .*walk.glb: 22 joints, 120 frames" -- \
+  "$cli" --server localhost:1 convert --in "$walk" -o "$work/walk.glb"
+check "convert the glTF back" 0 "wrote .*walk_back.bvh: 22 joints, 120 frames" -- \
+  "$cli" convert --in "$work/walk.glb" -o "$work/walk_back.bvh"
+check "transfer a glTF content into a glTF" 0 "wrote .*walk_old.glb \(120 frames\)" -- \
+  "$cli" "${s[@]}" transfer --content "$work/walk.glb" --style "$old" -o "$work/walk_old.glb"
+check "the restyled glTF reads back" 0 "wrote .*walk_old_back.bvh: 22 joints, 120 frames" -- \
+  "$cli" convert --in "$work/walk_old.glb" -o "$work/walk_old_back.bvh"
+check "an FBX output is refused before the call" 1 "-o $work/x.fbx: stylus writes a .bvh, .gltf or .glb file" -- \
+  "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/x.fbx"
+check "an unknown clip type names the ones read" 1 "clip.txt: unknown file type; Stylus reads a .bvh, .fbx, .gltf, .glb or .dae file" -- \
+  "$cli" "${s[@]}" transfer --content "$work/clip.txt" --style "$old" -o "$work/x.bvh"
+check "interpolate writes glTF by the prefix's extension" 0 "wrote .*mix_glb_0.glb" -- \
+  "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0.5 -o "$work/mix_glb.glb"
 check "a missing output folder is refused before the call" 1 "-o $work/no_such_dir/x.bvh: the folder $work/no_such_dir does not exist" -- \
   "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/no_such_dir/x.bvh"
 check "... and for interpolate" 1 "the folder $work/no_such_dir does not exist" -- \

@@ -121,6 +121,8 @@ def restyle(case, arm):
     first, last = (int(round(f)) for f in new.frame_range)
     fact(case, "frames", last - first + 1)
     fact(case, "seconds_total", "%.3f" % total)
+    import stylus_blender
+    fact(case, "seconds_server", "%.3f" % stylus_blender.last_restyle["server_s"])
     return new, first
 
 

@@ -31,6 +31,9 @@ if _VENDOR not in sys.path:
     sys.path.insert(0, _VENDOR)
 
 _saved_styles = []  # (name, name, "") items from the last refresh.
+# What the last restyle did, for scripts: action, frames, seconds in the
+# server call and in all (reading the action, the call, writing keys).
+last_restyle = {}
 
 
 def _saved_style_items(self, context):
@@ -96,6 +99,7 @@ class _Job:
 
     def __init__(self, context):
         from .armature_motion import clip_from_action
+        self.began = time.monotonic()
         settings = context.scene.stylus
         self.armature, self.action = _armature_and_action(context)
         self.first, last = (int(round(f)) for f in self.action.frame_range)
@@ -136,6 +140,9 @@ class _Job:
         new = write_action(self.armature, self.result, name, self.first)
         self.action.use_fake_user = True
         self.armature.animation_data.action = new
+        last_restyle.clear()
+        last_restyle.update(action=new.name, frames=len(self.result.frames),
+                            server_s=self.seconds, total_s=time.monotonic() - self.began)
         return new
 
 

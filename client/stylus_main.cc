@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <set>
@@ -22,6 +24,7 @@
 #include "absl/strings/str_split.h"
 #include "cli/args.h"
 #include "client/client.h"
+#include "client/schedule_file.h"
 #include "formats/scene_file.h"
 #include "motion/bvh.h"
 
@@ -318,6 +321,28 @@ int Interpolate(stylus::Client& client, const Args& a) {
   if (absl::Status w = CheckWritable(prefix + extension, "-o"); !w.ok()) {
     return Fail("interpolate", w);
   }
+  if (a.Has("schedule")) {
+    // One output, its weights per frame from the schedule's keyframes.
+    if (a.Has("weights")) {
+      return Fail("interpolate", absl::InvalidArgumentError("give --weights or --schedule, not both"));
+    }
+    std::ifstream in(a.Get("schedule"));
+    if (!in) {
+      return Fail("interpolate", absl::NotFoundError(absl::StrCat("--schedule ", a.Get("schedule"),
+                                                                  ": cannot open")));
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    auto schedule = stylus::ParseSchedule(text.str(), a.Get("schedule"),
+                                          static_cast<int>(styles.size()), content->num_frames);
+    if (!schedule.ok()) return Fail("interpolate", schedule.status());
+    auto out = client.Interpolate(*content, styles, {}, *schedule, *opts);
+    if (!out.ok()) return Fail("interpolate", out.status());
+    const std::string path = prefix + extension;
+    if (absl::Status s = Write(*out, path, a); !s.ok()) return Fail("interpolate", s);
+    absl::PrintF("wrote %s (weights per frame from %s)\n", path, a.Get("schedule"));
+    return 0;
+  }
   std::vector<std::vector<double>> mixes;
   for (absl::string_view group : absl::StrSplit(a.Get("weights"), ',', absl::SkipEmpty())) {
     std::vector<double> mix;
@@ -338,7 +363,8 @@ int Interpolate(stylus::Client& client, const Args& a) {
     mixes.push_back(mix);
   }
   if (mixes.empty()) {
-    return Fail("interpolate", absl::InvalidArgumentError("--weights is required, e.g. 0,0.5,1"));
+    return Fail("interpolate", absl::InvalidArgumentError(
+                                   "--weights (e.g. 0,0.5,1) or --schedule FILE is required"));
   }
   for (size_t i = 0; i < mixes.size(); ++i) {
     auto out = client.Interpolate(*content, styles, mixes[i], {}, *opts);
@@ -531,14 +557,19 @@ const std::vector<Command>& Commands() {
        Transfer},
       {"interpolate",
        "restyle a clip with blends of styles",
-       "--content C.bvh --style A --style B [--style ...] --weights W -o PREFIX[.EXT]\n\n"
+       "--content C.bvh --style A --style B [--style ...] (--weights W | --schedule FILE)\n"
+       "       -o PREFIX[.EXT]\n\n"
        "  --style A                a style clip (A.bvh, .fbx, .glb...) or a saved style's name\n"
        "  -o PREFIX[.EXT]          writes PREFIX_0.EXT, PREFIX_1.EXT... (EXT: bvh, gltf\n"
-       "                           or glb; default bvh)\n"
+       "                           or glb; default bvh); with --schedule, PREFIX.EXT\n"
+       "  --schedule FILE          weights that change over the clip: keyframe lines\n"
+       "                           'FRAME W1 W2 ...' (one weight per --style), linear\n"
+       "                           between keyframes, held before the first and after\n"
+       "                           the last; '#' starts a comment\n"
        "  --weights 0,0.5,1        one output per weight of the first style against\n"
        "                           the second (two styles), or\n"
        "  --weights w1:w2:...,...  one mix per comma-separated group",
-       {"content", "style", "out", "weights"},
+       {"content", "style", "out", "weights", "schedule"},
        true,
        Interpolate},
       {"stream",

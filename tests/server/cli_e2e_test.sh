@@ -89,6 +89,14 @@ check "an unknown clip type names the ones read" 1 "clip.txt: unknown file type;
   "$cli" "${s[@]}" transfer --content "$work/clip.txt" --style "$old" -o "$work/x.bvh"
 check "interpolate writes glTF by the prefix's extension" 0 "wrote .*mix_glb_0.glb" -- \
   "$cli" "${s[@]}" interpolate --content "$walk" --style "$old" --style "$run" --weights 0.5 -o "$work/mix_glb.glb"
+printf '# the walk turns old, then runs\n0 1 0 0\n40 0 1 0\n100 0 0 1\n' > "$work/schedule.txt"
+check "interpolate --schedule" 0 "wrote .*scheduled.bvh \(weights per frame from .*schedule.txt\)" -- \
+  "$cli" "${s[@]}" interpolate --content "$walk" --style "$walk" --style "$old" --style "$run" \
+  --schedule "$work/schedule.txt" -o "$work/scheduled"
+printf '0 1 0\n' > "$work/bad_schedule.txt"
+check "a schedule with too few weights names its line" 1 "bad_schedule.txt:1: 2 weights for 3 styles" -- \
+  "$cli" "${s[@]}" interpolate --content "$walk" --style "$walk" --style "$old" --style "$run" \
+  --schedule "$work/bad_schedule.txt" -o "$work/x"
 check "a missing output folder is refused before the call" 1 "-o $work/no_such_dir/x.bvh: the folder $work/no_such_dir does not exist" -- \
   "$cli" "${s[@]}" transfer --content "$walk" --style "$old" -o "$work/no_such_dir/x.bvh"
 check "... and for interpolate" 1 "the folder $work/no_such_dir does not exist" -- \

@@ -157,6 +157,19 @@ absl::flat_hash_map<std::string, Affine> BindPoses(const aiScene& scene) {
   return bind;
 }
 
+void FillEndSites(SceneSkeleton* s) {
+  absl::flat_hash_set<const aiNode*> joints(s->nodes.begin(), s->nodes.end());
+  s->end_sites.assign(s->nodes.size(), {});
+  for (size_t j = 0; j < s->nodes.size(); ++j) {
+    const aiNode* node = s->nodes[j];
+    for (unsigned c = 0; c < node->mNumChildren; ++c) {
+      const aiNode* child = node->mChildren[c];
+      if (joints.contains(child) || child->mNumChildren > 0 || child->mNumMeshes > 0) continue;
+      s->end_sites[j].push_back((s->rest_world[j] * FromAssimp(child->mTransformation)).translation);
+    }
+  }
+}
+
 void FillRest(const aiScene& scene, SceneSkeleton* s) {
   s->above_root = ParentWorld(s->nodes[0]);
   absl::flat_hash_map<std::string, Affine> bind = BindPoses(scene);
@@ -167,6 +180,7 @@ void FillRest(const aiScene& scene, SceneSkeleton* s) {
     s->rest_world.push_back(world);
     s->rest_local.push_back(Inverse(up) * world);
   }
+  FillEndSites(s);
 }
 
 // True when `channel` holds its node still at the node's own transform (an

@@ -46,6 +46,10 @@ struct SceneSkeleton {
   Affine above_root;                  // World transform of the root's parent.
   std::vector<Affine> rest_world;     // Each joint's world transform at rest.
   std::vector<Affine> rest_local;     // Each node's own transform.
+  // Per joint, its leaf children that are no joints (nothing moves them, no
+  // mesh, no children: the "_end" bones Blender's FBX writer adds), at rest
+  // in world space: what BVH calls End Sites.
+  std::vector<std::vector<motion::Vec3>> end_sites;
 };
 
 // The joints of `scene`: the nodes `animation` moves and the bones of its

@@ -197,6 +197,7 @@ absl::StatusOr<motion::Motion> ReadMotionFile(const std::string& path, const Rea
     using motion::Channel;
     if (moves_position[j]) joint.channels = {Channel::kXposition, Channel::kYposition, Channel::kZposition};
     joint.channels.insert(joint.channels.end(), {Channel::kZrotation, Channel::kXrotation, Channel::kYrotation});
+    for (const Vec3& site : s.end_sites[j]) joint.end_sites.push_back(site - s.rest_world[j].translation);
   }
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {

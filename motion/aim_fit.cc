@@ -11,6 +11,23 @@ namespace {
 
 constexpr double kTiny = 1e-9;
 
+// True when the differences' directions, both as they are and as wanted,
+// span a plane (two of them at least ~6 degrees apart): then they fix a
+// rotation, else its turn about their common line is left to rounding.
+bool Spans(const std::vector<std::pair<Vec3, Vec3>>& diffs) {
+  auto spans = [&](bool wanted) {
+    for (size_t a = 0; a < diffs.size(); ++a) {
+      for (size_t b = a + 1; b < diffs.size(); ++b) {
+        const Vec3 x = wanted ? diffs[a].second : Normalized(diffs[a].first);
+        const Vec3 y = wanted ? diffs[b].second : Normalized(diffs[b].first);
+        if (Norm(Cross(x, y)) > 0.1) return true;
+      }
+    }
+    return false;
+  };
+  return spans(false) && spans(true);
+}
+
 }  // namespace
 
 AimPlan::AimPlan(const Skeleton& skeleton, const RigRoles& roles, const std::vector<char>& targeted)
@@ -160,14 +177,32 @@ void AimPlan::Fit(const AimTargets& targets, LocalPose* pose) const {
       // the differences between them, which do not depend on where the
       // joint itself sits among them (rigs place hip joints lower or wider
       // below the pelvis; the line between them still runs left-right).
-      std::vector<std::pair<Vec3, Vec3>> diffs;
-      for (size_t a = 0; a < used.size(); ++a) {
-        for (size_t b = a + 1; b < used.size(); ++b) {
-          const Vec3 v =
-              Rotate(wr[j], OffsetFrom(j, used[a], *pose) - OffsetFrom(j, used[b], *pose));
-          const Vec3 w = targets.position[used[a]] - targets.position[used[b]];
-          if (Norm(v) > kTiny && Norm(w) > kTiny) diffs.push_back({v, Normalized(w)});
+      auto differences = [&](const std::vector<int>& aims) {
+        std::vector<std::pair<Vec3, Vec3>> diffs;
+        for (size_t a = 0; a < aims.size(); ++a) {
+          for (size_t b = a + 1; b < aims.size(); ++b) {
+            const Vec3 v =
+                Rotate(wr[j], OffsetFrom(j, aims[a], *pose) - OffsetFrom(j, aims[b], *pose));
+            const Vec3 w = targets.position[aims[a]] - targets.position[aims[b]];
+            if (Norm(v) > kTiny && Norm(w) > kTiny) diffs.push_back({v, Normalized(w)});
+          }
         }
+        return diffs;
+      };
+      std::vector<std::pair<Vec3, Vec3>> diffs = differences(used);
+      if (!Spans(diffs)) {
+        // The aims sit on one line (a rig whose two clavicles share one
+        // place): the turn about it is left to rounding. The targeted
+        // joints one step further (the upper arms beyond the clavicles)
+        // say it.
+        std::vector<int> further = used;
+        for (int a : used) {
+          if (a >= n) continue;
+          for (int b : aims_[a]) {
+            if (b < n && targets.has[b]) further.push_back(b);
+          }
+        }
+        diffs = differences(further);
       }
       q = BestRotation(diffs.size() >= 2 ? diffs : pairs);
     }

@@ -3,7 +3,10 @@ restyles a BVH-imported and an FBX-imported armature through a real server;
 each new action is compared with the stylus CLI's transfer of the same clip.
 
 blender -b --factory-startup --python blender_addon_check.py -- \
-    ADDON.zip SERVER RIG.bvh STYLE.bvh CLI_OUT.bvh WORK_DIR REPORT.txt
+    ADDON.zip SERVER RIG.bvh STYLE.bvh CLI_OUT.bvh RIG.fbx CLI_FBX_OUT.bvh WORK_DIR REPORT.txt
+
+RIG.fbx is Blender's own export of RIG.bvh (tests/formats/blender_export.py);
+CLI_OUT.bvh and CLI_FBX_OUT.bvh are the stylus CLI's transfers of the two.
 
 REPORT.txt gets one line per fact: "<case> <key> <value>".
 """
@@ -16,7 +19,7 @@ import time
 import bpy
 
 argv = sys.argv[sys.argv.index("--") + 1:]
-addon_zip, server, rig, style, cli_out, work, report_path = argv
+addon_zip, server, rig, style, cli_out, rig_fbx, cli_fbx_out, work, report_path = argv
 report = open(report_path, "w")
 
 
@@ -135,21 +138,17 @@ arm = import_bvh_file(rig)
 new, first = restyle("bvh", arm)
 compare("bvh", arm, reference, first, ref_first, ref_frames)
 
-# An FBX written by Blender's own exporter from the same rig, imported back.
-fbx = os.path.join(work, "rig.fbx")
-for o in bpy.context.selected_objects:
-    o.select_set(False)
-arm.animation_data.action = bpy.data.actions[new.name.rsplit(".", 1)[0]]
-arm.select_set(True)
-bpy.context.view_layer.objects.active = arm
-bpy.ops.export_scene.fbx(filepath=fbx, use_selection=True, add_leaf_bones=False, bake_anim=True,
-                         bake_anim_use_all_actions=False, bake_anim_use_nla_strips=False,
-                         bake_anim_simplify_factor=0.0)
+# The FBX Blender wrote from the same rig, imported: against the CLI's
+# transfer of that FBX file (the same clip, as Blender and assimp read it).
+fbx_reference = import_bvh_file(cli_fbx_out)
+fbx_ref_first = int(round(fbx_reference.animation_data.action.frame_range[0]))
 before = set(bpy.data.objects)
-bpy.ops.import_scene.fbx(filepath=fbx)
+# Blender's "_end" leaf bones become the leaf bones' tails, as the CLI's
+# reader makes them End Sites.
+bpy.ops.import_scene.fbx(filepath=rig_fbx, ignore_leaf_bones=True)
 fbx_arm = next(o for o in bpy.data.objects if o not in before and o.type == "ARMATURE")
 new, first = restyle("fbx", fbx_arm)
-compare("fbx", fbx_arm, reference, first, ref_first, ref_frames)
+compare("fbx", fbx_arm, fbx_reference, first, fbx_ref_first, ref_frames)
 
 # Errors are reported, not raised: a style file that does not exist.
 bpy.context.scene.stylus.style_file = os.path.join(work, "missing.bvh")

@@ -33,7 +33,7 @@ scene = bpy.context.scene
 scene.frame_start, scene.frame_end = first, last
 scene.frame_set(first)
 
-fbx = dict(add_leaf_bones=False, bake_anim=True, bake_anim_use_all_actions=False,
+fbx = dict(add_leaf_bones=True, bake_anim=True, bake_anim_use_all_actions=False,
            bake_anim_use_nla_strips=False, bake_anim_simplify_factor=0.0)
 bpy.ops.export_scene.fbx(filepath=os.path.join(out_dir, stem + ".fbx"), **fbx)
 gltf = dict(export_animations=True, export_force_sampling=True, export_frame_range=True)

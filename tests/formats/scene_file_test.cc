@@ -138,6 +138,29 @@ TEST_F(SceneFileTest, BlenderExportsReadAsTheBvh) {
       std::printf("%s%s: %d joints, %d frames, max error %.2e of the leg\n", Stem(bvh).c_str(), ext,
                   read.skeleton.num_joints(), read.num_frames, error);
       EXPECT_LT(error, 1e-3) << ext;
+      if (std::string(ext) == ".fbx") {
+        // Blender's leaf bones ("_end") come back as the BVH's End Sites.
+        double worst = 0;
+        int sites = 0;
+        for (int f = 0; f < reference.num_frames; f += 10) {
+          const motion::GlobalPose a = motion::ForwardKinematics(reference.skeleton, motion::PoseAt(reference, f));
+          const motion::GlobalPose b = motion::ForwardKinematics(read.skeleton, motion::PoseAt(read, f));
+          for (int j = 0; j < reference.skeleton.num_joints(); ++j) {
+            const motion::Joint& want = reference.skeleton.joint(j);
+            const int k = *read.skeleton.Find(want.name);
+            ASSERT_EQ(read.skeleton.joint(k).end_sites.size(), want.end_sites.size()) << want.name;
+            for (size_t e = 0; e < want.end_sites.size(); ++e) {
+              const Vec3 pa = a.positions[j] + motion::Rotate(a.rotations[j], want.end_sites[e]);
+              const Vec3 pb = b.positions[k] + motion::Rotate(b.rotations[k], read.skeleton.joint(k).end_sites[e]);
+              worst = std::max(worst, motion::Norm(pa - pb));
+              sites += f == 0;
+            }
+          }
+        }
+        std::printf("  %d End Sites from the FBX's leaf bones, within %.2e of the leg\n", sites,
+                    worst / LegOf(reference));
+        EXPECT_LT(worst / LegOf(reference), 2e-3) << sites << " End Sites";
+      }
       // A zero pose is the file's rest pose: the skeleton's offsets are the
       // BVH's bone vectors (Blender's glTF writes the rest pose in its nodes).
       if (std::string(ext) == ".glb" || std::string(ext) == ".gltf") {

@@ -3,10 +3,12 @@ restyles a BVH-imported and an FBX-imported armature through a real server;
 each new action is compared with the stylus CLI's transfer of the same clip.
 
 blender -b --factory-startup --python blender_addon_check.py -- \
-    ADDON.zip SERVER RIG.bvh STYLE.bvh CLI_OUT.bvh RIG.fbx CLI_FBX_OUT.bvh WORK_DIR REPORT.txt
+    ADDON.zip SERVER RIG.bvh STYLE.bvh CLI_OUT.bvh RIG.fbx CLI_FBX_OUT.bvh RIG.glb CLI_GLB_OUT.bvh \
+    WORK_DIR REPORT.txt
 
-RIG.fbx is Blender's own export of RIG.bvh (tests/formats/blender_export.py);
-CLI_OUT.bvh and CLI_FBX_OUT.bvh are the stylus CLI's transfers of the two.
+RIG.fbx and RIG.glb are Blender's own exports of RIG.bvh
+(tests/formats/blender_export.py); the CLI_*OUT.bvh files are the stylus
+CLI's transfers of the three.
 
 REPORT.txt gets one line per fact: "<case> <key> <value>".
 """
@@ -19,7 +21,8 @@ import time
 import bpy
 
 argv = sys.argv[sys.argv.index("--") + 1:]
-addon_zip, server, rig, style, cli_out, rig_fbx, cli_fbx_out, work, report_path = argv
+(addon_zip, server, rig, style, cli_out, rig_fbx, cli_fbx_out, rig_glb, cli_glb_out, work,
+ report_path) = argv
 report = open(report_path, "w")
 
 
@@ -138,17 +141,25 @@ arm = import_bvh_file(rig)
 new, first = restyle("bvh", arm)
 compare("bvh", arm, reference, first, ref_first, ref_frames)
 
-# The FBX Blender wrote from the same rig, imported: against the CLI's
-# transfer of that FBX file (the same clip, as Blender and assimp read it).
-fbx_reference = import_bvh_file(cli_fbx_out)
-fbx_ref_first = int(round(fbx_reference.animation_data.action.frame_range[0]))
-before = set(bpy.data.objects)
-# Blender's "_end" leaf bones become the leaf bones' tails, as the CLI's
-# reader makes them End Sites.
-bpy.ops.import_scene.fbx(filepath=rig_fbx, ignore_leaf_bones=True)
-fbx_arm = next(o for o in bpy.data.objects if o not in before and o.type == "ARMATURE")
-new, first = restyle("fbx", fbx_arm)
-compare("fbx", fbx_arm, fbx_reference, first, fbx_ref_first, ref_frames)
+# The FBX and the glTF Blender wrote from the same rig, imported: against
+# the CLI's transfer of the same file (as Blender and assimp read it).
+import numpy  # noqa: E402
+if not hasattr(numpy, "bool"):  # Debian's Blender 3.4 glTF importer on numpy 1.24
+    numpy.bool = bool
+for case, path, reference_path in (("fbx", rig_fbx, cli_fbx_out), ("gltf", rig_glb, cli_glb_out)):
+    scene_reference = import_bvh_file(reference_path)
+    scene_ref_first = int(round(scene_reference.animation_data.action.frame_range[0]))
+    before = set(bpy.data.objects)
+    if case == "fbx":
+        # Blender's "_end" leaf bones become the leaf bones' tails, as the
+        # CLI's reader makes them End Sites.
+        bpy.ops.import_scene.fbx(filepath=path, ignore_leaf_bones=True)
+    else:
+        # Keyed at the scene's rate, which the BVH imports set to the rig's.
+        bpy.ops.import_scene.gltf(filepath=path)
+    imported = next(o for o in bpy.data.objects if o not in before and o.type == "ARMATURE")
+    new, first = restyle(case, imported)
+    compare(case, imported, scene_reference, first, scene_ref_first, ref_frames)
 
 # Errors are reported, not raised: a style file that does not exist.
 bpy.context.scene.stylus.style_file = os.path.join(work, "missing.bvh")

@@ -69,6 +69,13 @@ check "train --channels" 0 "model written to $work/narrow" -- "$tool" train --da
 check "train --channels in the package" 0 "^channels = 24$" -- cat "$work/narrow/config.txt"
 check "the narrow package transfers" 0 "wrote .*narrow_out.bvh" -- "$tool" transfer --model "$work/narrow" \
   --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/narrow_out.bvh" --threads 1
+check "transfer writes glTF by -o's extension" 0 "wrote .*narrow_out.glb" -- "$tool" transfer \
+  --model "$work/narrow" --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/narrow_out.glb" --threads 1
+check "a glTF content transfers" 0 "wrote .*from_glb.bvh" -- "$tool" transfer --model "$work/narrow" \
+  --content "$work/narrow_out.glb" --style "$work/proud.bvh" -o "$work/from_glb.bvh" --threads 1
+check "rig-info reads a glTF" 0 "(22 joints)" -- "$tool" rig-info --model "$work/narrow" "$work/narrow_out.glb"
+check "an FBX output is refused before the work" 1 "-o $work/x.fbx: stylus-tool writes a .bvh, .gltf or .glb file" -- \
+  "$tool" transfer --model "$work/narrow" --content "$work/old.bvh" --style "$work/proud.bvh" -o "$work/x.fbx"
 # Style timing: a walk at a step every 0.48 s restyled by one stepping every 0.69 s.
 "$tool" synth --style "normal,frames=90,speed=130,stride=125" -o "$work/quick.bvh" >/dev/null
 "$tool" synth --style "old,frames=90,speed=80,stride=110" -o "$work/slow.bvh" >/dev/null

@@ -123,6 +123,11 @@ def inside(port, cli, src, work):
     check("the C++ CLI reads the BVH Python wrote", metrics.returncode == 0
           and "foot_skating" in metrics.stdout, metrics.stderr)
 
+    try:
+        write_bvh(out, os.path.join(work, "no_such_dir", "x.bvh"))
+        check("write_bvh names a missing folder", False)
+    except FileNotFoundError as e:
+        check("write_bvh names a missing folder", "no_such_dir does not exist" in str(e), e)
     # FBX, glTF and COLLADA come through the CLI's reader: a glTF of the walk.
     from stylus_client import read_clip
     glb = os.path.join(work, "walk.glb")

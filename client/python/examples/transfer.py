@@ -8,10 +8,11 @@ Writes OUT.bvh (the transfer, on CONTENT's own rig) and prints the live
 stream's latency.
 """
 import argparse
+import os
 import statistics
 import sys
 
-from stylus_client import Client, StylusError, read_bvh, write_bvh
+from stylus_client import Client, StylusError, read_clip, write_bvh
 
 
 def main() -> int:
@@ -23,7 +24,10 @@ def main() -> int:
     parser.add_argument("--token", default=None)
     parser.add_argument("--tls-ca", default=None, help="a CA file, or 'system'; turns TLS on")
     args = parser.parse_args()
-    content, style = read_bvh(args.content), read_bvh(args.style)
+    folder = os.path.dirname(os.path.abspath(args.out))
+    if not os.path.isdir(folder):  # Before the call, so that no work is lost.
+        parser.error("%s: the folder %s does not exist; create it first" % (args.out, folder))
+    content, style = read_clip(args.content), read_clip(args.style)
     try:
         with Client(args.server, token=args.token, tls_ca=args.tls_ca) as stylus:
             print("server:", "SERVING" if stylus.health() else "NOT SERVING")

@@ -274,6 +274,8 @@ def format_bvh(clip: Clip) -> str:
 def write_bvh(clip: Clip, path: str) -> None:
     """Writes ``clip`` to ``path`` through a temporary file renamed into place."""
     directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise FileNotFoundError("%s: the folder %s does not exist; create it first" % (path, directory))
     fd, tmp = tempfile.mkstemp(dir=directory, suffix=".tmp")
     try:
         with os.fdopen(fd, "w") as f:

@@ -81,6 +81,12 @@ Client::Client(const ClientOptions& options) : options_(options) {
   // ipv4:a:p,b:q) gets calls in turn; a call refused UNAVAILABLE (a server
   // shutting down, or gone before it answered) is tried again on another.
   args.SetServiceConfigJSON(kServiceConfig);
+  if (options.max_reconnect_backoff_ms > 0) {
+    args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS,
+                std::min(100, options.max_reconnect_backoff_ms));
+    args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, std::min(100, options.max_reconnect_backoff_ms));
+    args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, options.max_reconnect_backoff_ms);
+  }
   channel_ = grpc::CreateCustomChannel(options.address, credentials, args);
   models_ = v1::ModelService::NewStub(channel_);
   styles_ = v1::StyleService::NewStub(channel_);

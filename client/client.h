@@ -9,6 +9,7 @@
 #define STYLUS_CLIENT_CLIENT_H_
 
 #include <chrono>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -50,6 +51,10 @@ struct ClientOptions {
   // (a server started with --auth-tokens).
   std::string token;
   TlsOptions tls;  // Off: plain text.
+  // The longest wait between attempts to reach a server that went away
+  // (gRPC's default grows to 2 minutes; a stage bridge wants a server back
+  // within a second of its restart). 0: gRPC's default.
+  int max_reconnect_backoff_ms = 0;
 };
 
 struct CallOptions {
@@ -102,6 +107,9 @@ struct StreamResult {
 
 absl::Status FromGrpcStatus(const grpc::Status& status);
 
+class LiveStream;
+struct LiveStreamConfig;
+
 class Client {
  public:
   explicit Client(const ClientOptions& options);
@@ -133,6 +141,11 @@ class Client {
   absl::StatusOr<StreamResult> Stream(const motion::Motion& content, const Style& style,
                                       double rate, const CallOptions& options = {},
                                       const std::vector<StreamChange>& changes = {});
+  // A stream the caller feeds frame by frame (client/live_stream.h): the
+  // config is sent at once; an error here is the server refusing it.
+  absl::StatusOr<std::unique_ptr<LiveStream>> OpenStream(
+      const LiveStreamConfig& config,
+      std::function<void(int64_t index, const double* values)> on_frame);
   absl::StatusOr<std::map<std::string, double>> ComputeMetrics(const motion::Motion& output,
                                                                const motion::Motion* content,
                                                                const motion::Motion* style);

@@ -37,5 +37,6 @@ rule "no family is named outside its folder" '#include "model/(contrastive|cycli
 rule "file formats (assimp) only in formats/" '#include <assimp/' \
   server client wire cli motion model train eval tool
 rule "server/, wire/ and model/ read no file formats" '#include "formats/' server wire model
-echo "layering: $((9 - failures)) passed, $failures failed"
+rule "OSC (liblo) only in bridge/" '#include <lo/' server client wire cli motion model train eval tool formats
+echo "layering: $((10 - failures)) passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -1,0 +1,455 @@
+#include "bridge/bridge.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <utility>
+
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+#include "formats/scene_file.h"
+#include "spdlog/spdlog.h"
+
+namespace stylus::bridge {
+
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr int kRing = 512;  // Input frames kept for fades and holds.
+
+// Blends two rows on one skeleton: rotations by slerp, the root's position
+// linearly; w = 0 gives `a`.
+std::vector<double> Blend(const motion::Skeleton& sk, const double* a, const double* b, double w) {
+  motion::Motion one = motion::RestMotion(sk, 2, 1.0 / 30);
+  std::copy(a, a + sk.num_channels(), one.frame(0));
+  std::copy(b, b + sk.num_channels(), one.frame(1));
+  motion::LocalPose pa = motion::PoseAt(one, 0), pb = motion::PoseAt(one, 1);
+  for (int j = 0; j < sk.num_joints(); ++j) {
+    pa.rotations[j] = motion::Slerp(pa.rotations[j], pb.rotations[j], w);
+    pa.translations[j] = pa.translations[j] + (pb.translations[j] - pa.translations[j]) * w;
+  }
+  std::vector<motion::Vec3> euler(sk.num_joints());
+  motion::SetPose(&one, 0, pa, &euler);
+  return std::vector<double>(one.frame(0), one.frame(0) + sk.num_channels());
+}
+
+lo_address ParseAddress(const std::string& host_port) {
+  std::vector<std::string> parts = absl::StrSplit(host_port, absl::MaxSplits(':', 1));
+  int port = 0;
+  if (parts.size() != 2 || parts[0].empty() || !absl::SimpleAtoi(parts[1], &port) || port <= 0 ||
+      port > 65535) {
+    return nullptr;
+  }
+  return lo_address_new(parts[0].c_str(), parts[1].c_str());
+}
+
+}  // namespace
+
+struct Bridge::Performer {
+  std::string source;
+  VmcSkeleton skeleton;
+  lo_address out = nullptr;
+  absl::Mutex mu;
+  std::unique_ptr<LiveStream> stream;
+  int64_t taken = 0;          // Input frames taken (the bridge's own index).
+  int64_t stream_first = 0;   // `taken` when the current stream opened.
+  bool fade_in = false;       // The current stream follows a failure: fade it in.
+  struct Input {
+    std::vector<double> row;
+    VmcTransform root;
+    double time = 0;
+  };
+  std::vector<Input> ring = std::vector<Input>(kRing);
+  std::vector<double> last_out;
+  VmcTransform last_root;
+  double last_time = -1;
+  Clock::time_point next_attempt = Clock::now();
+  double backoff_s = 0.05;
+  bool ever_streamed = false;
+  bool usable = true;  // False: no humanoid skeleton to stream; passed through.
+  int64_t last_sent = -1;  // The newest input frame the engine has had.
+};
+
+Bridge::Bridge(BridgeOptions options) : options_(std::move(options)) {
+  ClientOptions c = options_.client;
+  if (c.max_reconnect_backoff_ms == 0) c.max_reconnect_backoff_ms = 500;
+  client_ = std::make_unique<Client>(c);
+}
+
+Bridge::~Bridge() { Stop(); }
+
+absl::Status Bridge::Start() {
+  if (options_.vmc_out.empty()) {
+    return absl::InvalidArgumentError("--vmc-out HOST:PORT is required (the engine's VMC receiver)");
+  }
+  for (const std::string& out : options_.vmc_out) {
+    lo_address a = ParseAddress(out);
+    if (a == nullptr) {
+      return absl::InvalidArgumentError(absl::StrCat("--vmc-out ", out, ": expected HOST:PORT"));
+    }
+    lo_address_free(a);
+  }
+  server_ = lo_server_new_with_proto(std::to_string(options_.vmc_in_port).c_str(), LO_UDP, nullptr);
+  if (server_ == nullptr) {
+    return absl::UnavailableError(
+        absl::StrCat("--vmc-in ", options_.vmc_in_port, ": cannot bind the UDP port (in use?)"));
+  }
+  port_ = lo_server_get_port(server_);
+  lo_server_add_method(server_, nullptr, nullptr, &Bridge::OnMessage, this);
+  lo_server_add_bundle_handlers(server_, &Bridge::OnBundleStart, &Bridge::OnBundleEnd, this);
+  receiver_ = std::thread([this] { ReceiveLoop(); });
+  return absl::OkStatus();
+}
+
+void Bridge::Stop() {
+  if (stop_.exchange(true)) return;
+  if (receiver_.joinable()) receiver_.join();
+  std::map<std::string, std::unique_ptr<Performer>> performers;
+  {
+    absl::MutexLock lock(&mu_);
+    performers.swap(performers_);
+  }
+  for (auto& [source, p] : performers) {
+    std::unique_ptr<LiveStream> stream;
+    {
+      absl::MutexLock lock(&p->mu);
+      stream = std::move(p->stream);
+    }
+    if (stream) stream->Close().IgnoreError();  // Outside p->mu: its callback takes it.
+    if (p->out) lo_address_free(p->out);
+  }
+  if (server_) lo_server_free(server_);
+  server_ = nullptr;
+}
+
+BridgeStats Bridge::stats() const {
+  absl::MutexLock lock(&mu_);
+  return stats_;
+}
+
+void Bridge::ReceiveLoop() {
+  while (!stop_.load()) lo_server_recv_noblock(server_, 20);
+}
+
+int Bridge::OnBundleStart(lo_timetag, void* self) {
+  static_cast<Bridge*>(self)->in_bundle_ = true;
+  return 0;
+}
+
+int Bridge::OnBundleEnd(void* self) {
+  Bridge* b = static_cast<Bridge*>(self);
+  b->in_bundle_ = false;
+  auto it = b->pending_.find(b->bundle_source_);
+  if (it != b->pending_.end() && !it->second.bones.empty()) {
+    VmcFrame frame = std::move(it->second);
+    b->pending_.erase(it);
+    b->OnFrame(b->bundle_source_, std::move(frame));
+  }
+  return 0;
+}
+
+int Bridge::OnMessage(const char* path, const char* types, lo_arg** argv, int argc, lo_message msg,
+                      void* self) {
+  Bridge* b = static_cast<Bridge*>(self);
+  lo_address from = lo_message_get_source(msg);
+  const std::string source = from == nullptr ? "?"
+                                             : absl::StrCat(lo_address_get_hostname(from), ":",
+                                                            lo_address_get_port(from));
+  auto malformed = [&] {
+    absl::MutexLock lock(&b->mu_);
+    ++b->stats_.malformed;
+    return 0;
+  };
+  auto floats = [&](int from_arg, int n, float* out) {
+    for (int i = 0; i < n; ++i) {
+      const char t = types[from_arg + i];
+      if (t == 'f') {
+        out[i] = argv[from_arg + i]->f;
+      } else if (t == 'd') {
+        out[i] = static_cast<float>(argv[from_arg + i]->d);
+      } else {
+        return false;
+      }
+    }
+    return true;
+  };
+  const std::string p = path;
+  if (p == "/stylus/style" && argc == 1 && types[0] == 's') {
+    b->ChangeStyle(&argv[0]->s);
+    return 0;
+  }
+  if (p == "/stylus/strength" && argc == 1 && (types[0] == 'f' || types[0] == 'd')) {
+    b->ChangeStrength(types[0] == 'f' ? argv[0]->f : argv[0]->d);
+    return 0;
+  }
+  b->bundle_source_ = source;
+  if (p == "/VMC/Ext/Root/Pos" || p == "/VMC/Ext/Bone/Pos") {
+    float pq[7];
+    if (argc < 8 || types[0] != 's' || !floats(1, 7, pq)) return malformed();
+    const VmcTransform t = FromUnity(pq, pq + 3);
+    VmcFrame& frame = b->pending_[source];
+    if (p == "/VMC/Ext/Root/Pos") {
+      // Outside bundles, a root after bones starts the next frame.
+      if (!b->in_bundle_ && !frame.bones.empty()) {
+        VmcFrame done = std::move(frame);
+        b->pending_.erase(source);
+        b->OnFrame(source, std::move(done));
+      }
+      b->pending_[source].root = t;
+    } else if (IsUnityBone(&argv[0]->s)) {
+      frame.bones[&argv[0]->s] = t;
+    }
+  } else if (p == "/VMC/Ext/T") {
+    float t;
+    if (argc < 1 || !floats(0, 1, &t)) return malformed();
+    VmcFrame& frame = b->pending_[source];
+    frame.time = t;
+    // Outside bundles, the time closes a frame.
+    if (!b->in_bundle_ && !frame.bones.empty()) {
+      VmcFrame done = std::move(frame);
+      b->pending_.erase(source);
+      b->OnFrame(source, std::move(done));
+    }
+  }
+  return 0;  // Other VMC messages (/VMC/Ext/OK, blend shapes, ...) are not needed.
+}
+
+void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
+  Performer* p;
+  {
+    absl::MutexLock lock(&mu_);
+    ++stats_.received;
+    auto it = performers_.find(source);
+    if (it == performers_.end()) {
+      absl::StatusOr<VmcSkeleton> skeleton = VmcSkeleton::FromFrame(frame);
+      auto performer = std::make_unique<Performer>();
+      performer->source = source;
+      const size_t k = std::min(performers_.size(), options_.vmc_out.size() - 1);
+      performer->out = ParseAddress(options_.vmc_out[k]);
+      if (skeleton.ok()) {
+        performer->skeleton = *std::move(skeleton);
+        spdlog::info("performer {}: {} bones, out to {}", source,
+                     performer->skeleton.skeleton().num_joints(), options_.vmc_out[k]);
+      } else {
+        // The show goes on: its frames pass through, unstyled.
+        performer->usable = false;
+        spdlog::warn("performer {}: {}; passing it through unstyled", source,
+                     std::string(skeleton.status().message()));
+      }
+      it = performers_.emplace(source, std::move(performer)).first;
+      stats_.performers = static_cast<int>(performers_.size());
+    }
+    p = it->second.get();
+  }
+  std::unique_ptr<LiveStream> dead;
+  bool passed = false, held = false;
+  int64_t passed_late = 0;
+  {
+    absl::MutexLock lock(&p->mu);
+    if (frame.time > 0 && frame.time < p->last_time) {
+      absl::MutexLock s(&mu_);  // Lock order: a performer's, then the bridge's.
+      ++stats_.out_of_order;
+      return;
+    }
+    p->last_time = std::max(p->last_time, frame.time);
+    if (!p->usable) {
+      Send(p, frame);
+      passed = true;
+    }
+  }
+  if (!p->usable) {
+    absl::MutexLock lock(&mu_);
+    stats_.passed += passed;
+    return;
+  }
+  {
+    absl::MutexLock lock(&p->mu);
+    const int64_t index = p->taken++;
+    Performer::Input& in = p->ring[index % kRing];
+    in.row = p->skeleton.Row(frame);
+    in.root = frame.root;
+    in.time = frame.time;
+    if (p->stream && !p->stream->alive()) {
+      dead = std::move(p->stream);
+      p->next_attempt = Clock::now();
+      p->backoff_s = 0.05;
+      // The frames the stream took but never returned (its look-ahead) go
+      // out as they came in, so the engine misses none.
+      for (int64_t i = std::max(p->last_sent + 1, index - kRing + 1); i < index; ++i) {
+        const Performer::Input& lost = p->ring[i % kRing];
+        VmcFrame f = p->skeleton.FrameOf(lost.row.data(), lost.root);
+        f.time = lost.time;
+        Send(p, f);
+        p->last_sent = i;
+        ++passed_late;
+      }
+    }
+    if (!p->stream && Clock::now() >= p->next_attempt) Reconnect(p);
+    if (p->stream && p->stream->Push(in.row.data(), index - p->stream_first)) {
+      // Its stylized frame comes back on the stream's thread.
+    } else if (options_.hold && !p->last_out.empty()) {
+      VmcFrame out = p->skeleton.FrameOf(p->last_out.data(), frame.root);
+      out.time = frame.time;
+      Send(p, out);
+      p->last_sent = index;
+      held = true;
+    } else {
+      Send(p, frame);
+      p->last_sent = index;
+      passed = true;
+    }
+  }
+  if (dead) {
+    const absl::Status s = dead->Close();
+    spdlog::warn("performer {}: stream ended ({}); passing the performer through and reconnecting",
+                 source, s.ToString());
+    absl::MutexLock lock(&mu_);
+    ++stats_.stream_failures;
+  }
+  absl::MutexLock lock(&mu_);
+  stats_.passed += passed + passed_late;
+  stats_.held += held;
+}
+
+// Opens the performer's stream (p->mu held). On failure the next attempt
+// waits twice as long, up to max_backoff_s.
+void Bridge::Reconnect(Performer* p) {
+  LiveStreamConfig config;
+  config.model = options_.model;
+  config.skeleton = p->skeleton.skeleton();
+  config.fps = options_.fps;
+  config.postprocess = options_.postprocess;
+  std::optional<StreamChange> change;
+  {
+    absl::MutexLock lock(&mu_);
+    change = last_change_;
+  }
+  if (options_.style_clip) {
+    config.style.clip = &*options_.style_clip;
+  } else {
+    config.style.name = options_.style_name;
+  }
+  if (change && (change->style.clip != nullptr || !change->style.name.empty())) {
+    config.style = change->style;
+  }
+  const int64_t first = p->taken - 1;
+  auto on_frame = [this, p, first](int64_t local, const double* values) {
+    absl::MutexLock lock(&p->mu);
+    const int64_t index = first + local;
+    if (index < 0 || index >= p->taken || p->taken - index > kRing || index <= p->last_sent) return;
+    const Performer::Input& in = p->ring[index % kRing];
+    std::vector<double> row(values, values + p->skeleton.skeleton().num_channels());
+    if (p->fade_in && local < options_.fade_frames) {
+      row = Blend(p->skeleton.skeleton(), in.row.data(), row.data(),
+                  static_cast<double>(local + 1) / (options_.fade_frames + 1));
+    }
+    p->last_out = row;
+    VmcFrame out = p->skeleton.FrameOf(row.data(), in.root);
+    out.time = in.time;  // The engine sees the capture's clock.
+    Send(p, out);
+    p->last_sent = index;
+    absl::MutexLock s(&mu_);
+    ++stats_.styled;
+  };
+  absl::StatusOr<std::unique_ptr<LiveStream>> stream = client_->OpenStream(config, on_frame);
+  if (!stream.ok()) {
+    p->next_attempt = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                         std::chrono::duration<double>(p->backoff_s));
+    p->backoff_s = std::min(options_.max_backoff_s, p->backoff_s * 2);
+    return;
+  }
+  p->stream = *std::move(stream);
+  p->stream_first = first;
+  p->fade_in = p->ever_streamed;
+  if (p->ever_streamed) {
+    absl::MutexLock lock(&mu_);
+    ++stats_.reconnects;
+  }
+  p->ever_streamed = true;
+  if (change && change->strength) {
+    StreamChange strength = *change;
+    strength.style = Style();
+    strength.frame = 0;
+    strength.fade_frames = 0;
+    p->stream->Change(strength);
+  }
+}
+
+// One VMC frame as one bundle: the root, every bone, then OK and the time.
+void Bridge::Send(Performer* p, const VmcFrame& frame) {
+  lo_bundle bundle = lo_bundle_new(LO_TT_IMMEDIATE);
+  float pq[7];
+  lo_message root = lo_message_new();
+  ToUnity(frame.root, pq, pq + 3);
+  lo_message_add_string(root, "root");
+  for (float v : pq) lo_message_add_float(root, v);
+  lo_bundle_add_message(bundle, "/VMC/Ext/Root/Pos", root);
+  for (const auto& [name, t] : frame.bones) {
+    lo_message m = lo_message_new();
+    ToUnity(t, pq, pq + 3);
+    lo_message_add_string(m, name.c_str());
+    for (float v : pq) lo_message_add_float(m, v);
+    lo_bundle_add_message(bundle, "/VMC/Ext/Bone/Pos", m);
+  }
+  lo_message ok = lo_message_new();
+  lo_message_add_int32(ok, 1);
+  lo_bundle_add_message(bundle, "/VMC/Ext/OK", ok);
+  lo_message time = lo_message_new();
+  lo_message_add_float(time, static_cast<float>(frame.time));
+  lo_bundle_add_message(bundle, "/VMC/Ext/T", time);
+  lo_send_bundle(p->out, bundle);
+  lo_bundle_free_recursive(bundle);
+}
+
+void Bridge::ChangeStyle(const std::string& name_or_path) {
+  StreamChange change;
+  change.fade_frames = options_.fade_frames;
+  absl::MutexLock lock(&mu_);
+  if (formats::FormatOfPath(name_or_path).ok()) {
+    absl::StatusOr<motion::Motion> clip = formats::ReadMotionFile(name_or_path);
+    if (!clip.ok()) {
+      spdlog::warn("style {}: {}", name_or_path, std::string(clip.status().message()));
+      return;
+    }
+    change_clips_.push_back(std::make_unique<motion::Motion>(*std::move(clip)));
+    change.style.clip = change_clips_.back().get();
+  } else {
+    change.style.name = name_or_path;
+  }
+  if (last_change_) change.strength = last_change_->strength;
+  last_change_ = change;
+  ApplyChange(change);
+  spdlog::info("style -> {}", name_or_path);
+}
+
+void Bridge::ChangeStrength(double strength) {
+  StreamChange change;
+  change.fade_frames = options_.fade_frames;
+  change.strength = std::clamp(strength, 0.0, 1.0);
+  absl::MutexLock lock(&mu_);
+  StreamChange kept = last_change_.value_or(StreamChange{});
+  kept.strength = change.strength;
+  last_change_ = kept;
+  ApplyChange(change);
+  spdlog::info("strength -> {}", *change.strength);
+}
+
+// Sends `change` on every performer's stream from its next frame. Called
+// with mu_ held: takes each performer's lock after releasing it (a
+// performer's lock comes before the bridge's).
+void Bridge::ApplyChange(const StreamChange& change) {
+  std::vector<Performer*> all;
+  for (auto& [source, p] : performers_) all.push_back(p.get());
+  mu_.Unlock();
+  for (Performer* p : all) {
+    absl::MutexLock pl(&p->mu);
+    StreamChange c = change;
+    c.frame = p->taken - p->stream_first;
+    if (p->stream) p->stream->Change(c);
+  }
+  mu_.Lock();
+}
+
+}  // namespace stylus::bridge

@@ -1,0 +1,107 @@
+// stylus-bridge: a mocap stage's VMC stream in, one Stylus TransferStream
+// per performer, the stylized motion out to the engine's VMC receiver, frame
+// by frame. The show goes on: when a stream fails or the server is away,
+// the performer's own motion passes through (or the last output holds) while
+// the bridge reconnects with backoff, then the style fades back in.
+#ifndef STYLUS_BRIDGE_BRIDGE_H_
+#define STYLUS_BRIDGE_BRIDGE_H_
+
+#include <lo/lo.h>
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "absl/base/thread_annotations.h"
+#include "absl/status/status.h"
+#include "absl/synchronization/mutex.h"
+#include "bridge/vmc.h"
+#include "client/client.h"
+#include "client/live_stream.h"
+
+namespace stylus::bridge {
+
+struct BridgeOptions {
+  int vmc_in_port = 39539;  // Where performers send (a Marionette's default port).
+  // Where each performer's stylized motion goes, "host:port", given to
+  // performers in the order they first send; the last serves any further.
+  std::vector<std::string> vmc_out;
+  ClientOptions client;
+  std::string model = "live";
+  std::optional<motion::Motion> style_clip;  // Or:
+  std::string style_name;
+  v1::PostProcess postprocess = v1::POSTPROCESS_DEFAULT;
+  double fps = 60;           // The performers' frame rate, as the stream's config says it.
+  int fade_frames = 15;      // Back to the style after a reconnect; style changes.
+  bool hold = false;         // While the stream is down: hold the last output, not pass through.
+  double max_backoff_s = 0.5;  // Reconnect attempts: 50 ms doubling up to this.
+};
+
+struct BridgeStats {
+  int64_t received = 0;     // Frames from performers.
+  int64_t styled = 0;       // Frames sent stylized (fading included).
+  int64_t passed = 0;       // Frames sent as the performer's own (stream down).
+  int64_t held = 0;         // Frames sent holding the last output (--hold).
+  int64_t out_of_order = 0;  // Frames older than one already taken: dropped.
+  int64_t malformed = 0;    // Messages with the wrong arguments: dropped.
+  int64_t reconnects = 0;   // Streams opened after the first.
+  int64_t stream_failures = 0;
+  int performers = 0;
+};
+
+class Bridge {
+ public:
+  explicit Bridge(BridgeOptions options);
+  ~Bridge();
+
+  // Binds the VMC port and starts receiving. INVALID_ARGUMENT for a bad
+  // --vmc-out address, UNAVAILABLE when the port cannot be bound.
+  absl::Status Start();
+  void Stop();
+  int port() const { return port_; }
+  BridgeStats stats() const;
+
+  // Live control for every performer (and for streams opened later):
+  // a saved style's name or a clip, the strength, each faded in.
+  void ChangeStyle(const std::string& name_or_path);
+  void ChangeStrength(double strength);
+
+ private:
+  struct Performer;
+  void ReceiveLoop();
+  void OnFrame(const std::string& source, VmcFrame frame);
+  void Reconnect(Performer* p);
+  void Send(Performer* p, const VmcFrame& frame);
+  void ApplyChange(const StreamChange& change) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+  static int OnMessage(const char* path, const char* types, lo_arg** argv, int argc, lo_message msg,
+                       void* self);
+  static int OnBundleStart(lo_timetag time, void* self);
+  static int OnBundleEnd(void* self);
+
+  BridgeOptions options_;
+  std::unique_ptr<Client> client_;
+  lo_server server_ = nullptr;
+  int port_ = 0;
+  std::thread receiver_;
+  std::atomic<bool> stop_{false};
+
+  // Receiver thread only: the frame being assembled per source.
+  std::map<std::string, VmcFrame> pending_;
+  bool in_bundle_ = false;
+  std::string bundle_source_;
+
+  mutable absl::Mutex mu_;
+  std::map<std::string, std::unique_ptr<Performer>> performers_ ABSL_GUARDED_BY(mu_);
+  BridgeStats stats_ ABSL_GUARDED_BY(mu_);
+  std::optional<StreamChange> last_change_ ABSL_GUARDED_BY(mu_);
+  std::vector<std::unique_ptr<motion::Motion>> change_clips_ ABSL_GUARDED_BY(mu_);
+};
+
+}  // namespace stylus::bridge
+
+#endif  // STYLUS_BRIDGE_BRIDGE_H_

@@ -1,0 +1,142 @@
+// stylus-bridge: see bridge/bridge.h and docs/stage.md.
+#include <csignal>
+#include <cstdio>
+#include <string>
+#include <thread>
+
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "bridge/bridge.h"
+#include "cli/args.h"
+#include "formats/scene_file.h"
+#include "spdlog/spdlog.h"
+
+namespace {
+
+constexpr char kHelp[] =
+    "usage: stylus-bridge --vmc-out HOST:PORT[,HOST:PORT...] (--style CLIP | --style-name NAME)\n"
+    "                     [--vmc-in PORT] [--server ADDR] [--model M] [--fps N] [--hold]\n"
+    "                     [--fade-frames N] [--postprocess default|none|feet|full] [--stats S]\n\n"
+    "Sits between a mocap stage and the engine: reads the VMC protocol (OSC over\n"
+    "UDP) from capture software as a Marionette, streams each performer (by\n"
+    "source address) through a Stylus server, and sends the stylized motion on\n"
+    "as a Performer to the engine's VMC receiver (Unity EVMC4U, Unreal VMC4UE,\n"
+    "Blender VMC4B, Godot). If the server restarts or a stream fails, the\n"
+    "performer's own motion passes through (or, with --hold, the last output\n"
+    "holds) while the bridge reconnects, then the style fades back in.\n\n"
+    "  --vmc-in PORT        where performers send (default 39539)\n"
+    "  --vmc-out ADDRS      the engine's receiver per performer, in the order\n"
+    "                       performers first send (the last serves any more)\n"
+    "  --style CLIP         a style clip (.bvh, .fbx, .gltf, .glb, .dae), or\n"
+    "  --style-name NAME    a style saved on the server for the model\n"
+    "  --model M            default live (a live model: frames come back two\n"
+    "                       frames after they went in)\n"
+    "  --fps N              the performers' frame rate (default 60)\n"
+    "  --fade-frames N      fades back to the style and between styles (default 15)\n"
+    "  --stats S            print the counters every S seconds\n\n"
+    "Live control (OSC, to --vmc-in): /stylus/style s (a saved name or a clip\n"
+    "path), /stylus/strength f (0..1); each fades over --fade-frames.\n\n"
+    "global options: --server ADDR (default $STYLUS_SERVER, else localhost:50051),\n"
+    "--token TOKEN (default $STYLUS_TOKEN), --tls-ca FILE|system\n";
+
+volatile std::sig_atomic_t stop = 0;
+void OnSignal(int) { stop = 1; }
+
+int Fail(const std::string& what) {
+  std::fprintf(stderr, "stylus-bridge: %s\n", what.c_str());
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using stylus::cli::ParseArgs;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  stylus::cli::ArgSpec spec{{"vmc-in", "vmc-out", "server", "token", "tls-ca", "model", "style",
+                             "style-name", "fps", "fade-frames", "postprocess", "stats"},
+                            {"hold"}};
+  absl::StatusOr<stylus::cli::Args> a = ParseArgs(args, spec);
+  if (!a.ok()) {
+    std::fprintf(stderr, "stylus-bridge: %s\n\n%s", std::string(a.status().message()).c_str(), kHelp);
+    return 2;
+  }
+  if (a->help) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  stylus::bridge::BridgeOptions o;
+  absl::StatusOr<int> port = a->GetInt("vmc-in", 39539);
+  absl::StatusOr<double> fps = a->GetDouble("fps", 60);
+  absl::StatusOr<int> fade = a->GetInt("fade-frames", 15);
+  absl::StatusOr<double> every = a->GetDouble("stats", 0);
+  for (const absl::Status& s : {port.status(), fps.status(), fade.status(), every.status()}) {
+    if (!s.ok()) return Fail(std::string(s.message()));
+  }
+  if (*port < 0 || *port > 65535) return Fail("--vmc-in wants a port 0-65535");
+  if (!(*fps >= 1 && *fps <= 1000)) return Fail("--fps wants a rate of 1 to 1000 frames per second");
+  o.vmc_in_port = *port;
+  o.fps = *fps;
+  o.fade_frames = std::max(0, *fade);
+  o.hold = a->switches.count("hold") > 0;
+  o.model = a->Get("model", "live");
+  for (absl::string_view out : absl::StrSplit(a->Get("vmc-out"), ',', absl::SkipEmpty())) {
+    o.vmc_out.emplace_back(out);
+  }
+  const std::string pp = a->Get("postprocess", "default");
+  if (pp == "none") {
+    o.postprocess = stylus::v1::POSTPROCESS_NONE;
+  } else if (pp == "feet") {
+    o.postprocess = stylus::v1::POSTPROCESS_FEET;
+  } else if (pp == "full") {
+    o.postprocess = stylus::v1::POSTPROCESS_FULL;
+  } else if (pp != "default") {
+    return Fail("--postprocess must be default, none, feet or full");
+  }
+  if (a->Has("style") == a->Has("style-name")) {
+    return Fail("give the style: --style CLIP or --style-name NAME (one of them)");
+  }
+  if (a->Has("style")) {
+    absl::StatusOr<stylus::motion::Motion> clip = stylus::formats::ReadMotionFile(a->Get("style"));
+    if (!clip.ok()) return Fail(std::string(clip.status().message()));
+    o.style_clip = *std::move(clip);
+  } else {
+    o.style_name = a->Get("style-name");
+  }
+  const char* env_server = std::getenv("STYLUS_SERVER");
+  if (env_server != nullptr && *env_server != '\0') o.client.address = env_server;
+  if (a->Has("server")) o.client.address = a->Get("server");
+  const char* env_token = std::getenv("STYLUS_TOKEN");
+  if (env_token != nullptr) o.client.token = env_token;
+  if (a->Has("token")) o.client.token = a->Get("token");
+  if (a->Has("tls-ca")) {
+    const bool system = a->Get("tls-ca") == "system";
+    absl::StatusOr<stylus::TlsOptions> tls =
+        stylus::ReadTlsFiles(system ? "" : a->Get("tls-ca"), "", "");
+    if (!tls.ok()) return Fail(std::string(tls.status().message()));
+    o.client.tls = *std::move(tls);
+    o.client.tls.enabled = true;
+  }
+
+  stylus::bridge::Bridge bridge(o);
+  if (absl::Status s = bridge.Start(); !s.ok()) return Fail(std::string(s.message()));
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  spdlog::info("listening for VMC on UDP {}; streaming through {} ({})", bridge.port(),
+               o.client.address, o.model);
+  auto last = std::chrono::steady_clock::now();
+  while (!stop) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (*every > 0 && std::chrono::steady_clock::now() - last >= std::chrono::duration<double>(*every)) {
+      last = std::chrono::steady_clock::now();
+      const stylus::bridge::BridgeStats st = bridge.stats();
+      absl::PrintF(
+          "performers %d received %d styled %d passed %d held %d out_of_order %d malformed %d "
+          "stream_failures %d reconnects %d\n",
+          st.performers, st.received, st.styled, st.passed, st.held, st.out_of_order, st.malformed,
+          st.stream_failures, st.reconnects);
+      std::fflush(stdout);
+    }
+  }
+  bridge.Stop();
+  return 0;
+}

@@ -1,0 +1,268 @@
+#!/usr/bin/python3
+"""stylus-bridge against tools nobody here wrote: Python's liblo bindings
+(Debian's python3-liblo) play a performer sending VMC and an engine receiving
+it, liblo's oscsend changes the strength, and a real stylus-server streams.
+
+A walk (samples/walk_normal.bvh, the Bandai rig named as Unity's humanoid,
+in metres) goes out as VMC bundles at 60 Hz. Checks: the engine gets every
+frame in order with the performer's bones; the frames are stylized; when the
+server is killed the performer passes through, unchanged, and when it comes
+back styled frames resume within 2 s; /stylus/strength 0 from oscsend brings
+the output back towards the performer's; the counters say so.
+
+Usage: vmc_bridge_test.py STYLUS_SERVER STYLUS_BRIDGE SOURCE_DIR WORK_DIR
+"""
+import math
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import threading
+import time
+
+import liblo
+
+server_bin, bridge_bin, src, work = sys.argv[1:5]
+sys.path.insert(0, os.path.join(src, "client", "python"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(bridge_bin))),
+                                "proto", "python"))
+from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
+
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+failures = []
+
+
+def check(name, ok, detail=""):
+    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)))
+    if not ok:
+        failures.append(name)
+
+
+def free_port(kind):
+    s = socket.socket(socket.AF_INET, kind)
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+UNITY = {"Hips": "Hips", "Spine": "Spine", "Chest": "Chest", "Neck": "Neck", "Head": "Head"}
+for bandai, unity in (("Shoulder", "Shoulder"), ("UpperArm", "UpperArm"), ("LowerArm", "LowerArm"),
+                      ("Hand", "Hand"), ("UpperLeg", "UpperLeg"), ("LowerLeg", "LowerLeg"),
+                      ("Foot", "Foot"), ("Toes", "Toes")):
+    UNITY[bandai + "_L"] = "Left" + unity
+    UNITY[bandai + "_R"] = "Right" + unity
+
+clip = read_bvh(os.path.join(src, "samples", "walk_normal.bvh"))
+names = [j.name for j in clip.joints]
+
+
+def vmc_frame(row):
+    """(root, {unity bone: (position, quaternion xyzw)}) in Unity's axes, metres."""
+    translations, rotations = frame_pose(clip, row)
+    bones = {}
+    for i, j in enumerate(clip.joints):
+        if j.name not in UNITY:
+            continue
+        x, y, z = (v * 0.01 for v in translations[i])
+        w, qx, qy, qz = rotations[i]
+        bones[UNITY[j.name]] = ((-x, y, z), (qx, -qy, -qz, w))  # Mirror x: Unity is left-handed.
+    return bones
+
+
+frames = [vmc_frame(row) for row in clip.frames]
+FPS = 60.0
+
+
+class Engine:
+    """An engine's VMC receiver: frames by their /VMC/Ext/T, with bone counts."""
+
+    def __init__(self, port):
+        self.server = liblo.Server(port)
+        self.lock = threading.Lock()
+        self.frames = {}  # time -> {bone: (p, q)}
+        self.current = {}
+        self.ok = 0
+        self.server.add_method("/VMC/Ext/Bone/Pos", None, self.bone)
+        self.server.add_method("/VMC/Ext/Root/Pos", None, lambda *a: None)
+        self.server.add_method("/VMC/Ext/OK", None, self.on_ok)
+        self.server.add_method("/VMC/Ext/T", "f", self.on_time)
+        self.running = True
+        self.thread = threading.Thread(target=self.loop, daemon=True)
+        self.thread.start()
+
+    def loop(self):
+        while self.running:
+            self.server.recv(20)
+
+    def bone(self, path, args):
+        self.current[args[0]] = (tuple(args[1:4]), tuple(args[4:8]))
+
+    def on_ok(self, path, args):
+        self.ok += 1
+
+    def on_time(self, path, args):
+        with self.lock:
+            self.frames[round(args[0] * FPS)] = self.current
+        self.current = {}
+
+
+def start_server(port):
+    port_file = os.path.join(work, "port")
+    if os.path.exists(port_file):
+        os.remove(port_file)
+    log = open(os.path.join(work, "server.log"), "a")
+    p = subprocess.Popen([server_bin, "--models", os.path.join(src, "models"), "--listen",
+                          "localhost:%d" % port, "--port-file", port_file], stdout=log, stderr=log)
+    for _ in range(300):
+        if os.path.exists(port_file) and open(port_file).read().strip():
+            return p
+        time.sleep(0.1)
+    raise SystemExit("the server did not start; see " + work + "/server.log")
+
+
+def angle(q1, q2):
+    d = abs(sum(a * b for a, b in zip(q1, q2)))
+    return 2 * math.acos(min(1.0, d))
+
+
+def difference(sent, got):
+    """Mean angle (degrees) between the performer's and the output's bones."""
+    angles = [angle(sent[b][1], got[b][1]) for b in sent if b in got]
+    return math.degrees(sum(angles) / max(1, len(angles)))
+
+
+grpc_port, vmc_in, vmc_out, vmc_out2 = free_port(socket.SOCK_STREAM), free_port(socket.SOCK_DGRAM), \
+    free_port(socket.SOCK_DGRAM), free_port(socket.SOCK_DGRAM)
+server = start_server(grpc_port)
+engine = Engine(vmc_out)
+engine2 = Engine(vmc_out2)
+bridge_log = open(os.path.join(work, "bridge.log"), "w")
+bridge = subprocess.Popen([bridge_bin, "--server", "localhost:%d" % grpc_port, "--vmc-in", str(vmc_in),
+                           "--vmc-out", "localhost:%d,localhost:%d" % (vmc_out, vmc_out2), "--style",
+                           os.path.join(src, "samples", "walk_old.bvh"), "--fps", str(int(FPS)),
+                           "--stats", "1"], stdout=bridge_log, stderr=subprocess.STDOUT)
+performer = liblo.Address("localhost", vmc_in)
+# Each performer sends from its own socket: the bridge tells them apart by
+# source address.
+first_performer, second_performer = liblo.Server(), liblo.Server()
+sent = {}
+try:
+    time.sleep(0.5)
+
+    def play(first, count, also_second=False):
+        """Sends frames first..first+count-1 (the clip looped) at 60 Hz, from
+        the first performer (and the same frames from the second)."""
+        start = time.monotonic()
+        for k in range(count):
+            n = first + k
+            bones = frames[n % len(frames)]
+            bundle = liblo.Bundle()
+            bundle.add(liblo.Message("/VMC/Ext/Root/Pos", "root", 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0))
+            for name, (p, q) in bones.items():
+                bundle.add(liblo.Message("/VMC/Ext/Bone/Pos", name, *p, *q))
+            bundle.add(liblo.Message("/VMC/Ext/OK", 1))
+            bundle.add(liblo.Message("/VMC/Ext/T", ("f", n / FPS)))
+            first_performer.send(performer, bundle)
+            if also_second:
+                second_performer.send(performer, bundle)
+            sent[n] = bones
+            time.sleep(max(0.0, start + (k + 1) / FPS - time.monotonic()))
+        return first + count
+
+    n = play(0, 240)  # 4 s styled.
+    time.sleep(0.3)
+    with engine.lock:
+        got = dict(engine.frames)
+    received = len([t for t in range(n) if t in got])
+    print("     the engine got %d of %d frames (the rest are the stream's look-ahead, still in flight)"
+          % (received, n))
+    check("the engine gets the frames (all but the stream's look-ahead, <= 4)", received >= n - 4,
+          (received, n))
+    check("with the performer's bones", all(set(got[t]) == set(sent[t]) for t in got if t < n),
+          sorted(set(sent[0]) ^ set(got.get(10, {}))))
+    check("and /VMC/Ext/OK", engine.ok >= n - 4, engine.ok)
+    styled = [difference(sent[t], got[t]) for t in range(30, n - 4) if t in got]
+    mean_styled = sum(styled) / max(1, len(styled))
+    check("stylized: the output's bones differ from the performer's (mean > 2 degrees)",
+          mean_styled > 2, mean_styled)
+
+    # The server goes away: the performer passes through, unchanged.
+    server.kill()
+    server.wait()
+    killed_at = n
+    n = play(n, 90)
+    time.sleep(0.3)
+    with engine.lock:
+        got = dict(engine.frames)
+    passed = [difference(sent[t], got[t]) for t in range(killed_at + 10, n) if t in got]
+    check("server down: every frame reaches the engine, those in flight included",
+          all(t in got for t in range(killed_at - 4, n)),
+          [t for t in range(killed_at - 4, n) if t not in got])
+    check("server down: the performer passes through unchanged (< 0.01 degrees)",
+          passed and max(passed) < 0.01, max(passed) if passed else None)
+
+    # It comes back: styled frames resume within 2 s.
+    server = start_server(grpc_port)
+    back_at = n
+    n = play(n, 180)
+    time.sleep(0.3)
+    with engine.lock:
+        got = dict(engine.frames)
+    resumed = next((t for t in range(back_at, n - 3) if t in got and difference(sent[t], got[t]) > 1.0),
+                   None)
+    check("server back: styled frames resume within 2 s", resumed is not None
+          and (resumed - back_at) / FPS <= 2.0,
+          None if resumed is None else (resumed - back_at) / FPS)
+    if resumed is not None:
+        print("     styled again %.2f s after the server was back" % ((resumed - back_at) / FPS))
+    gaps = [t for t in range(0, n - 4) if t not in got]
+    print("     frames the engine never saw: %d of %d %s" % (len(gaps), n - 4, gaps[:10]))
+    check("the engine sees every frame, through the restart", not gaps, gaps[:10])
+
+    # A second performer joins: its own stream, to the second engine.
+    joined = n
+    n = play(n, 120, also_second=True)
+    time.sleep(0.3)
+    with engine2.lock:
+        got2 = dict(engine2.frames)
+    second = [t for t in range(joined, n - 4) if t in got2]
+    check("a second performer streams to the second engine",
+          len(second) == n - 4 - joined and all(difference(sent[t], got2[t]) > 1.0 for t in second[20:]),
+          (len(second), n - 4 - joined))
+
+    # Strength 0 from the stage, with liblo's own oscsend.
+    done = subprocess.run(["oscsend", "localhost", str(vmc_in), "/stylus/strength", "f", "0"],
+                          capture_output=True, text=True)
+    check("oscsend /stylus/strength 0", done.returncode == 0, done.stderr)
+    before = n
+    n = play(n, 120)
+    time.sleep(0.3)
+    with engine.lock:
+        got = dict(engine.frames)
+    weak = [difference(sent[t], got[t]) for t in range(before + 40, n - 3) if t in got]
+    mean_weak = sum(weak) / max(1, len(weak))
+    print("     mean bone difference: %.2f degrees styled, %.2f at strength 0" % (mean_styled, mean_weak))
+    check("strength 0 brings the output towards the performer's", mean_weak < 0.6 * mean_styled,
+          (mean_weak, mean_styled))
+finally:
+    bridge.terminate()
+    try:
+        bridge.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        bridge.kill()
+    server.terminate()
+    server.wait()
+    engine.running = False
+log = open(os.path.join(work, "bridge.log")).read()
+stats = [line for line in log.splitlines() if line.startswith("performers")]
+print("     " + (stats[-1] if stats else "(no counters printed)"))
+check("the counters show the failure and the reconnect", stats and " reconnects 0" not in stats[-1]
+      and " stream_failures 0" not in stats[-1], stats[-1] if stats else log[-500:])
+check("the bridge stops on SIGTERM", bridge.returncode == 0, bridge.returncode)
+if failures:
+    print("%d FAILED: %s" % (len(failures), ", ".join(failures)))
+    sys.exit(1)
+print("all passed")

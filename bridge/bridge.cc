@@ -52,7 +52,7 @@ struct Bridge::Performer {
   VmcSkeleton skeleton;
   lo_address out = nullptr;
   absl::Mutex mu;
-  std::unique_ptr<LiveStream> stream;
+  std::shared_ptr<LiveStream> stream;  // Pushed to outside mu.
   int64_t taken = 0;          // Input frames taken (the bridge's own index).
   int64_t stream_first = 0;   // `taken` when the current stream opened.
   bool fade_in = false;       // The current stream follows a failure: fade it in.
@@ -60,6 +60,7 @@ struct Bridge::Performer {
     std::vector<double> row;
     VmcTransform root;
     double time = 0;
+    double in_us = 0;  // The bridge's time on it before the push.
   };
   std::vector<Input> ring = std::vector<Input>(kRing);
   std::vector<double> last_out;
@@ -112,7 +113,7 @@ void Bridge::Stop() {
     performers.swap(performers_);
   }
   for (auto& [source, p] : performers) {
-    std::unique_ptr<LiveStream> stream;
+    std::shared_ptr<LiveStream> stream;
     {
       absl::MutexLock lock(&p->mu);
       stream = std::move(p->stream);
@@ -126,7 +127,14 @@ void Bridge::Stop() {
 
 BridgeStats Bridge::stats() const {
   absl::MutexLock lock(&mu_);
-  return stats_;
+  BridgeStats s = stats_;
+  if (!added_us_.empty()) {
+    std::vector<double> v = added_us_;
+    std::sort(v.begin(), v.end());
+    s.added_p50_us = v[v.size() / 2];
+    s.added_p99_us = v[std::min(v.size() - 1, v.size() * 99 / 100)];
+  }
+  return s;
 }
 
 void Bridge::ReceiveLoop() {
@@ -217,6 +225,10 @@ int Bridge::OnMessage(const char* path, const char* types, lo_arg** argv, int ar
 }
 
 void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
+  const Clock::time_point arrived = Clock::now();
+  auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::micro>(Clock::now() - t).count();
+  };
   Performer* p;
   {
     absl::MutexLock lock(&mu_);
@@ -243,9 +255,12 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
     }
     p = it->second.get();
   }
-  std::unique_ptr<LiveStream> dead;
+  std::shared_ptr<LiveStream> dead, push_to;
+  std::vector<double> push_row;
+  int64_t push_index = 0, index = 0;
   bool passed = false, held = false;
   int64_t passed_late = 0;
+  double direct_us = -1;
   {
     absl::MutexLock lock(&p->mu);
     if (frame.time > 0 && frame.time < p->last_time) {
@@ -266,7 +281,7 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
   }
   {
     absl::MutexLock lock(&p->mu);
-    const int64_t index = p->taken++;
+    index = p->taken++;
     Performer::Input& in = p->ring[index % kRing];
     in.row = p->skeleton.Row(frame);
     in.root = frame.root;
@@ -287,8 +302,12 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
       }
     }
     if (!p->stream && Clock::now() >= p->next_attempt) Reconnect(p);
-    if (p->stream && p->stream->Push(in.row.data(), index - p->stream_first)) {
-      // Its stylized frame comes back on the stream's thread.
+    if (p->stream && p->stream->alive()) {
+      // Pushed below, outside the lock: its stylized frame comes back on
+      // the stream's thread meanwhile.
+      push_to = p->stream;
+      push_row = in.row;
+      push_index = index - p->stream_first;
     } else if (options_.hold && !p->last_out.empty()) {
       VmcFrame out = p->skeleton.FrameOf(p->last_out.data(), frame.root);
       out.time = frame.time;
@@ -298,6 +317,19 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
     } else {
       Send(p, frame);
       p->last_sent = index;
+      passed = true;
+    }
+    if (passed || held) direct_us = since(arrived);
+  }
+  if (push_to) {
+    const bool pushed = push_to->Push(push_row.data(), push_index);
+    // The push's own time counts (the write to the server's socket).
+    const double in_us = since(arrived);
+    absl::MutexLock lock(&p->mu);
+    p->ring[index % kRing].in_us = in_us;
+    if (!pushed) {  // The stream ended just now: this frame goes as it came.
+      Send(p, frame);
+      p->last_sent = std::max(p->last_sent, index);
       passed = true;
     }
   }
@@ -311,6 +343,17 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
   absl::MutexLock lock(&mu_);
   stats_.passed += passed + passed_late;
   stats_.held += held;
+  if (direct_us >= 0) AddLatency(direct_us);
+}
+
+void Bridge::AddLatency(double us) {
+  constexpr size_t kKept = 4096;
+  if (added_us_.size() < kKept) {
+    added_us_.push_back(us);
+  } else {
+    added_us_[added_next_] = us;
+  }
+  added_next_ = (added_next_ + 1) % kKept;
 }
 
 // Opens the performer's stream (p->mu held). On failure the next attempt
@@ -336,6 +379,7 @@ void Bridge::Reconnect(Performer* p) {
   }
   const int64_t first = p->taken - 1;
   auto on_frame = [this, p, first](int64_t local, const double* values) {
+    const Clock::time_point arrived = Clock::now();
     absl::MutexLock lock(&p->mu);
     const int64_t index = first + local;
     if (index < 0 || index >= p->taken || p->taken - index > kRing || index <= p->last_sent) return;
@@ -350,8 +394,11 @@ void Bridge::Reconnect(Performer* p) {
     out.time = in.time;  // The engine sees the capture's clock.
     Send(p, out);
     p->last_sent = index;
+    const double us =
+        in.in_us + std::chrono::duration<double, std::micro>(Clock::now() - arrived).count();
     absl::MutexLock s(&mu_);
     ++stats_.styled;
+    AddLatency(us);
   };
   absl::StatusOr<std::unique_ptr<LiveStream>> stream = client_->OpenStream(config, on_frame);
   if (!stream.ok()) {

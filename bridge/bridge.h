@@ -52,6 +52,11 @@ struct BridgeStats {
   int64_t reconnects = 0;   // Streams opened after the first.
   int64_t stream_failures = 0;
   int performers = 0;
+  // The bridge's own time per frame, in microseconds: from a frame's last
+  // packet to its push on the stream (or its pass-through sent), plus from
+  // the stylized frame's arrival to its packet sent. Waiting on the server
+  // is not in it. p50 and p99 over the last 4096 frames.
+  double added_p50_us = 0, added_p99_us = 0;
 };
 
 class Bridge {
@@ -99,6 +104,9 @@ class Bridge {
   std::map<std::string, std::unique_ptr<Performer>> performers_ ABSL_GUARDED_BY(mu_);
   BridgeStats stats_ ABSL_GUARDED_BY(mu_);
   std::optional<StreamChange> last_change_ ABSL_GUARDED_BY(mu_);
+  std::vector<double> added_us_ ABSL_GUARDED_BY(mu_);  // A ring of the last 4096.
+  size_t added_next_ ABSL_GUARDED_BY(mu_) = 0;
+  void AddLatency(double us) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   std::vector<std::unique_ptr<motion::Motion>> change_clips_ ABSL_GUARDED_BY(mu_);
 };
 

@@ -131,9 +131,9 @@ int main(int argc, char** argv) {
       const stylus::bridge::BridgeStats st = bridge.stats();
       absl::PrintF(
           "performers %d received %d styled %d passed %d held %d out_of_order %d malformed %d "
-          "stream_failures %d reconnects %d\n",
+          "stream_failures %d reconnects %d added_us_p50 %.0f added_us_p99 %.0f\n",
           st.performers, st.received, st.styled, st.passed, st.held, st.out_of_order, st.malformed,
-          st.stream_failures, st.reconnects);
+          st.stream_failures, st.reconnects, st.added_p50_us, st.added_p99_us);
       std::fflush(stdout);
     }
   }

@@ -1,0 +1,143 @@
+#!/usr/bin/python3
+"""What stylus-bridge adds on a stage, on loopback: performers (python3-liblo)
+send a walk as VMC at 30, 60 and 120 Hz through the bridge and a real
+stylus-server (the live model) to engines that count what arrives.
+
+Prints per setting: the bridge's own time per frame (its --stats: from a
+frame's last packet to its push, plus from the stylized frame's arrival to
+its packet sent; waiting on the server excluded), p50 and p99; frames the
+bridge never sent on, and frames the engines (Python receivers here, one
+process for all) did not get;
+and, once, the time from a killed server's restart to styled frames again.
+Targets: added p99 <= 2 ms at 120 Hz with 16 performers; 0 frames lost;
+styled again within 2 s of a restart. OPENBLAS_CORETYPE is passed through as
+the environment has it (printed).
+
+usage: bench/bridge_bench.py [BUILD_DIR] [--seconds S]   (default build, 10 s)
+"""
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+import liblo
+
+src = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+args = [a for a in sys.argv[1:] if not a.startswith("--")]
+build = os.path.abspath(args[0] if args else os.path.join(src, "build"))
+seconds = float(sys.argv[sys.argv.index("--seconds") + 1]) if "--seconds" in sys.argv else 10.0
+sys.path.insert(0, os.path.join(src, "client", "python"))
+sys.path.insert(0, os.path.join(build, "proto", "python"))
+from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
+
+UNITY = {"Hips": "Hips", "Spine": "Spine", "Chest": "Chest", "Neck": "Neck", "Head": "Head"}
+for part in ("Shoulder", "UpperArm", "LowerArm", "Hand", "UpperLeg", "LowerLeg", "Foot", "Toes"):
+    UNITY[part + "_L"], UNITY[part + "_R"] = "Left" + part, "Right" + part
+clip = read_bvh(os.path.join(src, "samples", "walk_normal.bvh"))
+bone_messages = []
+for row in clip.frames:
+    translations, rotations = frame_pose(clip, row)
+    msgs = []
+    for i, j in enumerate(clip.joints):
+        if j.name in UNITY:
+            x, y, z = (v * 0.01 for v in translations[i])
+            w, qx, qy, qz = rotations[i]
+            msgs.append(liblo.Message("/VMC/Ext/Bone/Pos", UNITY[j.name], -x, y, z, qx, -qy, -qz, w))
+    bone_messages.append(msgs)
+root = liblo.Message("/VMC/Ext/Root/Pos", "root", 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0)
+
+
+def free_port(kind):
+    s = socket.socket(socket.AF_INET, kind)
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+class Engine:
+    def __init__(self):
+        self.port = free_port(socket.SOCK_DGRAM)
+        self.server = liblo.Server(self.port)
+        self.times = set()
+        self.server.add_method("/VMC/Ext/T", "f", lambda p, a: self.times.add(round(a[0] * 1000)))
+        self.server.add_method(None, None, lambda *a: None)
+        self.running = True
+        threading.Thread(target=self.loop, daemon=True).start()
+
+    def loop(self):
+        while self.running:
+            self.server.recv(10)
+
+
+def run(work, performers, rate, grpc_port, restart=False):
+    engines = [Engine() for _ in range(performers)]
+    vmc_in = free_port(socket.SOCK_DGRAM)
+    log_path = os.path.join(work, "bridge_%d_%d.log" % (performers, rate))
+    bridge = subprocess.Popen(
+        [os.path.join(build, "bridge", "stylus-bridge"), "--server", "localhost:%d" % grpc_port,
+         "--vmc-in", str(vmc_in), "--vmc-out", ",".join("localhost:%d" % e.port for e in engines),
+         "--style", os.path.join(src, "samples", "walk_old.bvh"), "--fps", str(rate), "--stats", "0.5"],
+        stdout=open(log_path, "w"), stderr=subprocess.STDOUT)
+    time.sleep(0.5)
+    senders = [liblo.Server() for _ in range(performers)]
+    target = liblo.Address("localhost", vmc_in)
+    frames = int(seconds * rate)
+    start = time.monotonic()
+    for n in range(frames):
+        for s in senders:
+            b = liblo.Bundle(root, *bone_messages[n % len(bone_messages)],
+                             liblo.Message("/VMC/Ext/T", ("f", n / rate)))
+            s.send(target, b)
+        time.sleep(max(0.0, start + (n + 1) / rate - time.monotonic()))
+    time.sleep(0.5)
+    bridge.terminate()
+    bridge.wait()
+    for e in engines:
+        e.running = False
+    lines = [ln for ln in open(log_path) if ln.startswith("performers")]
+    fields = lines[-1].split() if lines else []
+    stats = dict(zip(fields[::2], fields[1::2]))
+    tail = 4  # The live model's look-ahead, still in flight at the end.
+    lost = sum(frames - tail - len([t for t in e.times if t < round((frames - tail) / rate * 1000)])
+               for e in engines)
+    late = time.monotonic() - start - seconds
+    return stats, lost, late
+
+
+with tempfile.TemporaryDirectory(prefix="stylus-bridge-bench-") as work:
+    grpc_port = free_port(socket.SOCK_STREAM)
+
+    def start_server():
+        port_file = os.path.join(work, "port")
+        if os.path.exists(port_file):
+            os.remove(port_file)
+        p = subprocess.Popen([os.path.join(build, "server", "stylus-server"), "--models",
+                              os.path.join(src, "models"), "--listen", "localhost:%d" % grpc_port,
+                              "--port-file", port_file], stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL)
+        while not (os.path.exists(port_file) and open(port_file).read().strip()):
+            time.sleep(0.05)
+        return p
+
+    server = start_server()
+    print("OPENBLAS_CORETYPE=%s" % os.environ.get("OPENBLAS_CORETYPE", "(not set)"))
+    print("%-11s %-5s %10s %10s %7s %12s %12s" % ("performers", "Hz", "added p50", "added p99",
+                                                  "frames", "bridge lost", "engines lost"))
+    try:
+        for performers, rate in ((1, 30), (1, 60), (1, 120), (16, 30), (16, 120)):
+            stats, lost, _ = run(work, performers, rate, grpc_port)
+            sent = int(seconds * rate) * performers
+            out = sum(int(stats.get(k, 0)) for k in ("styled", "passed", "held"))
+            # The bridge's loss: frames sent to it that it never sent on (but
+            # the look-ahead still in flight at the end, 4 per performer).
+            bridge_lost = max(0, sent - 4 * performers - out)
+            print("%-11d %-5d %8s us %8s us %7d %12d %12d" % (
+                performers, rate, stats.get("added_us_p50", "?"), stats.get("added_us_p99", "?"),
+                sent, bridge_lost, lost))
+    finally:
+        server.terminate()
+        server.wait()

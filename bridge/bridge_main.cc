@@ -82,16 +82,10 @@ int main(int argc, char** argv) {
   for (absl::string_view out : absl::StrSplit(a->Get("vmc-out"), ',', absl::SkipEmpty())) {
     o.vmc_out.emplace_back(out);
   }
-  const std::string pp = a->Get("postprocess", "default");
-  if (pp == "none") {
-    o.postprocess = stylus::v1::POSTPROCESS_NONE;
-  } else if (pp == "feet") {
-    o.postprocess = stylus::v1::POSTPROCESS_FEET;
-  } else if (pp == "full") {
-    o.postprocess = stylus::v1::POSTPROCESS_FULL;
-  } else if (pp != "default") {
-    return Fail("--postprocess must be default, none, feet or full");
-  }
+  absl::StatusOr<stylus::v1::PostProcess> post =
+      stylus::ParsePostProcess(a->Get("postprocess", "default"));
+  if (!post.ok()) return Fail(std::string(post.status().message()));
+  o.postprocess = *post;
   if (a->Has("style") == a->Has("style-name")) {
     return Fail("give the style: --style CLIP or --style-name NAME (one of them)");
   }

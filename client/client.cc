@@ -62,6 +62,14 @@ absl::StatusOr<TlsOptions> ReadTlsFiles(const std::string& ca_file, const std::s
   return tls;
 }
 
+absl::StatusOr<v1::PostProcess> ParsePostProcess(const std::string& name) {
+  if (name == "default") return v1::POSTPROCESS_DEFAULT;
+  if (name == "none") return v1::POSTPROCESS_NONE;
+  if (name == "feet") return v1::POSTPROCESS_FEET;
+  if (name == "full") return v1::POSTPROCESS_FULL;
+  return absl::InvalidArgumentError("--postprocess must be default, none, feet or full");
+}
+
 Client::Client(const ClientOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(options.max_message_mb * 1024 * 1024);

@@ -107,6 +107,10 @@ struct StreamResult {
 
 absl::Status FromGrpcStatus(const grpc::Status& status);
 
+// "default", "none", "feet" or "full" (what --postprocess takes);
+// INVALID_ARGUMENT lists them.
+absl::StatusOr<v1::PostProcess> ParsePostProcess(const std::string& name);
+
 class LiveStream;
 struct LiveStreamConfig;
 

@@ -124,18 +124,10 @@ absl::Status Write(const stylus::motion::Motion& m, const std::string& path, con
 absl::StatusOr<stylus::CallOptions> Common(const Args& a) {
   stylus::CallOptions o;
   o.model = a.Get("model");
-  const std::string p = a.Get("postprocess", "default");
-  if (p == "default") {
-    o.postprocess = stylus::v1::POSTPROCESS_DEFAULT;
-  } else if (p == "none") {
-    o.postprocess = stylus::v1::POSTPROCESS_NONE;
-  } else if (p == "feet") {
-    o.postprocess = stylus::v1::POSTPROCESS_FEET;
-  } else if (p == "full") {
-    o.postprocess = stylus::v1::POSTPROCESS_FULL;
-  } else {
-    return absl::InvalidArgumentError("--postprocess must be default, none, feet or full");
-  }
+  absl::StatusOr<stylus::v1::PostProcess> post =
+      stylus::ParsePostProcess(a.Get("postprocess", "default"));
+  if (!post.ok()) return post.status();
+  o.postprocess = *post;
   if (a.Has("joint-map")) {
     absl::StatusOr<stylus::motion::JointMap> map =
         stylus::motion::ReadJointMapFile(a.Get("joint-map"));

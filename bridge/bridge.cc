@@ -7,8 +7,10 @@
 
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
 #include "formats/scene_file.h"
+#include "motion/kinematics.h"
 #include "spdlog/spdlog.h"
 
 namespace stylus::bridge {
@@ -77,6 +79,9 @@ Bridge::Bridge(BridgeOptions options) : options_(std::move(options)) {
   ClientOptions c = options_.client;
   if (c.max_reconnect_backoff_ms == 0) c.max_reconnect_backoff_ms = 500;
   client_ = std::make_unique<Client>(c);
+  c.deadline = std::chrono::milliseconds(1000);
+  info_client_ = std::make_unique<Client>(c);
+  style_label_ = !options_.style_label.empty() ? options_.style_label : options_.style_name;
 }
 
 Bridge::~Bridge() { Stop(); }
@@ -467,6 +472,7 @@ void Bridge::ChangeStyle(const std::string& name_or_path) {
   }
   if (last_change_) change.strength = last_change_->strength;
   last_change_ = change;
+  style_label_ = name_or_path;
   ApplyChange(change);
   spdlog::info("style -> {}", name_or_path);
 }
@@ -479,6 +485,7 @@ void Bridge::ChangeStrength(double strength) {
   StreamChange kept = last_change_.value_or(StreamChange{});
   kept.strength = change.strength;
   last_change_ = kept;
+  strength_ = *change.strength;
   ApplyChange(change);
   spdlog::info("strength -> {}", *change.strength);
 }
@@ -497,6 +504,85 @@ void Bridge::ApplyChange(const StreamChange& change) {
     if (p->stream) p->stream->Change(c);
   }
   mu_.Lock();
+}
+
+namespace {
+
+std::string JsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      absl::StrAppend(&out, absl::StrFormat("\\u%04x", c));
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string JsonPositions(const motion::Skeleton& sk, const std::vector<double>& row) {
+  if (row.empty()) return "[]";
+  motion::Motion one = motion::RestMotion(sk, 1, 1.0 / 30);
+  std::copy(row.begin(), row.end(), one.values.begin());
+  const std::vector<motion::Vec3> p = motion::GlobalPositions(one)[0];
+  std::string out = "[";
+  for (size_t j = 0; j < p.size(); ++j) {
+    absl::StrAppendFormat(&out, "%s[%.4f,%.4f,%.4f]", j ? "," : "", p[j].x, p[j].y, p[j].z);
+  }
+  return out + "]";
+}
+
+}  // namespace
+
+std::string Bridge::StateJson() {
+  bool refresh;
+  {
+    absl::MutexLock lock(&mu_);
+    refresh = Clock::now() - saved_styles_at_ >= std::chrono::seconds(5);
+    if (refresh) saved_styles_at_ = Clock::now();
+  }
+  if (refresh) {  // The model's saved styles, asked again every 5 s at most.
+    absl::StatusOr<v1::ModelInfo> info = info_client_->GetModel(options_.model);
+    absl::MutexLock lock(&mu_);
+    if (info.ok()) saved_styles_.assign(info->saved_styles().begin(), info->saved_styles().end());
+  }
+  const BridgeStats st = stats();
+  std::vector<Performer*> all;
+  std::string out;
+  {
+    absl::MutexLock lock(&mu_);
+    absl::StrAppendFormat(&out, "{\"model\":%s,\"style\":%s,\"strength\":%.3f,\"saved_styles\":[",
+                          JsonString(options_.model), JsonString(style_label_), strength_);
+    for (size_t i = 0; i < saved_styles_.size(); ++i) {
+      absl::StrAppend(&out, i ? "," : "", JsonString(saved_styles_[i]));
+    }
+    for (auto& [source, p] : performers_) all.push_back(p.get());
+  }
+  absl::StrAppendFormat(&out,
+                        "],\"stats\":{\"received\":%d,\"styled\":%d,\"passed\":%d,\"held\":%d,"
+                        "\"out_of_order\":%d,\"malformed\":%d,\"stream_failures\":%d,"
+                        "\"reconnects\":%d,\"added_us_p50\":%.0f,\"added_us_p99\":%.0f},"
+                        "\"performers\":[",
+                        st.received, st.styled, st.passed, st.held, st.out_of_order, st.malformed,
+                        st.stream_failures, st.reconnects, st.added_p50_us, st.added_p99_us);
+  bool first = true;
+  for (Performer* p : all) {
+    absl::MutexLock lock(&p->mu);
+    if (!p->usable || p->taken == 0) continue;
+    const motion::Skeleton& sk = p->skeleton.skeleton();
+    absl::StrAppend(&out, first ? "" : ",", "{\"source\":", JsonString(p->source),
+                    ",\"streaming\":", p->stream && p->stream->alive() ? "true" : "false",
+                    ",\"parents\":[");
+    first = false;
+    for (int j = 0; j < sk.num_joints(); ++j)
+      absl::StrAppend(&out, j ? "," : "", sk.joint(j).parent);
+    absl::StrAppend(&out, "],\"input\":", JsonPositions(sk, p->ring[(p->taken - 1) % kRing].row),
+                    ",\"output\":", JsonPositions(sk, p->last_out), "}");
+  }
+  return out + "]}";
 }
 
 }  // namespace stylus::bridge

@@ -9,6 +9,7 @@
 #include <lo/lo.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -35,6 +36,7 @@ struct BridgeOptions {
   std::string model = "live";
   std::optional<motion::Motion> style_clip;  // Or:
   std::string style_name;
+  std::string style_label;  // What the console calls the starting style (the clip's path).
   v1::PostProcess postprocess = v1::POSTPROCESS_DEFAULT;
   double fps = 60;           // The performers' frame rate, as the stream's config says it.
   int fade_frames = 15;      // Back to the style after a reconnect; style changes.
@@ -76,6 +78,11 @@ class Bridge {
   void ChangeStyle(const std::string& name_or_path);
   void ChangeStrength(double strength);
 
+  // For the console (bridge/console.h): the style, strength, counters, the
+  // model's saved styles, and per performer its bones with the world
+  // positions of its last input and last output frame, as JSON.
+  std::string StateJson();
+
  private:
   struct Performer;
   void ReceiveLoop();
@@ -104,6 +111,11 @@ class Bridge {
   std::map<std::string, std::unique_ptr<Performer>> performers_ ABSL_GUARDED_BY(mu_);
   BridgeStats stats_ ABSL_GUARDED_BY(mu_);
   std::optional<StreamChange> last_change_ ABSL_GUARDED_BY(mu_);
+  std::string style_label_ ABSL_GUARDED_BY(mu_);
+  double strength_ ABSL_GUARDED_BY(mu_) = 1;
+  std::unique_ptr<Client> info_client_;  // Short deadlines, for the console.
+  std::vector<std::string> saved_styles_ ABSL_GUARDED_BY(mu_);
+  std::chrono::steady_clock::time_point saved_styles_at_ ABSL_GUARDED_BY(mu_);
   std::vector<double> added_us_ ABSL_GUARDED_BY(mu_);  // A ring of the last 4096.
   size_t added_next_ ABSL_GUARDED_BY(mu_) = 0;
   void AddLatency(double us) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);

@@ -7,6 +7,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
 #include "bridge/bridge.h"
+#include "bridge/console.h"
 #include "cli/args.h"
 #include "formats/scene_file.h"
 #include "spdlog/spdlog.h"
@@ -16,7 +17,8 @@ namespace {
 constexpr char kHelp[] =
     "usage: stylus-bridge --vmc-out HOST:PORT[,HOST:PORT...] (--style CLIP | --style-name NAME)\n"
     "                     [--vmc-in PORT] [--server ADDR] [--model M] [--fps N] [--hold]\n"
-    "                     [--fade-frames N] [--postprocess default|none|feet|full] [--stats S]\n\n"
+    "                     [--fade-frames N] [--postprocess default|none|feet|full] [--stats S]\n"
+    "                     [--console HOST:PORT] [--three-js PATH]\n\n"
     "Sits between a mocap stage and the engine: reads the VMC protocol (OSC over\n"
     "UDP) from capture software as a Marionette, streams each performer (by\n"
     "source address) through a Stylus server, and sends the stylized motion on\n"
@@ -33,7 +35,13 @@ constexpr char kHelp[] =
     "                       frames after they went in)\n"
     "  --fps N              the performers' frame rate (default 60)\n"
     "  --fade-frames N      fades back to the style and between styles (default 15)\n"
-    "  --stats S            print the counters every S seconds\n\n"
+    "  --stats S            print the counters every S seconds\n"
+    "  --console HOST:PORT  serve the stage console (a web page: the performer and\n"
+    "                       the stylized output side by side, style picker,\n"
+    "                       strength slider, latency and counters), e.g.\n"
+    "                       0.0.0.0:8080 for the stage's network\n"
+    "  --three-js PATH      three.min.js for the console (default Debian's\n"
+    "                       /usr/share/javascript/three/three.min.js)\n\n"
     "Live control (OSC, to --vmc-in): /stylus/style s (a saved name or a clip\n"
     "path), /stylus/strength f (0..1); each fades over --fade-frames.\n\n"
     "global options: --server ADDR (default $STYLUS_SERVER, else localhost:50051),\n"
@@ -52,9 +60,10 @@ int Fail(const std::string& what) {
 int main(int argc, char** argv) {
   using stylus::cli::ParseArgs;
   const std::vector<std::string> args(argv + 1, argv + argc);
-  stylus::cli::ArgSpec spec{{"vmc-in", "vmc-out", "server", "token", "tls-ca", "model", "style",
-                             "style-name", "fps", "fade-frames", "postprocess", "stats"},
-                            {"hold"}};
+  stylus::cli::ArgSpec spec{
+      {"vmc-in", "vmc-out", "server", "token", "tls-ca", "model", "style", "style-name", "fps",
+       "fade-frames", "postprocess", "stats", "console", "three-js"},
+      {"hold"}};
   absl::StatusOr<stylus::cli::Args> a = ParseArgs(args, spec);
   if (!a.ok()) {
     std::fprintf(stderr, "stylus-bridge: %s\n\n%s", std::string(a.status().message()).c_str(), kHelp);
@@ -93,6 +102,7 @@ int main(int argc, char** argv) {
     absl::StatusOr<stylus::motion::Motion> clip = stylus::formats::ReadMotionFile(a->Get("style"));
     if (!clip.ok()) return Fail(std::string(clip.status().message()));
     o.style_clip = *std::move(clip);
+    o.style_label = a->Get("style");
   } else {
     o.style_name = a->Get("style-name");
   }
@@ -117,6 +127,16 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, OnSignal);
   spdlog::info("listening for VMC on UDP {}; streaming through {} ({})", bridge.port(),
                o.client.address, o.model);
+  std::unique_ptr<stylus::bridge::Console> console;
+  if (a->Has("console")) {
+    console = std::make_unique<stylus::bridge::Console>(
+        &bridge, a->Get("three-js", "/usr/share/javascript/three/three.min.js"));
+    if (absl::Status s = console->Start(a->Get("console")); !s.ok()) {
+      bridge.Stop();
+      return Fail(std::string(s.message()));
+    }
+    spdlog::info("stage console on http://{}/ (port {})", a->Get("console"), console->port());
+  }
   auto last = std::chrono::steady_clock::now();
   while (!stop) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -131,6 +151,7 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
+  if (console) console->Stop();
   bridge.Stop();
   return 0;
 }

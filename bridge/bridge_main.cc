@@ -1,6 +1,8 @@
 // stylus-bridge: see bridge/bridge.h and docs/stage.md.
 #include <csignal>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -8,6 +10,7 @@
 #include "absl/strings/str_split.h"
 #include "bridge/bridge.h"
 #include "bridge/console.h"
+#include "bridge/cues.h"
 #include "cli/args.h"
 #include "formats/scene_file.h"
 #include "spdlog/spdlog.h"
@@ -18,7 +21,7 @@ constexpr char kHelp[] =
     "usage: stylus-bridge --vmc-out HOST:PORT[,HOST:PORT...] (--style CLIP | --style-name NAME)\n"
     "                     [--vmc-in PORT] [--server ADDR] [--model M] [--fps N] [--hold]\n"
     "                     [--fade-frames N] [--postprocess default|none|feet|full] [--stats S]\n"
-    "                     [--console HOST:PORT] [--three-js PATH]\n\n"
+    "                     [--console HOST:PORT] [--three-js PATH] [--cues FILE]\n\n"
     "Sits between a mocap stage and the engine: reads the VMC protocol (OSC over\n"
     "UDP) from capture software as a Marionette, streams each performer (by\n"
     "source address) through a Stylus server, and sends the stylized motion on\n"
@@ -36,6 +39,8 @@ constexpr char kHelp[] =
     "  --fps N              the performers' frame rate (default 60)\n"
     "  --fade-frames N      fades back to the style and between styles (default 15)\n"
     "  --stats S            print the counters every S seconds\n"
+    "  --cues FILE          style changes in time: lines 'SECONDS style NAME-OR-CLIP'\n"
+    "                       or 'SECONDS strength K', seconds from the start\n"
     "  --console HOST:PORT  serve the stage console (a web page: the performer and\n"
     "                       the stylized output side by side, style picker,\n"
     "                       strength slider, latency and counters), e.g.\n"
@@ -62,7 +67,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   stylus::cli::ArgSpec spec{
       {"vmc-in", "vmc-out", "server", "token", "tls-ca", "model", "style", "style-name", "fps",
-       "fade-frames", "postprocess", "stats", "console", "three-js"},
+       "fade-frames", "postprocess", "stats", "console", "three-js", "cues"},
       {"hold"}};
   absl::StatusOr<stylus::cli::Args> a = ParseArgs(args, spec);
   if (!a.ok()) {
@@ -121,6 +126,17 @@ int main(int argc, char** argv) {
     o.client.tls.enabled = true;
   }
 
+  std::vector<stylus::bridge::Cue> cues;
+  if (a->Has("cues")) {
+    std::ifstream in(a->Get("cues"));
+    if (!in) return Fail(a->Get("cues") + ": cannot open");
+    std::stringstream text;
+    text << in.rdbuf();
+    absl::StatusOr<std::vector<stylus::bridge::Cue>> parsed =
+        stylus::bridge::ParseCues(text.str(), a->Get("cues"));
+    if (!parsed.ok()) return Fail(std::string(parsed.status().message()));
+    cues = *std::move(parsed);
+  }
   stylus::bridge::Bridge bridge(o);
   if (absl::Status s = bridge.Start(); !s.ok()) return Fail(std::string(s.message()));
   std::signal(SIGINT, OnSignal);
@@ -138,8 +154,19 @@ int main(int argc, char** argv) {
     spdlog::info("stage console on http://{}/ (port {})", a->Get("console"), console->port());
   }
   auto last = std::chrono::steady_clock::now();
+  const auto started = last;
+  size_t next_cue = 0;
   while (!stop) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const double now_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    for (; next_cue < cues.size() && cues[next_cue].seconds <= now_s; ++next_cue) {
+      const stylus::bridge::Cue& cue = cues[next_cue];
+      if (cue.strength) {
+        bridge.ChangeStrength(cue.value);
+      } else {
+        bridge.ChangeStyle(cue.style);
+      }
+    }
     if (*every > 0 && std::chrono::steady_clock::now() - last >= std::chrono::duration<double>(*every)) {
       last = std::chrono::steady_clock::now();
       const stylus::bridge::BridgeStats st = bridge.stats();

@@ -139,11 +139,14 @@ grpc_port, vmc_in, vmc_out, vmc_out2 = free_port(socket.SOCK_STREAM), free_port(
 server = start_server(grpc_port)
 engine = Engine(vmc_out)
 engine2 = Engine(vmc_out2)
+cues = os.path.join(work, "show.cues")
+with open(cues, "w") as f:
+    f.write("# a cue early in the show\n0.3 strength 0.95\n")
 bridge_log = open(os.path.join(work, "bridge.log"), "w")
 bridge = subprocess.Popen([bridge_bin, "--server", "localhost:%d" % grpc_port, "--vmc-in", str(vmc_in),
                            "--vmc-out", "localhost:%d,localhost:%d" % (vmc_out, vmc_out2), "--style",
                            os.path.join(src, "samples", "walk_old.bvh"), "--fps", str(int(FPS)),
-                           "--stats", "1"], stdout=bridge_log, stderr=subprocess.STDOUT)
+                           "--stats", "1", "--cues", cues], stdout=bridge_log, stderr=subprocess.STDOUT)
 performer = liblo.Address("localhost", vmc_in)
 # Each performer sends from its own socket: the bridge tells them apart by
 # source address.
@@ -262,6 +265,7 @@ print("     " + (stats[-1] if stats else "(no counters printed)"))
 check("the counters show the failure and the reconnect", stats and " reconnects 0" not in stats[-1]
       and " stream_failures 0" not in stats[-1], stats[-1] if stats else log[-500:])
 check("the bridge stops on SIGTERM", bridge.returncode == 0, bridge.returncode)
+check("the cue file's strength change was played", "strength -> 0.95" in log, log[-300:])
 if failures:
     print("%d FAILED: %s" % (len(failures), ", ".join(failures)))
     sys.exit(1)

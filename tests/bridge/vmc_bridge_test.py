@@ -73,6 +73,18 @@ def vmc_frame(row):
 
 
 frames = [vmc_frame(row) for row in clip.frames]
+
+# The command line: help, and clear errors before anything starts.
+for args, code, want in (
+        (["--help"], 0, "usage: stylus-bridge"),
+        (["--style", os.path.join(src, "samples", "walk_old.bvh")], 2, "--vmc-out HOST:PORT is required"),
+        (["--vmc-out", "localhost:1", "--style", os.path.join(work, "none.bvh")], 2, "none.bvh"),
+        (["--vmc-out", "localhost:1"], 2, "give the style"),
+        (["--vmc-out", "nowhere", "--style-name", "x"], 2, "--vmc-out nowhere: expected HOST:PORT"),
+        (["--bogus", "1"], 2, "unknown option --bogus")):
+    done = subprocess.run([bridge_bin] + args, capture_output=True, text=True, timeout=30)
+    check("stylus-bridge %s -> %s" % (" ".join(args), want), done.returncode == code and want in done.stdout + done.stderr,
+          (done.returncode, (done.stdout + done.stderr)[-300:]))
 FPS = 60.0
 
 

@@ -15,7 +15,9 @@ performers; end to end p99 <= the look-ahead + 15 ms; 0 frames lost;
 styled again within 2 s of a restart. OPENBLAS_CORETYPE is passed through as
 the environment has it (printed).
 
-usage: bench/bridge_bench.py [BUILD_DIR] [--seconds S]   (default build, 10 s)
+usage: bench/bridge_bench.py [BUILD_DIR] [--seconds S] [--only PERFORMERS:HZ]
+       (default build, 10 s, every setting; --only 16:60 --seconds 600 is the
+       10-minute soak)
 """
 import os
 import socket
@@ -28,9 +30,11 @@ import time
 import liblo
 
 src = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-args = [a for a in sys.argv[1:] if not a.startswith("--")]
+args = [a for i, a in enumerate(sys.argv[1:], 1)
+        if not a.startswith("--") and sys.argv[i - 1] not in ("--seconds", "--only")]
 build = os.path.abspath(args[0] if args else os.path.join(src, "build"))
 seconds = float(sys.argv[sys.argv.index("--seconds") + 1]) if "--seconds" in sys.argv else 10.0
+only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else ""
 sys.path.insert(0, os.path.join(src, "client", "python"))
 sys.path.insert(0, os.path.join(build, "proto", "python"))
 from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
@@ -152,7 +156,10 @@ with tempfile.TemporaryDirectory(prefix="stylus-bridge-bench-") as work:
                                                        "frames", "bridge lost", "engines lost",
                                                        "end to end p50/p99"))
     try:
-        for performers, rate in ((1, 30), (1, 60), (1, 120), (16, 30), (16, 120)):
+        settings = ((1, 30), (1, 60), (1, 120), (16, 30), (16, 120))
+        if only:
+            settings = (tuple(int(v) for v in only.split(":")),)
+        for performers, rate in settings:
             stats, lost, e2e, tail = run(work, performers, rate, grpc_port)
             sent = int(seconds * rate) * performers
             out = sum(int(stats.get(k, 0)) for k in ("styled", "passed", "held"))

@@ -197,6 +197,16 @@ int Bridge::OnMessage(const char* path, const char* types, lo_arg** argv, int ar
     b->ChangeStrength(types[0] == 'f' ? argv[0]->f : argv[0]->d);
     return 0;
   }
+  // A source is taken only while there is room: frames being assembled and
+  // performers together stay within max_performers.
+  if (!b->pending_.count(source)) {
+    absl::MutexLock lock(&b->mu_);
+    if (!b->performers_.count(source) &&
+        static_cast<int>(b->performers_.size() + b->pending_.size()) >= b->options_.max_performers) {
+      ++b->stats_.refused;
+      return 0;
+    }
+  }
   b->bundle_source_ = source;
   if (p == "/VMC/Ext/Root/Pos" || p == "/VMC/Ext/Bone/Pos") {
     float pq[7];

@@ -42,6 +42,9 @@ struct BridgeOptions {
   int fade_frames = 15;      // Back to the style after a reconnect; style changes.
   bool hold = false;         // While the stream is down: hold the last output, not pass through.
   double max_backoff_s = 0.5;  // Reconnect attempts: 50 ms doubling up to this.
+  // Sources (performers) taken at most: each opens a stream on the server,
+  // and any UDP sender is a source. Frames from further sources are refused.
+  int max_performers = 32;
 };
 
 struct BridgeStats {
@@ -51,6 +54,7 @@ struct BridgeStats {
   int64_t held = 0;         // Frames sent holding the last output (--hold).
   int64_t out_of_order = 0;  // Frames older than one already taken: dropped.
   int64_t malformed = 0;    // Messages with the wrong arguments: dropped.
+  int64_t refused = 0;      // Messages from sources past --max-performers: dropped.
   int64_t reconnects = 0;   // Streams opened after the first.
   int64_t stream_failures = 0;
   int performers = 0;

@@ -39,6 +39,8 @@ constexpr char kHelp[] =
     "  --fps N              the performers' frame rate (default 60)\n"
     "  --fade-frames N      fades back to the style and between styles (default 15)\n"
     "  --stats S            print the counters every S seconds\n"
+    "  --max-performers N   sources taken at most, each a stream (default 32);\n"
+    "                       frames from further sources are counted and dropped\n"
     "  --cues FILE          style changes in time: lines 'SECONDS style NAME-OR-CLIP'\n"
     "                       or 'SECONDS strength K', seconds from the start\n"
     "  --console HOST:PORT  serve the stage console (a web page: the performer and\n"
@@ -67,7 +69,8 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   stylus::cli::ArgSpec spec{
       {"vmc-in", "vmc-out", "server", "token", "tls-ca", "model", "style", "style-name", "fps",
-       "fade-frames", "postprocess", "stats", "console", "three-js", "cues"},
+       "fade-frames", "postprocess", "stats", "console", "three-js", "cues",
+       "max-performers"},
       {"hold"}};
   absl::StatusOr<stylus::cli::Args> a = ParseArgs(args, spec);
   if (!a.ok()) {
@@ -83,6 +86,10 @@ int main(int argc, char** argv) {
   absl::StatusOr<double> fps = a->GetDouble("fps", 60);
   absl::StatusOr<int> fade = a->GetInt("fade-frames", 15);
   absl::StatusOr<double> every = a->GetDouble("stats", 0);
+  absl::StatusOr<int> max_performers = a->GetInt("max-performers", 32);
+  if (!max_performers.ok()) return Fail(std::string(max_performers.status().message()));
+  if (*max_performers < 1 || *max_performers > 1024) return Fail("--max-performers wants 1 to 1024");
+  o.max_performers = *max_performers;
   for (const absl::Status& s : {port.status(), fps.status(), fade.status(), every.status()}) {
     if (!s.ok()) return Fail(std::string(s.message()));
   }
@@ -172,9 +179,9 @@ int main(int argc, char** argv) {
       const stylus::bridge::BridgeStats st = bridge.stats();
       absl::PrintF(
           "performers %d received %d styled %d passed %d held %d out_of_order %d malformed %d "
-          "stream_failures %d reconnects %d added_us_p50 %.0f added_us_p99 %.0f\n",
+          "stream_failures %d reconnects %d refused %d added_us_p50 %.0f added_us_p99 %.0f\n",
           st.performers, st.received, st.styled, st.passed, st.held, st.out_of_order, st.malformed,
-          st.stream_failures, st.reconnects, st.added_p50_us, st.added_p99_us);
+          st.stream_failures, st.reconnects, st.refused, st.added_p50_us, st.added_p99_us);
       std::fflush(stdout);
     }
   }

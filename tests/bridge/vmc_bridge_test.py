@@ -158,7 +158,7 @@ bridge_log = open(os.path.join(work, "bridge.log"), "w")
 bridge = subprocess.Popen([bridge_bin, "--server", "localhost:%d" % grpc_port, "--vmc-in", str(vmc_in),
                            "--vmc-out", "localhost:%d,localhost:%d" % (vmc_out, vmc_out2), "--style",
                            os.path.join(src, "samples", "walk_old.bvh"), "--fps", str(int(FPS)),
-                           "--stats", "1", "--cues", cues], stdout=bridge_log, stderr=subprocess.STDOUT)
+                           "--stats", "1", "--cues", cues, "--max-performers", "2"], stdout=bridge_log, stderr=subprocess.STDOUT)
 performer = liblo.Address("localhost", vmc_in)
 # Each performer sends from its own socket: the bridge tells them apart by
 # source address.
@@ -248,6 +248,15 @@ try:
           len(second) == n - 4 - joined and all(difference(sent[t], got2[t]) > 1.0 for t in second[20:]),
           (len(second), n - 4 - joined))
 
+    # A third source, past --max-performers 2: refused, counted, no stream.
+    third = liblo.Server()
+    for k in range(30):
+        third.send(performer, liblo.Bundle(
+            liblo.Message("/VMC/Ext/Root/Pos", "root", 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+            *[liblo.Message("/VMC/Ext/Bone/Pos", name, *p, *q) for name, (p, q) in frames[k].items()],
+            liblo.Message("/VMC/Ext/T", ("f", k / FPS))))
+        time.sleep(1 / FPS)
+
     # Strength 0 from the stage, with liblo's own oscsend.
     done = subprocess.run(["oscsend", "localhost", str(vmc_in), "/stylus/strength", "f", "0"],
                           capture_output=True, text=True)
@@ -277,6 +286,9 @@ print("     " + (stats[-1] if stats else "(no counters printed)"))
 check("the counters show the failure and the reconnect", stats and " reconnects 0" not in stats[-1]
       and " stream_failures 0" not in stats[-1], stats[-1] if stats else log[-500:])
 check("the bridge stops on SIGTERM", bridge.returncode == 0, bridge.returncode)
+check("a source past --max-performers is refused and counted",
+      bool(stats) and " performers 2 " in " " + stats[-1] + " " and " refused 0 " not in stats[-1] + " ",
+      stats[-1] if stats else None)
 check("the cue file's strength change was played", "strength -> 0.95" in log, log[-300:])
 if failures:
     print("%d FAILED: %s" % (len(failures), ", ".join(failures)))

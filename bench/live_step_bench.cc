@@ -15,7 +15,9 @@
 //   - movement from examples (docs/movement.md "Streams"): a stream step,
 //     post-processing full, with no takes (the networks alone), with the
 //     style clip's take, and with a style library's takes of one style
-//     (--library DIR --style-label NAME), as ratios to the networks alone.
+//     (--library DIR --style-label NAME), as ratios to the networks alone;
+//     for a package that gates takes by action (movement_action_gate), the
+//     style clip's take with the gate off too.
 // usage: live_step_bench [--model DIR] [--frames 600] [--content BVH]
 //                        [--library DIR --style-label NAME]
 #include <cstdio>
@@ -98,10 +100,12 @@ int BatchedSteps(const model::StyleModel& m, const motion::Motion& clip,
 }
 
 // Per frame of one stream (post full), ms: the networks alone, with the
-// style clip's take, with the library's takes of `label`.
-int MovementCost(const model::StyleModel& m, const motion::Motion& clip,
-                 const model::StyleCode& style, int frames, const std::string& library_dir,
-                 const std::string& label) {
+// style clip's take, with the library's takes of `label`; and, when the
+// package gates takes by action, the style clip's take on `ungated` (the
+// same package with movement_action_gate = 0).
+int MovementCost(const model::StyleModel& m, const model::StyleModel* ungated,
+                 const motion::Motion& clip, const model::StyleCode& style, int frames,
+                 const std::string& library_dir, const std::string& label) {
   std::unique_ptr<model::StyleLibrary> library;
   if (!library_dir.empty()) {
     auto lib = model::StyleLibrary::Load(library_dir);
@@ -121,17 +125,21 @@ int MovementCost(const model::StyleModel& m, const motion::Motion& clip,
     const char* name;
     const model::StyleCode* code;
     model::MovementRequest movement;
+    const model::StyleModel* model;
   };
-  std::vector<Variant> variants = {{"networks alone", &alone, {}},
-                                   {"the style clip's take", &style, {}}};
-  if (library) variants.push_back({"the library's takes", &alone, {library.get(), label}});
+  std::vector<Variant> variants = {{"networks alone", &alone, {}, &m},
+                                   {"the style clip's take", &style, {}, &m}};
+  if (library) variants.push_back({"the library's takes", &alone, {library.get(), label}, &m});
+  if (ungated != nullptr) {
+    variants.push_back({"the clip's take, no gate", &style, {}, ungated});
+  }
   std::printf(
       "movement from examples (post full), ms per frame and ratio to the networks alone:\n");
   double base = 0;
   for (const Variant& v : variants) {
     model::StreamSpec spec{*v.code, clip.skeleton, clip.frame_time, motion::PostProcessMode::kFull};
     spec.movement = v.movement;
-    auto s = m.OpenStream(spec);
+    auto s = v.model->OpenStream(spec);
     if (!s.ok()) {
       std::fprintf(stderr, "live_step_bench: %s\n", s.status().ToString().c_str());
       return 1;
@@ -144,7 +152,7 @@ int MovementCost(const model::StyleModel& m, const motion::Motion& clip,
 }
 
 int Main(int argc, char** argv) {
-  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/live/v2";
+  std::string dir = std::string(STYLUS_SOURCE_DIR) + "/models/live/v3";
   std::string content = std::string(STYLUS_SOURCE_DIR) + "/samples/walk_normal.bvh";
   std::string library, label;
   int frames = 600;
@@ -217,7 +225,20 @@ int Main(int argc, char** argv) {
   std::printf("stream step, post full: %.3f ms per frame\n", 1000 * per_frame[1]);
   std::printf("32-frame window recompute, post none: %.3f ms per frame; ratio to the step %.1fx\n",
               1000 * window, window / per_frame[0]);
-  if (const int r = MovementCost(**m, clip, style, frames, library, label); r != 0) return r;
+  // A package that gates takes by action reads the style clip's action.
+  std::shared_ptr<const model::StyleModel> ungated;
+  if (!style.example_actions.empty()) {
+    absl::StatusOr<std::unique_ptr<model::StyleModel>> u =
+        model::LoadStyleModel(dir, {{"movement_action_gate", "0"}});
+    if (!u.ok()) {
+      std::fprintf(stderr, "live_step_bench: %s\n", u.status().ToString().c_str());
+      return 1;
+    }
+    ungated = *std::move(u);
+  }
+  if (const int r = MovementCost(**m, ungated.get(), clip, style, frames, library, label); r != 0) {
+    return r;
+  }
   return BatchedSteps(**m, clip, style, frames);
 }
 

@@ -154,6 +154,7 @@ std::optional<absl::Status> ParseMovementKey(const ConfigEntry& e, MovementKeys*
   if (e.key == "movement_max_cost") return e.Double(&keys->movement_max_cost, 0, 100);
   if (e.key == "movement_max_mismatch") return e.Double(&keys->movement_max_mismatch, 0, 100);
   if (e.key == "movement_fit_stride") return e.Bool(&keys->movement_fit_stride);
+  if (e.key == "movement_action_gate") return e.Double(&keys->movement_action_gate, 0, 1);
   return std::nullopt;
 }
 
@@ -165,6 +166,9 @@ void AppendMovementKeys(const MovementKeys& keys, std::string* out) {
   AppendConfigLine(out, "movement_max_cost", absl::StrCat(keys.movement_max_cost));
   AppendConfigLine(out, "movement_max_mismatch", absl::StrCat(keys.movement_max_mismatch));
   if (!keys.movement_fit_stride) AppendConfigLine(out, "movement_fit_stride", "0");
+  if (keys.movement_action_gate > 0) {
+    AppendConfigLine(out, "movement_action_gate", absl::StrCat(keys.movement_action_gate));
+  }
 }
 
 std::optional<absl::Status> RefuseRemovedKey(const ConfigEntry& e,

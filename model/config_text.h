@@ -83,6 +83,12 @@ struct MovementKeys {
   // flight; model/movement.cc) above which the example is not used.
   double movement_max_mismatch = 1;
   bool movement_fit_stride = true;
+  // Streams: a take whose action is known (a library take's label, or the
+  // package's content guard's reading of it) plays only while the guard
+  // reads the content's last seconds as that action, with at least this
+  // share of the likeliest action's probability (motion::FollowOptions::
+  // action_gate). 0: no gate; above 0 the package needs its content guard.
+  double movement_action_gate = 0;
 };
 std::optional<absl::Status> ParseMovementKey(const ConfigEntry& e, MovementKeys* keys);
 // Appends the keys (nothing when movement comes from the network).

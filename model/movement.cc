@@ -101,6 +101,8 @@ absl::StatusOr<std::shared_ptr<const StyleLibrary::Converted>> StyleLibrary::For
       return absl::InvalidArgumentError(
           absl::StrCat("style library take ", takes_[i].path, ": ", code.status().message()));
     }
+    std::vector<double> labelled = model.LabelledAction(takes_[i].content);
+    out->action.push_back(!labelled.empty() ? std::move(labelled) : code->example_actions);
     std::vector<float>& mean = out->mean_code[takes_[i].style];
     mean.resize(code->values.size(), 0.f);
     for (size_t c = 0; c < mean.size(); ++c) mean[c] += code->values[c];
@@ -200,10 +202,24 @@ absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
 
   // Every example of the style competes: the style clip and the library's
   // takes of the style; the one that shows the content's movement best wins.
+  // With an action gate, only examples of the content's action compete.
+  const std::vector<double> content_action =
+      keys.movement_action_gate > 0 ? model.ReadAction(content) : std::vector<double>{};
   double best = std::numeric_limits<double>::infinity();
   std::string why;
-  auto consider = [&](const std::shared_ptr<const motion::MovementClip>& e,
-                      const std::string& name) {
+  auto consider = [&](const std::shared_ptr<const motion::MovementClip>& e, const std::string& name,
+                      const std::vector<double>& action) {
+    if (!content_action.empty() && action.size() == content_action.size()) {
+      double overlap = 0;
+      for (size_t a = 0; a < action.size(); ++a) overlap += std::min(action[a], content_action[a]);
+      if (overlap < keys.movement_action_gate) {
+        if (why.empty()) {
+          why = absl::StrCat(name, ": it shows another action than the content (overlap ", overlap,
+                             " < movement_action_gate ", keys.movement_action_gate, ")");
+        }
+        return;
+      }
+    }
     std::string reason;
     std::optional<std::pair<double, motion::Registration>> fit = Fit(mine, *e, keys, &reason);
     if (!fit) {
@@ -217,7 +233,9 @@ absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
       note->example = name;
     }
   };
-  if (styles[main].example) consider(styles[main].example, "style clip");
+  if (styles[main].example) {
+    consider(styles[main].example, "style clip", styles[main].example_actions);
+  }
   if (request.library != nullptr) {
     absl::StatusOr<std::shared_ptr<const StyleLibrary::Converted>> lib =
         request.library->For(model);
@@ -230,7 +248,7 @@ absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
     for (size_t i = 0; i < takes.size(); ++i) {
       if (takes[i].style != label) continue;
       ++of_style;
-      consider((*lib)->clips[i], fs::path(takes[i].path).filename().string());
+      consider((*lib)->clips[i], fs::path(takes[i].path).filename().string(), (*lib)->action[i]);
     }
     if (of_style == 0) {
       why = absl::StrCat(why.empty() ? "" : why + "; ", "the library has no take of '", label, "'");
@@ -251,16 +269,19 @@ absl::StatusOr<motion::StreamExamples> ChooseStreamExamples(const StyleModel& mo
                                                             const MovementRequest& request,
                                                             std::string* why) {
   motion::StreamExamples out;
-  auto take = [&](const std::shared_ptr<const motion::MovementClip>& e, const std::string& name) {
+  auto take = [&](const std::shared_ptr<const motion::MovementClip>& e, const std::string& name,
+                  const std::vector<double>& action) {
     if (e->steps && out.steps.size() < motion::StreamExamples::kMaxTakes) {
       out.steps.push_back(e);
       out.step_names.push_back(name);
+      out.step_actions.push_back(action);
     } else if (!e->steps && out.gestures.size() < motion::StreamExamples::kMaxTakes) {
       out.gestures.push_back(e);
       out.gesture_names.push_back(name);
+      out.gesture_actions.push_back(action);
     }
   };
-  if (code.example) take(code.example, "style clip");
+  if (code.example) take(code.example, "style clip", code.example_actions);
   std::string label;
   if (request.library != nullptr) {
     absl::StatusOr<std::shared_ptr<const StyleLibrary::Converted>> lib =
@@ -269,7 +290,9 @@ absl::StatusOr<motion::StreamExamples> ChooseStreamExamples(const StyleModel& mo
     label = !request.style_label.empty() ? request.style_label : NearestLibraryStyle(**lib, code);
     const std::vector<LibraryTake>& takes = request.library->takes();
     for (size_t i = 0; i < takes.size(); ++i) {
-      if (takes[i].style == label) take((*lib)->clips[i], fs::path(takes[i].path).filename().string());
+      if (takes[i].style == label) {
+        take((*lib)->clips[i], fs::path(takes[i].path).filename().string(), (*lib)->action[i]);
+      }
     }
   }
   if (why != nullptr && out.steps.empty() && out.gestures.empty()) {

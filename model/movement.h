@@ -69,6 +69,10 @@ class StyleLibrary {
   struct Converted {
     std::vector<std::shared_ptr<const motion::MovementClip>> clips;  // Per take.
     std::map<std::string, std::vector<float>> mean_code;             // Per style.
+    // Per take, its action as a reading of the model's content guard: its
+    // label's when the guard knows it, else the guard's reading; empty
+    // without a guard.
+    std::vector<std::vector<double>> action;
   };
   absl::StatusOr<std::shared_ptr<const Converted>> For(const StyleModel& model) const;
 

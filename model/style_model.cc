@@ -401,6 +401,32 @@ absl::StatusOr<StyleCode> StyleModel::EncodeStyle(const motion::Motion& clip,
   return code;
 }
 
+std::vector<double> StyleModel::ReadAction(const motion::Motion& clip) const {
+  const ContentGuard* guard = content_guard();
+  if (guard == nullptr) return {};
+  absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, data().roles);
+  if (!f.ok()) return {};
+  data().norm.Normalize(&*f);
+  return guard->Probabilities(*f);
+}
+
+std::vector<double> StyleModel::ActionProbabilities(const motion::FeatureClip& normalized) const {
+  const ContentGuard* guard = content_guard();
+  if (guard == nullptr) return {};
+  return guard->Probabilities(normalized);
+}
+
+std::vector<double> StyleModel::LabelledAction(const std::string& label) const {
+  const ContentGuard* guard = content_guard();
+  if (guard == nullptr) return {};
+  const std::vector<std::string>& names = guard->contents();
+  const auto it = std::find(names.begin(), names.end(), label);
+  if (it == names.end()) return {};
+  std::vector<double> p(names.size(), 0.0);
+  p[it - names.begin()] = 1;
+  return p;
+}
+
 absl::StatusOr<StyleCode> StyleModel::EncodeAnyRigStyle(const motion::Motion& clip,
                                                         const motion::JointMap& joint_map) const {
   if (clip.num_frames > 0 && !clip.skeleton.SameTopology(data().skeleton)) {
@@ -425,6 +451,7 @@ absl::StatusOr<StyleCode> StyleModel::EncodeAnyRigStyle(const motion::Motion& cl
     if (absl::StatusOr<motion::MovementClip> read = motion::AnalyzeMovement(at_model, data().roles);
         read.ok()) {
       code->example = std::make_shared<const motion::MovementClip>(*std::move(read));
+      if (movement_keys().movement_action_gate > 0) code->example_actions = ReadAction(at_model);
     }
   }
   return code;

@@ -44,6 +44,10 @@ struct StyleCode {
   // The style clip on the model's skeleton and rate, read for movement from
   // examples (model/movement.h); EncodeStyle fills it in.
   std::shared_ptr<const motion::MovementClip> example = nullptr;
+  // The example's action as the package's content guard reads it (a
+  // probability per action), when its movement is gated by action
+  // (MovementKeys::movement_action_gate); empty otherwise.
+  std::vector<double> example_actions = {};
 };
 
 // How styles mix over a clip: `fixed` (one weight per style) for the whole clip,
@@ -245,6 +249,17 @@ class StyleModel : public std::enable_shared_from_this<StyleModel> {
   // Whether this package takes a transfer's movement from examples
   // (MovementKeys; `movement = examples`).
   bool moves_from_examples() const { return movement_keys().movement_examples; }
+  // The action the package's content guard reads in `clip` (on the model's
+  // skeleton, at its rate): a probability per action; empty without a
+  // guard or for a clip it cannot read.
+  std::vector<double> ReadAction(const motion::Motion& clip) const;
+  // The guard's probability of each action for `normalized` features (as
+  // the package's statistics normalize them); empty without a guard.
+  std::vector<double> ActionProbabilities(const motion::FeatureClip& normalized) const;
+  // The action named `label` as a reading: 1 for it among the guard's
+  // actions, 0 for the others; empty when the guard knows no such action
+  // (or without a guard).
+  std::vector<double> LabelledAction(const std::string& label) const;
 
  protected:
   // Interpolate with the content's timing.

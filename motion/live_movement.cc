@@ -202,6 +202,30 @@ MovementFollower::MovementFollower(StreamExamples examples, const ContentTrack& 
   warps_.resize(examples_.gestures.size());
 }
 
+void MovementFollower::ReadActions(const std::vector<double>& probabilities) {
+  if (!probabilities.empty()) content_actions_ = probabilities;
+}
+
+bool MovementFollower::gated() const {
+  if (options_.action_gate <= 0) return false;
+  for (const auto* actions : {&examples_.step_actions, &examples_.gesture_actions}) {
+    for (const std::vector<double>& a : *actions) {
+      if (!a.empty()) return true;
+    }
+  }
+  return false;
+}
+
+bool MovementFollower::ActionAllowed(const std::vector<std::vector<double>>& actions,
+                                     int take) const {
+  if (options_.action_gate <= 0 || static_cast<size_t>(take) >= actions.size()) return true;
+  const std::vector<double>& own = actions[take];
+  if (own.empty() || content_actions_.size() != own.size()) return true;
+  double overlap = 0;
+  for (size_t a = 0; a < own.size(); ++a) overlap += std::min(own[a], content_actions_[a]);
+  return overlap >= options_.action_gate;
+}
+
 double MovementFollower::gesture_time() const {
   return gesture_ >= 0 ? warps_[gesture_].time : 0;
 }
@@ -338,6 +362,7 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
         continue;
       }
       Register(*examples_.gestures[k], shape, &w);
+      if (!ActionAllowed(examples_.gesture_actions, static_cast<int>(k))) continue;
       const bool differ = ArmsDiffer(arms, *examples_.gestures[k], Frames(kHeldS, track.fps()));
       score[k] = w.cost * (differ ? kOtherArmsFactor : 1);
       if (best < 0 || score[k] < score[best]) best = static_cast<int>(k);
@@ -350,8 +375,9 @@ LocalPose MovementFollower::Apply(const ContentTrack& track, const ContentTrack:
       }
       gesture_ = best;
     }
-    const bool follows =
-        !stepping_ && gesture_ >= 0 && warps_[gesture_].cost <= options_.max_cost;
+    const bool follows = !stepping_ && gesture_ >= 0 &&
+                         warps_[gesture_].cost <= options_.max_cost &&
+                         ActionAllowed(examples_.gesture_actions, gesture_);
     w_gesture_ = std::clamp(w_gesture_ + (follows ? dw : -dw), 0.0, 1.0);
   }
 
@@ -452,6 +478,7 @@ int MovementFollower::NearestSteps(const ContentTrack::Estimate& est, int curren
   int best = -1;
   double nearest = std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < examples_.steps.size(); ++k) {
+    if (!ActionAllowed(examples_.step_actions, static_cast<int>(k))) continue;
     const MovementClip& e = *examples_.steps[k];
     const double cosine = std::clamp(Dot(est.travel, e.travel), -1.0, 1.0);
     if (std::acos(cosine) > M_PI / 4) continue;

@@ -109,7 +109,12 @@ struct StreamExamples {
   // and the one that registers best plays.
   std::vector<std::shared_ptr<const MovementClip>> gestures;
   std::vector<std::string> step_names, gesture_names;  // For notes and logs.
-  static constexpr int kMaxTakes = 64;                 // Of each kind.
+  // Each take's action, when the takes are gated by action
+  // (MovementFollower::ReadActions): a probability per action of the
+  // package's content guard (a labelled take's is its label's alone);
+  // empty: not known (the take is not gated).
+  std::vector<std::vector<double>> step_actions, gesture_actions;
+  static constexpr int kMaxTakes = 64;  // Of each kind.
 };
 
 struct FollowOptions {
@@ -124,6 +129,13 @@ struct FollowOptions {
   // A stepping take plays while its turning, travel and flight stay this
   // near the content's (MovementKeys::movement_max_mismatch).
   double max_mismatch = 1;
+  // Takes are gated by action (MovementKeys::movement_action_gate): a take
+  // whose action is known plays only while the content's action as last
+  // read (ReadActions) overlaps its own by at least this much (the sum over
+  // actions of the smaller of the two probabilities: 1 the same reading, 0
+  // nothing in common). Until the first reading every take may play.
+  // 0: no gate.
+  double action_gate = 0;
 };
 
 class MovementFollower {
@@ -137,6 +149,15 @@ class MovementFollower {
   LocalPose Apply(const ContentTrack& track, const ContentTrack::Reading& now,
                   const LocalPose& network, double strength,
                   std::optional<std::array<bool, 4>>* contacts);
+
+  // The content's action lately, one probability per action (the package's
+  // content guard's reading of its last seconds). With an action gate, a
+  // take whose action does not overlap it stops playing (fading out) and is
+  // not chosen until the reading changes.
+  void ReadActions(const std::vector<double>& probabilities);
+  // Whether a reading can change what plays: an action gate, and a take
+  // whose action is known.
+  bool gated() const;
 
   // Reading, for notes and tests.
   double step_weight() const { return w_steps_; }
@@ -178,6 +199,8 @@ class MovementFollower {
   ArmReading ReadArms() const;
   static bool ArmsDiffer(const ArmReading& content, const MovementClip& take, int held_frames);
   double Entry(const MovementClip& take, const std::vector<double>& gait) const;
+  // Whether take `take` (of `actions`' kind) may play (the action gate).
+  bool ActionAllowed(const std::vector<std::vector<double>>& actions, int take) const;
   double Advance(const MovementClip& take, double t, double rate) const;
   LocalPose Steps(const ContentTrack& track, const ContentTrack::Estimate& est, int take,
                   double time, const LocalPose& network, double* rate) const;
@@ -201,6 +224,9 @@ class MovementFollower {
   // A switch of take or a new pass fades from where the last one was.
   int switch_left_ = 0, switch_from_ = -1;
   double switch_time_ = 0;
+  // The action gate: the content's action as last read; empty: not read
+  // yet.
+  std::vector<double> content_actions_;
 };
 
 }  // namespace stylus::motion

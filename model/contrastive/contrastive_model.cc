@@ -113,7 +113,7 @@ absl::StatusOr<std::unique_ptr<ContrastiveModel>> ContrastiveModel::Load(
   impl->net->eval();
   if (impl->config.live) impl->engine = std::make_unique<LiveEngine>(*impl->net);
   const ContrastiveConfig& c = impl->config;
-  if (c.content_guard) {
+  if (c.content_guard || (c.movement_examples && c.movement_action_gate > 0)) {
     absl::StatusOr<std::unique_ptr<ContentGuard>> guard =
         ContentGuard::Load(dir, c.dim, c.window, c.hop);
     if (!guard.ok()) return guard.status();

@@ -116,6 +116,13 @@ class LiveStreamer : public FrameStreamer {
   FrameStyle step_style_ = {1, 1, 0, nullptr};  // The running step's.
   std::deque<FrameStyle> frame_styles_;
   std::vector<motion::Vec3> moved_euler_;
+  // The action gate (MovementKeys::movement_action_gate): the content's
+  // last normalized feature rows (row i is frame i's), read by the
+  // package's content guard every few frames; its last reading.
+  std::deque<std::vector<float>> action_rows_;
+  int64_t action_rows_end_ = 0;  // Rows pushed so far.
+  std::vector<double> actions_;
+  void ReadActions();
   std::vector<std::optional<std::array<bool, 4>>> contacts_;  // Since TakeContacts.
 };
 

@@ -155,7 +155,8 @@ const std::vector<std::string>& CyclicConfig::InferenceKeys() {
                                    "movement_spine",
                                    "movement_max_cost",
                                    "movement_max_mismatch",
-                                   "movement_fit_stride"};
+                                   "movement_fit_stride",
+                                   "movement_action_gate"};
   return *keys;
 }
 

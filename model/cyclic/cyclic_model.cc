@@ -87,7 +87,8 @@ absl::StatusOr<std::unique_ptr<CyclicModel>> CyclicModel::Load(const std::string
   if (absl::Status s = LoadWeights(impl->net, dir + "/weights.pt"); !s.ok()) return s;
   impl->net->eval();
   for (torch::Tensor& p : impl->net->parameters()) p.requires_grad_(false);
-  if (impl->config.content_guard) {
+  if (impl->config.content_guard ||
+      (impl->config.movement_examples && impl->config.movement_action_gate > 0)) {
     absl::StatusOr<std::unique_ptr<ContentGuard>> guard =
         ContentGuard::Load(dir, impl->config.dim, impl->config.window, impl->config.hop);
     if (!guard.ok()) return guard.status();

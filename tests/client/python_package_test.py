@@ -89,7 +89,7 @@ def inside(port, cli, src, work):
     ids = [m.id for m in stylus.models()]
     with open(os.path.join(src, "models", "DEFAULT")) as f:
         default = next(ln.strip() for ln in f if ln.strip() and not ln.startswith("#"))
-    check("models", default in ids and "live/v2" in ids, ids)
+    check("models", default in ids and "live/v3" in ids, ids)
     check("model", stylus.model("live").lookahead == 2)
 
     out = stylus.transfer(walk, old, postprocess="full")

@@ -5,6 +5,7 @@
 // through a stream of the shipped live package, frame by frame.
 #include "model/movement.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -166,7 +167,7 @@ class LiveMovementTest : public MovementTest {
  protected:
   static void SetUpTestSuite() {
     absl::StatusOr<std::unique_ptr<StyleModel>> m =
-        LoadStyleModel(testing::SourceDir() + "/models/live/v2");
+        LoadStyleModel(testing::SourceDir() + "/models/live/v3");
     ASSERT_TRUE(m.ok()) << m.status();
     live_ = new std::shared_ptr<StyleModel>(*std::move(m));
   }
@@ -263,6 +264,44 @@ TEST_F(LiveMovementTest, AStreamWhoseStyleShowsOnlyAGestureWalksInItsStyleFromAL
   // The elderly take's many short steps; the raise alone shows none.
   EXPECT_LT(period->period_s, 0.9 * content_period);
   EXPECT_GT(alone->period_s, 1.1 * period->period_s);
+}
+
+TEST_F(LiveMovementTest, AStreamDoesNotPlayATakeOfAnotherActionThanTheContents) {
+  STYLUS_REQUIRE_BANDAI(data);
+  // The package's action gate: the style clip, a wave of both hands, reads
+  // to its content guard as another action than the content's raise.
+  const motion::Motion content = Take(data, "raise-up-right-hand_normal_001");
+  const motion::Motion style = Take(data, "wave-both-hands_elderly_001");
+  auto stream = [&](const ConfigOverrides& overrides) {
+    absl::StatusOr<std::unique_ptr<StyleModel>> loaded =
+        LoadStyleModel(testing::SourceDir() + "/models/live/v3", overrides);
+    EXPECT_TRUE(loaded.ok()) << loaded.status();
+    const std::shared_ptr<StyleModel> m = *std::move(loaded);  // Streams need shared ownership.
+    absl::StatusOr<motion::Motion> out =
+        StreamClip(*m, content, *m->EncodeStyle(style), motion::PostProcessMode::kNone);
+    EXPECT_TRUE(out.ok()) << out.status();
+    return *out;
+  };
+  const motion::Motion gated = stream({});
+  const motion::Motion open = stream({{"movement_action_gate", "0"}});
+  const motion::Motion network = stream({{"movement", "network"}});
+  const size_t channels = content.skeleton.num_channels();
+  auto differs = [&](const motion::Motion& a, int f) {
+    double d = 0;
+    for (size_t c = 3; c < channels; ++c) {
+      d = std::max(d, std::abs(a.values[f * channels + c] - network.values[f * channels + c]));
+    }
+    return d;
+  };
+  // Until the content's action is first read (16 frames), the take may
+  // play; from the first reading and a fade (8 frames) on, the network's
+  // movement alone. Without the gate the wave plays on.
+  int open_moved = 0;
+  for (int f = 16 + 8 + 1; f < content.num_frames; ++f) {
+    ASSERT_LT(differs(gated, f), 1e-9) << "frame " << f;
+    open_moved += differs(open, f) > 1;  // Degrees.
+  }
+  EXPECT_GT(open_moved, (content.num_frames - 25) / 2);
 }
 
 TEST(StyleLibraryTest, AFolderWithoutLabelledTakesIsRefusedByName) {

@@ -1,10 +1,12 @@
 // Movement from examples frame by frame: a stream steps at the example's
 // cadence scaled by its walk ratio, never reads past its look-ahead, keeps
 // the network's legs while the content stands, follows a gesture, and plays
-// neither a gesture on a walk nor a run on a walk.
+// neither a gesture on a walk nor a run on a walk; with an action gate, a
+// take plays only while the content's action reads as its own.
 #include "motion/live_movement.h"
 
 #include <cmath>
+#include <functional>
 
 #include "gtest/gtest.h"
 #include "motion/bvh.h"
@@ -28,17 +30,21 @@ struct Followed {
 // The content streamed through a follower, the network's output taken to be
 // the content itself. `all_first`: every content frame is added before the
 // first output frame is made (a stream pushed in one chunk).
+// `actions(f)`, when given, is the content's action read before output
+// frame f (empty: no new reading).
 Followed Follow(const Motion& content, const StreamExamples& examples, int lookahead,
-                bool all_first = false, double strength = 1) {
+                bool all_first = false, double strength = 1, FollowOptions options = {},
+                const std::function<std::vector<double>(int)>& actions = nullptr) {
   const HumanoidRoles roles = *HumanoidRolesOf(content);
   ContentTrack track(content.skeleton, roles, content.frame_time, lookahead);
-  MovementFollower follower(examples, track, {});
+  MovementFollower follower(examples, track, options);
   Followed r{content, {}, {}, {}, {}, {}};
   std::vector<Vec3> euler(content.skeleton.num_joints());
   int added = 0;
   for (int f = 0; f < content.num_frames; ++f) {
     const int want = all_first ? content.num_frames : std::min(content.num_frames, f + lookahead + 1);
     for (; added < want; ++added) track.Add(PoseAt(content, added));
+    if (actions) follower.ReadActions(actions(f));
     std::optional<std::array<bool, 4>> on;
     const LocalPose pose = follower.Apply(track, track.Read(f), PoseAt(content, f), strength, &on);
     track.Forget(f + 1);
@@ -178,6 +184,66 @@ TEST(LiveMovementTest, ARunTakeDoesNotStepAWalkButAWalkTakeDoes) {
   StreamExamples walks;
   walks.steps.push_back(Read(*ReadBvhFile(d + "walk_elderly_003.bvh")));
   EXPECT_EQ(Follow(content, walks, 2).step_weight[content.num_frames / 2], 1);
+}
+
+TEST(LiveMovementTest, AnActionGatePlaysATakeOnlyWhileTheContentReadsAsItsAction) {
+  const Motion content = Walk("normal,frames=300,speed=130,stride=125");
+  StreamExamples ex;
+  ex.steps.push_back(Read(Walk("old,frames=180")));
+  ex.step_actions = {{0.9, 0.1}};  // Mostly action 0.
+  FollowOptions gated;
+  gated.action_gate = 0.2;
+  const std::vector<double> as_its_own = {0.7, 0.3}, as_another = {0.05, 0.95};
+  const int n = content.num_frames;
+  // Not read yet: the take plays.
+  EXPECT_EQ(Follow(content, ex, 2, false, 1, gated).step_weight[n / 2], 1);
+  // Read as its own action (overlap 0.8): it plays.
+  const Followed own = Follow(content, ex, 2, false, 1, gated, [&](int) { return as_its_own; });
+  EXPECT_EQ(own.step_weight[n / 2], 1);
+  EXPECT_TRUE(own.contacts[n / 2].has_value());
+  // Read as another (overlap 0.15 < 0.2) from the first frame: never.
+  const Followed other = Follow(content, ex, 2, false, 1, gated, [&](int) { return as_another; });
+  for (int f = 0; f < n; ++f) {
+    ASSERT_EQ(other.step_weight[f], 0) << "frame " << f;
+    ASSERT_FALSE(other.contacts[f].has_value()) << "frame " << f;
+  }
+  // Read as its own, then as another from frame 150: it fades out within a
+  // recheck and a fade (0.5 s + 0.25 s).
+  const Followed changed = Follow(content, ex, 2, false, 1, gated,
+                                  [&](int f) { return f < 150 ? as_its_own : as_another; });
+  EXPECT_EQ(changed.step_weight[149], 1);
+  EXPECT_EQ(changed.step_weight[150 + 30], 0);
+  EXPECT_EQ(changed.step_weight[n - 1], 0);
+  // Without the gate, or for a take whose action is not known, the reading
+  // does not matter.
+  EXPECT_EQ(
+      Follow(content, ex, 2, false, 1, {}, [&](int) { return as_another; }).step_weight[n / 2], 1);
+  StreamExamples unknown = ex;
+  unknown.step_actions = {{}};
+  EXPECT_EQ(Follow(content, unknown, 2, false, 1, gated, [&](int) { return as_another; })
+                .step_weight[n / 2],
+            1);
+}
+
+TEST(LiveMovementTest, AnActionGateRefusesAGestureTakeOfAnotherAction) {
+  STYLUS_REQUIRE_BANDAI(data);
+  const std::string d = data + "/dataset-2/dataset-2_";
+  const Motion content = *ReadBvhFile(d + "raise-up-both-hands_normal_001.bvh");
+  StreamExamples ex;
+  ex.gestures.push_back(Read(*ReadBvhFile(d + "raise-up-both-hands_elderly_002.bvh")));
+  ex.gesture_actions = {{1, 0}};
+  FollowOptions gated;
+  gated.action_gate = 0.2;
+  const Followed own = Follow(content, ex, 2, false, 1, gated, [](int) {
+    return std::vector<double>{0.8, 0.2};
+  });
+  const Followed other = Follow(content, ex, 2, false, 1, gated, [](int) {
+    return std::vector<double>{0.1, 0.9};
+  });
+  double most = 0;
+  for (double w : own.gesture_weight) most = std::max(most, w);
+  EXPECT_EQ(most, 1);
+  for (double w : other.gesture_weight) ASSERT_EQ(w, 0);
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ TEST(LiveStreamServerTest, GetModelReportsTheLookahead) {
   ASSERT_NE(live, nullptr);
   auto info = live->client->GetModel("live");
   ASSERT_TRUE(info.ok()) << info.status();
-  EXPECT_EQ(info->id(), "live/v2");
+  EXPECT_EQ(info->id(), "live/v3");
   EXPECT_TRUE(info->live());
   EXPECT_EQ(info->lookahead(), 2);
   auto offline = live->client->GetModel("contrastive");

@@ -58,14 +58,14 @@ TEST(MetricsTest, AScrapeAfterRealCallsCountsThem) {
   EXPECT_EQ(SeriesValue(text, "grpc_server_msg_received_total{" + stream + "}"),
             content.num_frames + 1);
   EXPECT_EQ(SeriesValue(text, "grpc_server_msg_sent_total{" + stream + "}"), content.num_frames);
-  EXPECT_EQ(SeriesValue(text, R"(stylus_frames_total{kind="stream",model="live/v2"})"),
+  EXPECT_EQ(SeriesValue(text, R"(stylus_frames_total{kind="stream",model="live/v3"})"),
             content.num_frames);
   EXPECT_EQ(SeriesValue(text, "stylus_stream_frame_seconds_count"), content.num_frames);
   EXPECT_GT(SeriesValue(text, "stylus_step_batch_streams_count"), 0);
   EXPECT_EQ(SeriesValue(text, R"(stylus_model_seconds_count{model=")" + testing::DefaultPackage() +
                                   R"("})"),
             1);
-  EXPECT_EQ(SeriesValue(text, R"(stylus_model_seconds_count{model="live/v2"})"),
+  EXPECT_EQ(SeriesValue(text, R"(stylus_model_seconds_count{model="live/v3"})"),
             SeriesValue(text, "stylus_step_batch_streams_count"));
   // States read at the scrape.
   EXPECT_EQ(SeriesValue(text, "stylus_loaded_models"), 4);

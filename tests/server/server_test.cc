@@ -54,7 +54,7 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
   EXPECT_EQ((*models)[0].id(), testing::DefaultPackage());
   EXPECT_EQ((*models)[1].id(), "cyclic/v1");
   EXPECT_EQ((*models)[2].id(), "cyclic/v2");
-  EXPECT_EQ((*models)[3].id(), "live/v2");
+  EXPECT_EQ((*models)[3].id(), "live/v3");
   EXPECT_EQ((*models)[3].family(), "contrastive");
   EXPECT_EQ((*models)[1].family(), "cyclic");
   EXPECT_EQ((*models)[2].family(), "cyclic");
@@ -78,7 +78,7 @@ TEST_F(ServerTest, ListsGetsUnloadsAndLoadsModels) {
             absl::StatusCode::kFailedPrecondition);
   ASSERT_TRUE(client().UnloadModel("cyclic/v1").ok());
   ASSERT_TRUE(client().UnloadModel("cyclic/v2").ok());
-  ASSERT_TRUE(client().UnloadModel("live/v2").ok());
+  ASSERT_TRUE(client().UnloadModel("live/v3").ok());
   EXPECT_EQ(client().UnloadModel("cyclic/v2").code(), absl::StatusCode::kNotFound);
   const motion::Motion clip = Sample("walk_normal.bvh");
   CallOptions cyclic;

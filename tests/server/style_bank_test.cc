@@ -46,11 +46,11 @@ TEST(StyleBankTest, UnknownNamesAndBadNamesAreErrors) {
 TEST(StyleBankTest, ANameSavedOnAnotherModelSaysWhere) {
   StyleBank bank;
   ASSERT_TRUE(bank.Save("contrastive/v9", "old", model::StyleCode{{1, 2}}).ok());
-  absl::StatusOr<model::StyleCode> missing = bank.Get("live/v2", "old");
+  absl::StatusOr<model::StyleCode> missing = bank.Get("live/v3", "old");
   EXPECT_EQ(missing.status().code(), absl::StatusCode::kNotFound);
   EXPECT_NE(missing.status().message().find(
                 "saved names belong to one model; 'old' is saved for contrastive/v9: save it "
-                "again on live/v2"),
+                "again on live/v3"),
             absl::string_view::npos)
       << missing.status();
 }

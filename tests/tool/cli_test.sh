@@ -410,7 +410,7 @@ if [ -d "$bandai/dataset-2" ]; then
     --style "$bandai/dataset-2/dataset-2_walk_elderly_003.bvh" -o "$work/lib_out.bvh" \
     --style-library "$work/library" --style-label proud
   # Through a stream of the live package, one frame per push.
-  live_package=$src/models/live/v2
+  live_package=$src/models/live/v3
   check "transfer --stream writes what the stream returned" 0 "wrote .*streamed.bvh \(through a stream\)" \
     -- "$tool" transfer --model "$live_package" --content "$bandai/dataset-2/dataset-2_walk_normal_004.bvh" \
     --style "$bandai/dataset-2/dataset-2_walk_elderly_003.bvh" -o "$work/streamed.bvh" --stream

@@ -158,6 +158,24 @@ std::optional<absl::Status> ParseMovementKey(const ConfigEntry& e, MovementKeys*
   return std::nullopt;
 }
 
+const std::vector<std::string>& GuardKeyNames() {
+  static const std::vector<std::string>* names =
+      new std::vector<std::string>{"content_guard", "guard_strengths", "guard_min_probability"};
+  return *names;
+}
+
+const std::vector<std::string>& MovementKeyNames() {
+  static const std::vector<std::string>* names =
+      new std::vector<std::string>{"movement",
+                                   "movement_arms",
+                                   "movement_spine",
+                                   "movement_max_cost",
+                                   "movement_max_mismatch",
+                                   "movement_fit_stride",
+                                   "movement_action_gate"};
+  return *names;
+}
+
 void AppendMovementKeys(const MovementKeys& keys, std::string* out) {
   if (!keys.movement_examples) return;
   AppendConfigLine(out, "movement", "examples");

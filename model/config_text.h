@@ -65,6 +65,8 @@ struct GuardKeys {
 std::optional<absl::Status> ParseGuardKey(const ConfigEntry& e, GuardKeys* keys);
 // Appends the keys (nothing when the guard is off).
 void AppendGuardKeys(const GuardKeys& keys, std::string* out);
+// The keys' names (all inference keys).
+const std::vector<std::string>& GuardKeyNames();
 
 // Movement from examples (motion/example_motion.h, docs/movement.md), which
 // both families' configs have: with `movement = examples`, a transfer's legs
@@ -83,16 +85,18 @@ struct MovementKeys {
   // flight; model/movement.cc) above which the example is not used.
   double movement_max_mismatch = 1;
   bool movement_fit_stride = true;
-  // Streams: a take whose action is known (a library take's label, or the
-  // package's content guard's reading of it) plays only while the guard
-  // reads the content's last seconds as that action, with at least this
-  // share of the likeliest action's probability (motion::FollowOptions::
-  // action_gate). 0: no gate; above 0 the package needs its content guard.
+  // An example whose action is known (a library take's label, or the
+  // package's content guard's reading of it) is used only where its action
+  // overlaps the content's as the guard reads it by at least this much
+  // (motion::ActionOverlap): a stream's last seconds, a transfer's whole
+  // content clip. 0: no gate; above 0 the package needs its content guard.
   double movement_action_gate = 0;
 };
 std::optional<absl::Status> ParseMovementKey(const ConfigEntry& e, MovementKeys* keys);
 // Appends the keys (nothing when movement comes from the network).
 void AppendMovementKeys(const MovementKeys& keys, std::string* out);
+// The keys' names (all inference keys).
+const std::vector<std::string>& MovementKeyNames();
 
 // INVALID_ARGUMENT naming the line when `e` is one of `removed`: keys of
 // experiments that no shipped package used and that were taken out

@@ -209,16 +209,13 @@ absl::StatusOr<std::optional<ChosenExample>> ChooseExample(
   std::string why;
   auto consider = [&](const std::shared_ptr<const motion::MovementClip>& e, const std::string& name,
                       const std::vector<double>& action) {
-    if (!content_action.empty() && action.size() == content_action.size()) {
-      double overlap = 0;
-      for (size_t a = 0; a < action.size(); ++a) overlap += std::min(action[a], content_action[a]);
-      if (overlap < keys.movement_action_gate) {
-        if (why.empty()) {
-          why = absl::StrCat(name, ": it shows another action than the content (overlap ", overlap,
-                             " < movement_action_gate ", keys.movement_action_gate, ")");
-        }
-        return;
+    if (const double overlap = motion::ActionOverlap(action, content_action);
+        overlap < keys.movement_action_gate) {
+      if (why.empty()) {
+        why = absl::StrCat(name, ": it shows another action than the content (overlap ", overlap,
+                           " < movement_action_gate ", keys.movement_action_gate, ")");
       }
+      return;
     }
     std::string reason;
     std::optional<std::pair<double, motion::Registration>> fit = Fit(mine, *e, keys, &reason);

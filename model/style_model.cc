@@ -402,12 +402,11 @@ absl::StatusOr<StyleCode> StyleModel::EncodeStyle(const motion::Motion& clip,
 }
 
 std::vector<double> StyleModel::ReadAction(const motion::Motion& clip) const {
-  const ContentGuard* guard = content_guard();
-  if (guard == nullptr) return {};
+  if (content_guard() == nullptr) return {};
   absl::StatusOr<motion::FeatureClip> f = motion::ExtractFeatures(clip, data().roles);
   if (!f.ok()) return {};
   data().norm.Normalize(&*f);
-  return guard->Probabilities(*f);
+  return ActionProbabilities(*f);
 }
 
 std::vector<double> StyleModel::ActionProbabilities(const motion::FeatureClip& normalized) const {

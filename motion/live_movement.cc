@@ -216,14 +216,17 @@ bool MovementFollower::gated() const {
   return false;
 }
 
+double ActionOverlap(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.empty() || a.size() != b.size()) return 1;
+  double overlap = 0;
+  for (size_t i = 0; i < a.size(); ++i) overlap += std::min(a[i], b[i]);
+  return overlap;
+}
+
 bool MovementFollower::ActionAllowed(const std::vector<std::vector<double>>& actions,
                                      int take) const {
   if (options_.action_gate <= 0 || static_cast<size_t>(take) >= actions.size()) return true;
-  const std::vector<double>& own = actions[take];
-  if (own.empty() || content_actions_.size() != own.size()) return true;
-  double overlap = 0;
-  for (size_t a = 0; a < own.size(); ++a) overlap += std::min(own[a], content_actions_[a]);
-  return overlap >= options_.action_gate;
+  return ActionOverlap(actions[take], content_actions_) >= options_.action_gate;
 }
 
 double MovementFollower::gesture_time() const {

@@ -117,6 +117,12 @@ struct StreamExamples {
   static constexpr int kMaxTakes = 64;  // Of each kind.
 };
 
+// How far two readings of an action (a probability per action, as a
+// content guard gives them) agree: the sum over actions of the smaller
+// probability (1 the same reading, 0 nothing in common); 1 when either is
+// empty or they differ in length (nothing known to disagree on).
+double ActionOverlap(const std::vector<double>& a, const std::vector<double>& b);
+
 struct FollowOptions {
   MovementOptions parts;  // kLayer is played as kExample (a posture needs the future).
   double fade_s = 0.25;

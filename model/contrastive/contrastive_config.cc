@@ -226,23 +226,13 @@ absl::StatusOr<ContrastiveConfig> ContrastiveConfig::Parse(const std::string& te
 }
 
 const std::vector<std::string>& ContrastiveConfig::InferenceKeys() {
-  static const std::vector<std::string>* keys =
-      new std::vector<std::string>{"keep_path",
-                                   "smooth_sigma",
-                                   "style_strength",
-                                   "residual",
-                                   "content_detail",
-                                   "detail_sigma",
-                                   "content_guard",
-                                   "guard_strengths",
-                                   "guard_min_probability",
-                                   "movement",
-                                   "movement_arms",
-                                   "movement_spine",
-                                   "movement_max_cost",
-                                   "movement_max_mismatch",
-                                   "movement_fit_stride",
-                                   "movement_action_gate"};
+  static const std::vector<std::string>* keys = [] {
+    auto* k = new std::vector<std::string>{"keep_path", "smooth_sigma",   "style_strength",
+                                           "residual",  "content_detail", "detail_sigma"};
+    k->insert(k->end(), GuardKeyNames().begin(), GuardKeyNames().end());
+    k->insert(k->end(), MovementKeyNames().begin(), MovementKeyNames().end());
+    return k;
+  }();
   return *keys;
 }
 

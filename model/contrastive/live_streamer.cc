@@ -114,15 +114,9 @@ absl::Status LiveStreamer::Feed(const motion::Motion& frames, bool end) {
     if (features_.Push(frame, row.data())) {
       model_->data().norm.Normalize(row.data());
       queue_.push_back(row);
-      if (follow_.action_gate > 0) {
+      if (follow_.action_gate > 0) {  // Trimmed by Trim(), as the frames held.
         action_rows_.push_back(row);
         ++action_rows_end_;
-        // Kept: the rows any frame not yet moved reads (frame emitted_ reads
-        // rows up to emitted_ + lookahead_ - 1).
-        while (static_cast<int64_t>(action_rows_.size()) >
-               kActionRows + std::max<int64_t>(0, action_rows_end_ - emitted_ - lookahead_)) {
-          action_rows_.pop_front();
-        }
       }
     }
   }
@@ -300,7 +294,8 @@ void LiveStreamer::Trim() {
     input_.num_frames -= static_cast<int>(keep - base_);
     base_ = keep;
   }
-  // The action gate's rows: those the frames not yet moved read.
+  // The action gate's rows: those the frames not yet moved read (frame f
+  // reads up to kActionRows rows ending at f + lookahead_ - 1).
   const int64_t first_read = emitted_ + lookahead_ - kActionRows;
   while (!action_rows_.empty() &&
          action_rows_end_ - static_cast<int64_t>(action_rows_.size()) < first_read) {

@@ -82,6 +82,9 @@ class LiveStreamer : public FrameStreamer {
   void Move(motion::Motion* one);
   absl::Status RunSteps();  // Every queued step, one at a time.
   void Trim();              // Drops the input frames no longer needed.
+  // The action gate: the content's action read from the rows frame
+  // emitted_ may read, handed to the followers.
+  void ReadActions();
 
   std::shared_ptr<const ContrastiveModel> model_;
   const int dim_, shift_, lookahead_;
@@ -122,7 +125,6 @@ class LiveStreamer : public FrameStreamer {
   std::deque<std::vector<float>> action_rows_;
   int64_t action_rows_end_ = 0;  // Rows pushed so far.
   std::vector<double> actions_;
-  void ReadActions();
   std::vector<std::optional<std::array<bool, 4>>> contacts_;  // Since TakeContacts.
 };
 

@@ -142,21 +142,12 @@ absl::StatusOr<CyclicConfig> CyclicConfig::Parse(const std::string& text,
 }
 
 const std::vector<std::string>& CyclicConfig::InferenceKeys() {
-  static const std::vector<std::string>* keys =
-      new std::vector<std::string>{"keep_path",
-                                   "kc_iters",
-                                   "kc_lr",
-                                   "use_kc",
-                                   "content_guard",
-                                   "guard_strengths",
-                                   "guard_min_probability",
-                                   "movement",
-                                   "movement_arms",
-                                   "movement_spine",
-                                   "movement_max_cost",
-                                   "movement_max_mismatch",
-                                   "movement_fit_stride",
-                                   "movement_action_gate"};
+  static const std::vector<std::string>* keys = [] {
+    auto* k = new std::vector<std::string>{"keep_path", "kc_iters", "kc_lr", "use_kc"};
+    k->insert(k->end(), GuardKeyNames().begin(), GuardKeyNames().end());
+    k->insert(k->end(), MovementKeyNames().begin(), MovementKeyNames().end());
+    return k;
+  }();
   return *keys;
 }
 

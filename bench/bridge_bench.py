@@ -35,33 +35,17 @@ args = [a for i, a in enumerate(sys.argv[1:], 1)
 build = os.path.abspath(args[0] if args else os.path.join(src, "build"))
 seconds = float(sys.argv[sys.argv.index("--seconds") + 1]) if "--seconds" in sys.argv else 10.0
 only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else ""
-sys.path.insert(0, os.path.join(src, "client", "python"))
-sys.path.insert(0, os.path.join(build, "proto", "python"))
+sys.path.insert(0, os.path.join(src, "tests", "bridge"))
+from stage_kit import free_port, start_server, unity_bones, use_client  # noqa: E402
+use_client(src, build)
 from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
 
-UNITY = {"Hips": "Hips", "Spine": "Spine", "Chest": "Chest", "Neck": "Neck", "Head": "Head"}
-for part in ("Shoulder", "UpperArm", "LowerArm", "Hand", "UpperLeg", "LowerLeg", "Foot", "Toes"):
-    UNITY[part + "_L"], UNITY[part + "_R"] = "Left" + part, "Right" + part
 clip = read_bvh(os.path.join(src, "samples", "walk_normal.bvh"))
 bone_messages = []
 for row in clip.frames:
-    translations, rotations = frame_pose(clip, row)
-    msgs = []
-    for i, j in enumerate(clip.joints):
-        if j.name in UNITY:
-            x, y, z = (v * 0.01 for v in translations[i])
-            w, qx, qy, qz = rotations[i]
-            msgs.append(liblo.Message("/VMC/Ext/Bone/Pos", UNITY[j.name], -x, y, z, qx, -qy, -qz, w))
-    bone_messages.append(msgs)
+    bone_messages.append([liblo.Message("/VMC/Ext/Bone/Pos", name, *p, *q)
+                          for name, (p, q) in unity_bones(clip, row, frame_pose).items()])
 root = liblo.Message("/VMC/Ext/Root/Pos", "root", 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0)
-
-
-def free_port(kind):
-    s = socket.socket(socket.AF_INET, kind)
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
 
 
 class Engine:
@@ -138,19 +122,10 @@ def run(work, performers, rate, grpc_port, restart=False):
 with tempfile.TemporaryDirectory(prefix="stylus-bridge-bench-") as work:
     grpc_port = free_port(socket.SOCK_STREAM)
 
-    def start_server():
-        port_file = os.path.join(work, "port")
-        if os.path.exists(port_file):
-            os.remove(port_file)
-        p = subprocess.Popen([os.path.join(build, "server", "stylus-server"), "--models",
-                              os.path.join(src, "models"), "--listen", "localhost:%d" % grpc_port,
-                              "--port-file", port_file], stdout=subprocess.DEVNULL,
-                             stderr=subprocess.DEVNULL)
-        while not (os.path.exists(port_file) and open(port_file).read().strip()):
-            time.sleep(0.05)
-        return p
+    def start_stylus_server():
+        return start_server(os.path.join(build, "server", "stylus-server"), src, work, grpc_port, log=False)
 
-    server = start_server()
+    server = start_stylus_server()
     print("OPENBLAS_CORETYPE=%s" % os.environ.get("OPENBLAS_CORETYPE", "(not set)"))
     print("%-11s %-5s %10s %10s %7s %12s %12s %16s" % ("performers", "Hz", "added p50", "added p99",
                                                        "frames", "bridge lost", "engines lost",

@@ -1,7 +1,10 @@
 #include "bridge/bridge.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <utility>
 
@@ -38,35 +41,36 @@ std::vector<double> Blend(const motion::Skeleton& sk, const double* a, const dou
 }
 
 lo_address ParseAddress(const std::string& host_port) {
-  std::vector<std::string> parts = absl::StrSplit(host_port, absl::MaxSplits(':', 1));
-  int port = 0;
-  if (parts.size() != 2 || parts[0].empty() || !absl::SimpleAtoi(parts[1], &port) || port <= 0 ||
-      port > 65535) {
-    return nullptr;
-  }
-  return lo_address_new(parts[0].c_str(), parts[1].c_str());
+  std::string host, port;
+  if (!SplitHostPort(host_port, &host, &port)) return nullptr;
+  return lo_address_new(host.c_str(), port.c_str());
 }
 
 }  // namespace
 
+struct Bridge::Input {
+  std::vector<double> row;  // On the performer's skeleton.
+  VmcTransform root;        // VMC: the avatar's root transform.
+  double time = 0;    // The sender's clock, s: /VMC/Ext/T; binary BVH: (frame index + 1) / fps.
+  double in_us = 0;   // The bridge's time on it before the push.
+  int64_t index = 0;  // The bridge's own index of it.
+};
+
 struct Bridge::Performer {
   std::string source;
-  VmcSkeleton skeleton;
+  bool vmc = true;  // Else a BVH broadcast avatar.
+  VmcSkeleton vmc_skeleton;
+  motion::Skeleton skeleton;  // What streams.
+  int avatar_index = 0;       // BVH: as it came.
+  std::string avatar_name;
   lo_address out = nullptr;
   absl::Mutex mu;
   std::shared_ptr<LiveStream> stream;  // Pushed to outside mu.
   int64_t taken = 0;          // Input frames taken (the bridge's own index).
   int64_t stream_first = 0;   // `taken` when the current stream opened.
   bool fade_in = false;       // The current stream follows a failure: fade it in.
-  struct Input {
-    std::vector<double> row;
-    VmcTransform root;
-    double time = 0;
-    double in_us = 0;  // The bridge's time on it before the push.
-  };
   std::vector<Input> ring = std::vector<Input>(kRing);
   std::vector<double> last_out;
-  VmcTransform last_root;
   double last_time = -1;
   Clock::time_point next_attempt = Clock::now();
   double backoff_s = 0.05;
@@ -87,9 +91,27 @@ Bridge::Bridge(BridgeOptions options) : options_(std::move(options)) {
 Bridge::~Bridge() { Stop(); }
 
 absl::Status Bridge::Start() {
-  if (options_.vmc_out.empty()) {
+  const bool bvh_in = !options_.bvh_in.empty() || options_.bvh_in_udp >= 0;
+  const bool bvh_out = options_.bvh_out_port >= 0 || !options_.bvh_out_udp.empty();
+  if (options_.vmc_out.empty() && !bvh_in) {
     return absl::InvalidArgumentError("--vmc-out HOST:PORT is required (the engine's VMC receiver)");
   }
+  if (bvh_in && !bvh_out) {
+    return absl::InvalidArgumentError(
+        "--bvh-in/--bvh-in-udp needs --bvh-out PORT or --bvh-out-udp HOST:PORT: BVH broadcast "
+        "performers go on to the engine as BVH broadcast");
+  }
+  if (bvh_out && !bvh_in) {
+    return absl::InvalidArgumentError(
+        "--bvh-out/--bvh-out-udp needs a BVH broadcast in (--bvh-in or --bvh-in-udp)");
+  }
+  if (bvh_in && !options_.bvh_skeleton) {
+    return absl::InvalidArgumentError(
+        "--bvh-skeleton FILE is required with a BVH broadcast in: the stream sends values only "
+        "(export "
+        "the performer's skeleton from the capture software as a BVH file)");
+  }
+  if (absl::Status s = StartBvh(); !s.ok()) return s;
   for (const std::string& out : options_.vmc_out) {
     lo_address a = ParseAddress(out);
     if (a == nullptr) {
@@ -112,6 +134,8 @@ absl::Status Bridge::Start() {
 void Bridge::Stop() {
   if (stop_.exchange(true)) return;
   if (receiver_.joinable()) receiver_.join();
+  for (std::thread& t : bvh_threads_) t.join();
+  bvh_threads_.clear();
   std::map<std::string, std::unique_ptr<Performer>> performers;
   {
     absl::MutexLock lock(&mu_);
@@ -125,6 +149,16 @@ void Bridge::Stop() {
     }
     if (stream) stream->Close().IgnoreError();  // Outside p->mu: its callback takes it.
     if (p->out) lo_address_free(p->out);
+  }
+  // Last: the streams' callbacks, now ended, sent on these.
+  for (int* fd : {&bvh_udp_fd_, &bvh_listen_fd_, &bvh_send_fd_}) {
+    if (*fd >= 0) close(*fd);
+    *fd = -1;
+  }
+  {
+    absl::MutexLock lock(&out_mu_);
+    for (Engine& e : engines_) close(e.fd);
+    engines_.clear();
   }
   if (server_) lo_server_free(server_);
   server_ = nullptr;
@@ -207,6 +241,11 @@ int Bridge::OnMessage(const char* path, const char* types, lo_arg** argv, int ar
       return 0;
     }
   }
+  if (b->options_.vmc_out.empty()) {  // A BVH broadcast chain: VMC performers have nowhere to go.
+    absl::MutexLock lock(&b->mu_);
+    ++b->stats_.refused;
+    return 0;
+  }
   b->bundle_source_ = source;
   if (p == "/VMC/Ext/Root/Pos" || p == "/VMC/Ext/Bone/Pos") {
     float pq[7];
@@ -239,37 +278,107 @@ int Bridge::OnMessage(const char* path, const char* types, lo_arg** argv, int ar
   return 0;  // Other VMC messages (/VMC/Ext/OK, blend shapes, ...) are not needed.
 }
 
+// The performer `source`, or a new one when there is room (nullptr: refused).
+Bridge::Performer* Bridge::Find(const std::string& source) {
+  auto it = performers_.find(source);
+  if (it != performers_.end()) return it->second.get();
+  if (static_cast<int>(performers_.size()) >= options_.max_performers) {
+    ++stats_.refused;
+    return nullptr;
+  }
+  auto performer = std::make_unique<Performer>();
+  performer->source = source;
+  Performer* p = performer.get();
+  performers_.emplace(source, std::move(performer));
+  stats_.performers = static_cast<int>(performers_.size());
+  return p;
+}
+
 void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
   const Clock::time_point arrived = Clock::now();
-  auto since = [](Clock::time_point t) {
-    return std::chrono::duration<double, std::micro>(Clock::now() - t).count();
-  };
   Performer* p;
   {
     absl::MutexLock lock(&mu_);
+    const bool known = performers_.count(source) > 0;
+    p = Find(source);
+    if (p == nullptr) return;
     ++stats_.received;
-    auto it = performers_.find(source);
-    if (it == performers_.end()) {
+    if (!known) {
+      const size_t k = std::min(performers_.size() - 1, options_.vmc_out.size() - 1);
       absl::StatusOr<VmcSkeleton> skeleton = VmcSkeleton::FromFrame(frame);
-      auto performer = std::make_unique<Performer>();
-      performer->source = source;
-      const size_t k = std::min(performers_.size(), options_.vmc_out.size() - 1);
-      performer->out = ParseAddress(options_.vmc_out[k]);
+      p->out = ParseAddress(options_.vmc_out[k]);
       if (skeleton.ok()) {
-        performer->skeleton = *std::move(skeleton);
-        spdlog::info("performer {}: {} bones, out to {}", source,
-                     performer->skeleton.skeleton().num_joints(), options_.vmc_out[k]);
+        p->vmc_skeleton = *std::move(skeleton);
+        p->skeleton = p->vmc_skeleton.skeleton();
+        spdlog::info("performer {}: {} bones, out to {}", source, p->skeleton.num_joints(),
+                     options_.vmc_out[k]);
       } else {
         // The show goes on: its frames pass through, unstyled.
-        performer->usable = false;
+        p->usable = false;
         spdlog::warn("performer {}: {}; passing it through unstyled", source,
                      std::string(skeleton.status().message()));
       }
-      it = performers_.emplace(source, std::move(performer)).first;
-      stats_.performers = static_cast<int>(performers_.size());
     }
-    p = it->second.get();
   }
+  if (!p->usable) {
+    {
+      absl::MutexLock lock(&p->mu);
+      SendVmc(p, frame);
+    }
+    absl::MutexLock lock(&mu_);
+    ++stats_.passed;
+    return;
+  }
+  Input in;
+  in.row = p->vmc_skeleton.Row(frame);
+  in.root = frame.root;
+  in.time = frame.time;
+  Take(p, std::move(in), arrived);
+}
+
+void Bridge::OnBroadcast(BroadcastFrame frame) {
+  const Clock::time_point arrived = Clock::now();
+  const std::string source = "bvh " + frame.avatar_name;
+  absl::StatusOr<std::vector<double>> row = BroadcastRow(*options_.bvh_skeleton, frame.values);
+  Performer* p;
+  {
+    absl::MutexLock lock(&mu_);
+    if (!row.ok()) {
+      ++stats_.malformed;
+      if (bvh_warned_[source]++ < 3) {
+        spdlog::warn("BVH broadcast, avatar {} '{}': {}", frame.avatar_index, frame.avatar_name,
+                     std::string(row.status().message()));
+      }
+      return;
+    }
+    const bool known = performers_.count(source) > 0;
+    p = Find(source);
+    if (p == nullptr) return;
+    ++stats_.received;
+    if (!known) {
+      p->vmc = false;
+      p->skeleton = *options_.bvh_skeleton;
+      p->avatar_index = frame.avatar_index;
+      p->avatar_name = frame.avatar_name;
+      spdlog::info("performer {} (avatar {}): {} joints", source, frame.avatar_index,
+                   p->skeleton.num_joints());
+    }
+  }
+  Input in;
+  in.row = *std::move(row);
+  // The binary form's frame index as a clock (seconds, from 1/fps: 0 is
+  // "no clock"), for the order of frames over UDP.
+  in.time =
+      frame.frame_index >= 0 ? (static_cast<double>(frame.frame_index) + 1) / options_.fps : 0;
+  Take(p, std::move(in), arrived);
+}
+
+// One input frame of a performer: pushed on its stream, or (the stream
+// down) sent on as it came or holding the last output.
+void Bridge::Take(Performer* p, Input input, Clock::time_point arrived) {
+  auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::micro>(Clock::now() - t).count();
+  };
   std::shared_ptr<LiveStream> dead, push_to;
   std::vector<double> push_row;
   int64_t push_index = 0, index = 0;
@@ -278,43 +387,24 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
   double direct_us = -1;
   {
     absl::MutexLock lock(&p->mu);
-    if (frame.time > 0 && frame.time < p->last_time) {
+    // Older than a frame already taken: reordered on the way, dropped. Over
+    // a second older: the sender's clock started again (it restarted).
+    if (input.time > 0 && input.time < p->last_time && input.time > p->last_time - 1.0) {
       absl::MutexLock s(&mu_);  // Lock order: a performer's, then the bridge's.
       ++stats_.out_of_order;
       return;
     }
-    p->last_time = std::max(p->last_time, frame.time);
-    if (!p->usable) {
-      Send(p, frame);
-      passed = true;
-    }
-  }
-  if (!p->usable) {
-    absl::MutexLock lock(&mu_);
-    stats_.passed += passed;
-    return;
-  }
-  {
-    absl::MutexLock lock(&p->mu);
+    p->last_time = input.time > 0 && input.time < p->last_time ? input.time
+                                                               : std::max(p->last_time, input.time);
     index = p->taken++;
-    Performer::Input& in = p->ring[index % kRing];
-    in.row = p->skeleton.Row(frame);
-    in.root = frame.root;
-    in.time = frame.time;
+    Input& in = p->ring[index % kRing];
+    in = std::move(input);
+    in.index = index;
     if (p->stream && !p->stream->alive()) {
       dead = std::move(p->stream);
       p->next_attempt = Clock::now();
       p->backoff_s = 0.05;
-      // The frames the stream took but never returned (its look-ahead) go
-      // out as they came in, so the engine misses none.
-      for (int64_t i = std::max(p->last_sent + 1, index - kRing + 1); i < index; ++i) {
-        const Performer::Input& lost = p->ring[i % kRing];
-        VmcFrame f = p->skeleton.FrameOf(lost.row.data(), lost.root);
-        f.time = lost.time;
-        Send(p, f);
-        p->last_sent = i;
-        ++passed_late;
-      }
+      passed_late += SendLost(p, index);
     }
     if (!p->stream && Clock::now() >= p->next_attempt) Reconnect(p);
     if (p->stream && p->stream->alive()) {
@@ -324,13 +414,11 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
       push_row = in.row;
       push_index = index - p->stream_first;
     } else if (options_.hold && !p->last_out.empty()) {
-      VmcFrame out = p->skeleton.FrameOf(p->last_out.data(), frame.root);
-      out.time = frame.time;
-      Send(p, out);
+      Emit(p, p->last_out.data(), in);
       p->last_sent = index;
       held = true;
     } else {
-      Send(p, frame);
+      Emit(p, in.row.data(), in);
       p->last_sent = index;
       passed = true;
     }
@@ -341,9 +429,11 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
     // The push's own time counts (the write to the server's socket).
     const double in_us = since(arrived);
     absl::MutexLock lock(&p->mu);
-    p->ring[index % kRing].in_us = in_us;
+    Input& in = p->ring[index % kRing];
+    in.in_us = in_us;
     if (!pushed) {  // The stream ended just now: this frame goes as it came.
-      Send(p, frame);
+      passed_late += SendLost(p, index);
+      Emit(p, in.row.data(), in);
       p->last_sent = std::max(p->last_sent, index);
       passed = true;
     }
@@ -351,7 +441,7 @@ void Bridge::OnFrame(const std::string& source, VmcFrame frame) {
   if (dead) {
     const absl::Status s = dead->Close();
     spdlog::warn("performer {}: stream ended ({}); passing the performer through and reconnecting",
-                 source, s.ToString());
+                 p->source, s.ToString());
     absl::MutexLock lock(&mu_);
     ++stats_.stream_failures;
   }
@@ -371,12 +461,26 @@ void Bridge::AddLatency(double us) {
   added_next_ = (added_next_ + 1) % kKept;
 }
 
+// The frames before `index` a failed stream took but never returned (its
+// look-ahead) go out as they came in, so the engine misses none; p->mu
+// held. Returns how many.
+int64_t Bridge::SendLost(Performer* p, int64_t index) {
+  int64_t sent = 0;
+  for (int64_t i = std::max(p->last_sent + 1, index - kRing + 1); i < index; ++i) {
+    const Input& lost = p->ring[i % kRing];
+    Emit(p, lost.row.data(), lost);
+    p->last_sent = i;
+    ++sent;
+  }
+  return sent;
+}
+
 // Opens the performer's stream (p->mu held). On failure the next attempt
 // waits twice as long, up to max_backoff_s.
 void Bridge::Reconnect(Performer* p) {
   LiveStreamConfig config;
   config.model = options_.model;
-  config.skeleton = p->skeleton.skeleton();
+  config.skeleton = p->skeleton;
   config.fps = options_.fps;
   config.postprocess = options_.postprocess;
   std::optional<StreamChange> change;
@@ -398,16 +502,14 @@ void Bridge::Reconnect(Performer* p) {
     absl::MutexLock lock(&p->mu);
     const int64_t index = first + local;
     if (index < 0 || index >= p->taken || p->taken - index > kRing || index <= p->last_sent) return;
-    const Performer::Input& in = p->ring[index % kRing];
-    std::vector<double> row(values, values + p->skeleton.skeleton().num_channels());
+    const Input& in = p->ring[index % kRing];
+    std::vector<double> row(values, values + p->skeleton.num_channels());
     if (p->fade_in && local < options_.fade_frames) {
-      row = Blend(p->skeleton.skeleton(), in.row.data(), row.data(),
+      row = Blend(p->skeleton, in.row.data(), row.data(),
                   static_cast<double>(local + 1) / (options_.fade_frames + 1));
     }
     p->last_out = row;
-    VmcFrame out = p->skeleton.FrameOf(row.data(), in.root);
-    out.time = in.time;  // The engine sees the capture's clock.
-    Send(p, out);
+    Emit(p, row.data(), in);
     p->last_sent = index;
     const double us =
         in.in_us + std::chrono::duration<double, std::micro>(Clock::now() - arrived).count();
@@ -439,8 +541,23 @@ void Bridge::Reconnect(Performer* p) {
   }
 }
 
+void Bridge::Emit(Performer* p, const double* row, const Input& in) {
+  if (p->vmc) {
+    VmcFrame out = p->vmc_skeleton.FrameOf(row, in.root);
+    out.time = in.time;  // The engine sees the capture's clock.
+    SendVmc(p, out);
+    return;
+  }
+  BroadcastFrame out;
+  out.avatar_index = p->avatar_index;
+  out.avatar_name = p->avatar_name;
+  out.values.assign(row, row + p->skeleton.num_channels());
+  out.frame_index = in.time > 0 ? std::llround(in.time * options_.fps) - 1 : in.index;
+  SendBroadcast(out);
+}
+
 // One VMC frame as one bundle: the root, every bone, then OK and the time.
-void Bridge::Send(Performer* p, const VmcFrame& frame) {
+void Bridge::SendVmc(Performer* p, const VmcFrame& frame) {
   lo_bundle bundle = lo_bundle_new(LO_TT_IMMEDIATE);
   float pq[7];
   lo_message root = lo_message_new();
@@ -582,7 +699,7 @@ std::string Bridge::StateJson() {
   for (Performer* p : all) {
     absl::MutexLock lock(&p->mu);
     if (!p->usable || p->taken == 0) continue;
-    const motion::Skeleton& sk = p->skeleton.skeleton();
+    const motion::Skeleton& sk = p->skeleton;
     absl::StrAppend(&out, first ? "" : ",", "{\"source\":", JsonString(p->source),
                     ",\"streaming\":", p->stream && p->stream->alive() ? "true" : "false",
                     ",\"parents\":[");

@@ -21,17 +21,30 @@ constexpr char kHelp[] =
     "usage: stylus-bridge --vmc-out HOST:PORT[,HOST:PORT...] (--style CLIP | --style-name NAME)\n"
     "                     [--vmc-in PORT] [--server ADDR] [--model M] [--fps N] [--hold]\n"
     "                     [--fade-frames N] [--postprocess default|none|feet|full] [--stats S]\n"
-    "                     [--console HOST:PORT] [--three-js PATH] [--cues FILE]\n\n"
+    "                     [--console HOST:PORT] [--three-js PATH] [--cues FILE]\n"
+    "       stylus-bridge --bvh-skeleton FILE (--bvh-in HOST:PORT | --bvh-in-udp PORT)\n"
+    "                     (--bvh-out PORT | --bvh-out-udp HOST:PORT) (--style CLIP | ...) [...]\n\n"
     "Sits between a mocap stage and the engine: reads the VMC protocol (OSC over\n"
     "UDP) from capture software as a Marionette, streams each performer (by\n"
     "source address) through a Stylus server, and sends the stylized motion on\n"
     "as a Performer to the engine's VMC receiver (Unity EVMC4U, Unreal VMC4UE,\n"
-    "Blender VMC4B, Godot). If the server restarts or a stream fails, the\n"
+    "Blender VMC4B, Godot). Or reads BVH broadcast as Axis Neuron / Axis Studio\n"
+    "send it (each avatar a performer) and serves it on to engines' Neuron\n"
+    "plug-ins in the same form. If the server restarts or a stream fails, the\n"
     "performer's own motion passes through (or, with --hold, the last output\n"
     "holds) while the bridge reconnects, then the style fades back in.\n\n"
     "  --vmc-in PORT        where performers send (default 39539)\n"
     "  --vmc-out ADDRS      the engine's receiver per performer, in the order\n"
     "                       performers first send (the last serves any more)\n"
+    "  --bvh-in HOST:PORT   BVH broadcast, text form (TCP): the capture software's\n"
+    "                       broadcast port (Axis Neuron's default 7001); the\n"
+    "                       bridge connects, and again whenever it is lost\n"
+    "  --bvh-in-udp PORT    BVH broadcast, binary form: the UDP port to listen on\n"
+    "  --bvh-skeleton FILE  the performers' skeleton, a BVH file exported from the\n"
+    "                       capture software (the stream carries values only)\n"
+    "  --bvh-out PORT       serve the stylized BVH broadcast (text form) on this\n"
+    "                       TCP port, to every engine that connects\n"
+    "  --bvh-out-udp HOST:PORT  send it in the binary form to this UDP address\n"
     "  --style CLIP         a style clip (.bvh, .fbx, .gltf, .glb, .dae), or\n"
     "  --style-name NAME    a style saved on the server for the model\n"
     "  --model M            default live (a live model: frames come back two\n"
@@ -68,9 +81,10 @@ int main(int argc, char** argv) {
   using stylus::cli::ParseArgs;
   const std::vector<std::string> args(argv + 1, argv + argc);
   stylus::cli::ArgSpec spec{
-      {"vmc-in", "vmc-out", "server", "token", "tls-ca", "model", "style", "style-name", "fps",
-       "fade-frames", "postprocess", "stats", "console", "three-js", "cues",
-       "max-performers"},
+      {"vmc-in",       "vmc-out",    "server",     "token",          "tls-ca",      "model",
+       "style",        "style-name", "fps",        "fade-frames",    "postprocess", "stats",
+       "console",      "three-js",   "cues",       "max-performers", "bvh-in",      "bvh-in-udp",
+       "bvh-skeleton", "bvh-out",    "bvh-out-udp"},
       {"hold"}};
   absl::StatusOr<stylus::cli::Args> a = ParseArgs(args, spec);
   if (!a.ok()) {
@@ -102,6 +116,21 @@ int main(int argc, char** argv) {
   o.model = a->Get("model", "live");
   for (absl::string_view out : absl::StrSplit(a->Get("vmc-out"), ',', absl::SkipEmpty())) {
     o.vmc_out.emplace_back(out);
+  }
+  o.bvh_in = a->Get("bvh-in");
+  o.bvh_out_udp = a->Get("bvh-out-udp");
+  for (const char* name : {"bvh-in-udp", "bvh-out"}) {
+    if (!a->Has(name)) continue;
+    absl::StatusOr<int> p = a->GetInt(name, 0);
+    if (!p.ok()) return Fail(std::string(p.status().message()));
+    if (*p < 0 || *p > 65535) return Fail(std::string("--") + name + " wants a port 0-65535");
+    (std::string(name) == "bvh-out" ? o.bvh_out_port : o.bvh_in_udp) = *p;
+  }
+  if (a->Has("bvh-skeleton")) {
+    absl::StatusOr<stylus::motion::Motion> sk =
+        stylus::formats::ReadMotionFile(a->Get("bvh-skeleton"));
+    if (!sk.ok()) return Fail(std::string(sk.status().message()));
+    o.bvh_skeleton = sk->skeleton;
   }
   absl::StatusOr<stylus::v1::PostProcess> post =
       stylus::ParsePostProcess(a->Get("postprocess", "default"));
@@ -148,8 +177,13 @@ int main(int argc, char** argv) {
   if (absl::Status s = bridge.Start(); !s.ok()) return Fail(std::string(s.message()));
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  spdlog::info("listening for VMC on UDP {}; streaming through {} ({})", bridge.port(),
-               o.client.address, o.model);
+  spdlog::info("listening for VMC and live control on UDP {}; streaming through {} ({})",
+               bridge.port(), o.client.address, o.model);
+  if (bridge.bvh_out_port() >= 0)
+    spdlog::info("serving BVH broadcast on TCP {}", bridge.bvh_out_port());
+  if (bridge.bvh_in_udp_port() >= 0) {
+    spdlog::info("listening for BVH broadcast (binary) on UDP {}", bridge.bvh_in_udp_port());
+  }
   std::unique_ptr<stylus::bridge::Console> console;
   if (a->Has("console")) {
     console = std::make_unique<stylus::bridge::Console>(
@@ -179,9 +213,11 @@ int main(int argc, char** argv) {
       const stylus::bridge::BridgeStats st = bridge.stats();
       absl::PrintF(
           "performers %d received %d styled %d passed %d held %d out_of_order %d malformed %d "
-          "stream_failures %d reconnects %d refused %d added_us_p50 %.0f added_us_p99 %.0f\n",
+          "stream_failures %d reconnects %d refused %d engine_drops %d added_us_p50 %.0f "
+          "added_us_p99 %.0f\n",
           st.performers, st.received, st.styled, st.passed, st.held, st.out_of_order, st.malformed,
-          st.stream_failures, st.reconnects, st.refused, st.added_p50_us, st.added_p99_us);
+          st.stream_failures, st.reconnects, st.refused, st.engine_drops, st.added_p50_us,
+          st.added_p99_us);
       std::fflush(stdout);
     }
   }

@@ -33,58 +33,29 @@ from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.support.ui import Select  # noqa: E402
 
-sys.path.insert(0, os.path.join(src, "client", "python"))
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(bridge_bin))),
-                                "proto", "python"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from stage_kit import Checks, build_dir_of, free_port, start_server, unity_bones, use_client  # noqa: E402
+use_client(src, build_dir_of(bridge_bin))
 from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
 
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-failures = []
+check = Checks()
 
 
-def check(name, ok, detail=""):
-    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)))
-    if not ok:
-        failures.append(name)
-
-
-def free_port(kind):
-    s = socket.socket(socket.AF_INET, kind)
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
-
-
-UNITY = {"Hips": "Hips", "Spine": "Spine", "Chest": "Chest", "Neck": "Neck", "Head": "Head"}
-for part in ("Shoulder", "UpperArm", "LowerArm", "Hand", "UpperLeg", "LowerLeg", "Foot", "Toes"):
-    UNITY[part + "_L"], UNITY[part + "_R"] = "Left" + part, "Right" + part
 clip = read_bvh(os.path.join(src, "samples", "walk_normal.bvh"))
 LOOP = len(clip.frames)
 FPS = 60.0
 sent_rotations = []
 messages = []
 for row in clip.frames:
-    translations, rotations = frame_pose(clip, row)
-    msgs, rots = [], {}
-    for i, j in enumerate(clip.joints):
-        if j.name in UNITY:
-            x, y, z = (v * 0.01 for v in translations[i])
-            w, qx, qy, qz = rotations[i]
-            msgs.append(liblo.Message("/VMC/Ext/Bone/Pos", UNITY[j.name], -x, y, z, qx, -qy, -qz, w))
-            rots[UNITY[j.name]] = (qx, -qy, -qz, w)
-    messages.append(msgs)
-    sent_rotations.append(rots)
+    bones = unity_bones(clip, row, frame_pose)
+    messages.append([liblo.Message("/VMC/Ext/Bone/Pos", name, *p, *q) for name, (p, q) in bones.items()])
+    sent_rotations.append({name: q for name, (p, q) in bones.items()})
 
 grpc_port, vmc_in, vmc_out, http_port = (free_port(socket.SOCK_STREAM), free_port(socket.SOCK_DGRAM),
                                          free_port(socket.SOCK_DGRAM), free_port(socket.SOCK_STREAM))
-port_file = os.path.join(work, "port")
-server = subprocess.Popen([server_bin, "--models", os.path.join(src, "models"), "--listen",
-                           "localhost:%d" % grpc_port, "--port-file", port_file],
-                          stdout=open(os.path.join(work, "server.log"), "w"), stderr=subprocess.STDOUT)
-while not (os.path.exists(port_file) and open(port_file).read().strip()):
-    time.sleep(0.1)
+server = start_server(server_bin, src, work, grpc_port)
 address = "localhost:%d" % grpc_port
 subprocess.run([cli, "--server", address, "encode-style", "--model", "live", "--style",
                 os.path.join(src, "samples", "run.bvh"), "--save-as", "run"], check=True,
@@ -247,7 +218,4 @@ finally:
     bridge.wait(timeout=10)
     server.terminate()
     server.wait()
-if failures:
-    print("%d FAILED: %s" % (len(failures), ", ".join(failures)))
-    sys.exit(1)
-print("all passed")
+check.finish()

@@ -24,55 +24,18 @@ import time
 import liblo
 
 server_bin, bridge_bin, src, work = sys.argv[1:5]
-sys.path.insert(0, os.path.join(src, "client", "python"))
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(bridge_bin))),
-                                "proto", "python"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from stage_kit import Checks, build_dir_of, free_port, unity_bones, use_client  # noqa: E402
+from stage_kit import start_server as stage_start_server  # noqa: E402
+use_client(src, build_dir_of(bridge_bin))
 from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
 
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-failures = []
-
-
-def check(name, ok, detail=""):
-    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)))
-    if not ok:
-        failures.append(name)
-
-
-def free_port(kind):
-    s = socket.socket(socket.AF_INET, kind)
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
-
-
-UNITY = {"Hips": "Hips", "Spine": "Spine", "Chest": "Chest", "Neck": "Neck", "Head": "Head"}
-for bandai, unity in (("Shoulder", "Shoulder"), ("UpperArm", "UpperArm"), ("LowerArm", "LowerArm"),
-                      ("Hand", "Hand"), ("UpperLeg", "UpperLeg"), ("LowerLeg", "LowerLeg"),
-                      ("Foot", "Foot"), ("Toes", "Toes")):
-    UNITY[bandai + "_L"] = "Left" + unity
-    UNITY[bandai + "_R"] = "Right" + unity
+check = Checks()
 
 clip = read_bvh(os.path.join(src, "samples", "walk_normal.bvh"))
-names = [j.name for j in clip.joints]
-
-
-def vmc_frame(row):
-    """(root, {unity bone: (position, quaternion xyzw)}) in Unity's axes, metres."""
-    translations, rotations = frame_pose(clip, row)
-    bones = {}
-    for i, j in enumerate(clip.joints):
-        if j.name not in UNITY:
-            continue
-        x, y, z = (v * 0.01 for v in translations[i])
-        w, qx, qy, qz = rotations[i]
-        bones[UNITY[j.name]] = ((-x, y, z), (qx, -qy, -qz, w))  # Mirror x: Unity is left-handed.
-    return bones
-
-
-frames = [vmc_frame(row) for row in clip.frames]
+frames = [unity_bones(clip, row, frame_pose) for row in clip.frames]
 
 # The command line: help, and clear errors before anything starts.
 for args, code, want in (
@@ -122,17 +85,7 @@ class Engine:
 
 
 def start_server(port):
-    port_file = os.path.join(work, "port")
-    if os.path.exists(port_file):
-        os.remove(port_file)
-    log = open(os.path.join(work, "server.log"), "a")
-    p = subprocess.Popen([server_bin, "--models", os.path.join(src, "models"), "--listen",
-                          "localhost:%d" % port, "--port-file", port_file], stdout=log, stderr=log)
-    for _ in range(300):
-        if os.path.exists(port_file) and open(port_file).read().strip():
-            return p
-        time.sleep(0.1)
-    raise SystemExit("the server did not start; see " + work + "/server.log")
+    return stage_start_server(server_bin, src, work, port)
 
 
 def angle(q1, q2):
@@ -290,7 +243,4 @@ check("a source past --max-performers is refused and counted",
       bool(stats) and " performers 2 " in " " + stats[-1] + " " and " refused 0 " not in stats[-1] + " ",
       stats[-1] if stats else None)
 check("the cue file's strength change was played", "strength -> 0.95" in log, log[-300:])
-if failures:
-    print("%d FAILED: %s" % (len(failures), ", ".join(failures)))
-    sys.exit(1)
-print("all passed")
+check.finish()

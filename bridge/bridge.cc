@@ -483,6 +483,7 @@ void Bridge::Reconnect(Performer* p) {
   config.skeleton = p->skeleton;
   config.fps = options_.fps;
   config.postprocess = options_.postprocess;
+  if (!p->vmc) config.joint_map = options_.bvh_joint_map;
   std::optional<StreamChange> change;
   {
     absl::MutexLock lock(&mu_);

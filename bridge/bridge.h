@@ -40,8 +40,10 @@ struct BridgeOptions {
   // binary form. Performers are told apart by avatar name.
   std::string bvh_in;
   int bvh_in_udp = -1;
-  // The stage's skeleton for BVH broadcast performers (its BVH file).
+  // The stage's skeleton for BVH broadcast performers (its BVH file), and
+  // its humanoid roles where its joint names don't say them.
   std::optional<motion::Skeleton> bvh_skeleton;
+  motion::JointMap bvh_joint_map;
   // BVH broadcast out: a TCP port engines connect to for the text form,
   // and/or "host:port" to send the binary form to (UDP).
   int bvh_out_port = -1;

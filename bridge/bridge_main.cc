@@ -13,6 +13,7 @@
 #include "bridge/cues.h"
 #include "cli/args.h"
 #include "formats/scene_file.h"
+#include "motion/rig_roles.h"
 #include "spdlog/spdlog.h"
 
 namespace {
@@ -42,6 +43,8 @@ constexpr char kHelp[] =
     "  --bvh-in-udp PORT    BVH broadcast, binary form: the UDP port to listen on\n"
     "  --bvh-skeleton FILE  the performers' skeleton, a BVH file exported from the\n"
     "                       capture software (the stream carries values only)\n"
+    "  --joint-map FILE     that skeleton's humanoid roles where its joint names\n"
+    "                       don't say them: lines like 'left_foot = MyFootL'\n"
     "  --bvh-out PORT       serve the stylized BVH broadcast (text form) on this\n"
     "                       TCP port, to every engine that connects\n"
     "  --bvh-out-udp HOST:PORT  send it in the binary form to this UDP address\n"
@@ -81,10 +84,10 @@ int main(int argc, char** argv) {
   using stylus::cli::ParseArgs;
   const std::vector<std::string> args(argv + 1, argv + argc);
   stylus::cli::ArgSpec spec{
-      {"vmc-in",       "vmc-out",    "server",     "token",          "tls-ca",      "model",
-       "style",        "style-name", "fps",        "fade-frames",    "postprocess", "stats",
-       "console",      "three-js",   "cues",       "max-performers", "bvh-in",      "bvh-in-udp",
-       "bvh-skeleton", "bvh-out",    "bvh-out-udp"},
+      {"vmc-in",       "vmc-out",    "server",      "token",          "tls-ca",      "model",
+       "style",        "style-name", "fps",         "fade-frames",    "postprocess", "stats",
+       "console",      "three-js",   "cues",        "max-performers", "bvh-in",      "bvh-in-udp",
+       "bvh-skeleton", "bvh-out",    "bvh-out-udp", "joint-map"},
       {"hold"}};
   absl::StatusOr<stylus::cli::Args> a = ParseArgs(args, spec);
   if (!a.ok()) {
@@ -131,6 +134,14 @@ int main(int argc, char** argv) {
         stylus::formats::ReadMotionFile(a->Get("bvh-skeleton"));
     if (!sk.ok()) return Fail(std::string(sk.status().message()));
     o.bvh_skeleton = sk->skeleton;
+  }
+  if (a->Has("joint-map")) {
+    absl::StatusOr<stylus::motion::JointMap> map =
+        stylus::motion::ReadJointMapFile(a->Get("joint-map"));
+    if (!map.ok()) return Fail(std::string(map.status().message()));
+    if (!a->Has("bvh-skeleton"))
+      return Fail("--joint-map is for the --bvh-skeleton rig (VMC bones are Unity's)");
+    o.bvh_joint_map = *std::move(map);
   }
   absl::StatusOr<stylus::v1::PostProcess> post =
       stylus::ParsePostProcess(a->Get("postprocess", "default"));

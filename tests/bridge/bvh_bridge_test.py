@@ -28,7 +28,7 @@ import time
 
 server_bin, bridge_bin, src, work = sys.argv[1:5]
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from stage_kit import Checks, build_dir_of, free_port, use_client  # noqa: E402
+from stage_kit import Checks, build_dir_of, free_port, quat_angle, use_client  # noqa: E402
 from stage_kit import start_server as stage_start_server  # noqa: E402
 use_client(src, build_dir_of(bridge_bin))
 from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
@@ -171,7 +171,7 @@ def rotations(row):
 def difference(sent, got):
     """Mean angle (degrees) between two rows' joint rotations."""
     a, b = rotations(sent), rotations(got)
-    angles = [2 * math.acos(min(1.0, abs(sum(x * y for x, y in zip(p, q))))) for p, q in zip(a, b)]
+    angles = [quat_angle(p, q) for p, q in zip(a, b)]
     return math.degrees(sum(angles) / len(angles))
 
 

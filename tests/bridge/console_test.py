@@ -34,7 +34,7 @@ from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.support.ui import Select  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from stage_kit import Checks, build_dir_of, free_port, start_server, unity_bones, use_client  # noqa: E402
+from stage_kit import Checks, build_dir_of, free_port, quat_angle, start_server, unity_bones, use_client  # noqa: E402
 use_client(src, build_dir_of(bridge_bin))
 from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
 
@@ -114,10 +114,6 @@ for t in threads:
     t.start()
 
 
-def angle(q1, q2):
-    return 2 * math.acos(min(1.0, abs(sum(a * b for a, b in zip(q1, q2)))))
-
-
 def loop_difference(loop_a, loop_b):
     """Mean angle (degrees) between the engine's frames of two loops of the
     walk, phase by phase."""
@@ -127,7 +123,7 @@ def loop_difference(loop_a, loop_b):
     for k in range(10, LOOP - 10):
         a, b = got.get(loop_a * LOOP + k), got.get(loop_b * LOOP + k)
         if a and b:
-            angles += [angle(a[n], b[n]) for n in a if n in b]
+            angles += [quat_angle(a[n], b[n]) for n in a if n in b]
     return math.degrees(sum(angles) / max(1, len(angles))) if angles else None
 
 
@@ -138,7 +134,7 @@ def input_difference(loop):
     for k in range(LOOP):
         g = got.get(loop * LOOP + k)
         if g:
-            angles += [angle(g[n], sent_rotations[k][n]) for n in g if n in sent_rotations[k]]
+            angles += [quat_angle(g[n], sent_rotations[k][n]) for n in g if n in sent_rotations[k]]
     return math.degrees(sum(angles) / max(1, len(angles))) if angles else None
 
 

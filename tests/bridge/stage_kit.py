@@ -4,6 +4,7 @@ stylus-server, and the sample walk as Unity humanoid bones (VMC).
 Import after putting this folder on sys.path; `use_client(src, build)` makes
 the Python client (and its generated protobuf modules) importable.
 """
+import math
 import os
 import socket
 import subprocess
@@ -81,3 +82,12 @@ def unity_bones(clip, row, frame_pose):
         w, qx, qy, qz = rotations[i]
         bones[UNITY[j.name]] = ((-x, y, z), (qx, -qy, -qz, w))
     return bones
+
+
+def quat_angle(q1, q2):
+    """The angle (radians) between two unit quaternions, from their difference
+    (2 acos of their dot product loses 1e-4 rad to float32 rounding near 0)."""
+    s = 1.0 if sum(a * b for a, b in zip(q1, q2)) >= 0 else -1.0
+    minus = math.sqrt(sum((a - s * b) ** 2 for a, b in zip(q1, q2)))
+    plus = math.sqrt(sum((a + s * b) ** 2 for a, b in zip(q1, q2)))
+    return 2 * math.atan2(minus, plus)

@@ -25,7 +25,7 @@ import liblo
 
 server_bin, bridge_bin, src, work = sys.argv[1:5]
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from stage_kit import Checks, build_dir_of, free_port, unity_bones, use_client  # noqa: E402
+from stage_kit import Checks, build_dir_of, free_port, quat_angle, unity_bones, use_client  # noqa: E402
 from stage_kit import start_server as stage_start_server  # noqa: E402
 use_client(src, build_dir_of(bridge_bin))
 from stylus_client.bvh import frame_pose, read_bvh  # noqa: E402
@@ -88,14 +88,9 @@ def start_server(port):
     return stage_start_server(server_bin, src, work, port)
 
 
-def angle(q1, q2):
-    d = abs(sum(a * b for a, b in zip(q1, q2)))
-    return 2 * math.acos(min(1.0, d))
-
-
 def difference(sent, got):
     """Mean angle (degrees) between the performer's and the output's bones."""
-    angles = [angle(sent[b][1], got[b][1]) for b in sent if b in got]
+    angles = [quat_angle(sent[b][1], got[b][1]) for b in sent if b in got]
     return math.degrees(sum(angles) / max(1, len(angles)))
 
 

@@ -10,6 +10,8 @@
 #include "model/contrastive/contrastive_model.h"
 #include "motion/bvh.h"
 #include "motion/dataset.h"
+#include "motion/gait.h"
+#include "motion/humanoid.h"
 #include "motion/kinematics.h"
 #include "tests/model/transfer_support.h"
 #include "tests/test_support.h"
@@ -36,6 +38,48 @@ TEST(DefaultModelTest, TransfersTheShippedSamples) {
   ASSERT_TRUE(out.ok()) << out.status();
   EXPECT_EQ(out->num_frames, content.num_frames);
   EXPECT_GT(motion::MaxPositionDifference(*out, content), 1.0);  // It changed something.
+}
+
+// The samples are visibly restyled: the judges read them as what they are
+// (a walk, an elderly walk), and the default model's output walks as the
+// old walk does (the style's low foot lift, small arm swing, flat pelvis),
+// read as elderly, still a walk.
+TEST(DefaultModelTest, RestylesTheShippedSamplesVisibly) {
+  absl::StatusOr<std::unique_ptr<ContrastiveModel>> m = ContrastiveModel::Load(kModel);
+  ASSERT_TRUE(m.ok()) << m.status();
+  absl::StatusOr<std::unique_ptr<Judges>> judges = Judges::Load(kJudges);
+  ASSERT_TRUE(judges.ok()) << judges.status();
+  const motion::Motion content =
+      *motion::ReadBvhFile(testing::SourceDir() + "/samples/walk_normal.bvh");
+  const motion::Motion style = *motion::ReadBvhFile(testing::SourceDir() + "/samples/walk_old.bvh");
+  auto content_of = [&](const motion::Motion& clip) {
+    return (*judges)->contents()[*(*judges)->ClassifyContent(clip)];
+  };
+  auto style_of = [&](const motion::Motion& clip) {
+    return (*judges)->styles()[*(*judges)->ClassifyStyle(clip)];
+  };
+  EXPECT_EQ(content_of(content), "walk");
+  EXPECT_EQ(content_of(style), "walk");
+  EXPECT_EQ(style_of(style), "elderly");
+  absl::StatusOr<StyleCode> code = (*m)->EncodeStyle(style);
+  ASSERT_TRUE(code.ok()) << code.status();
+  absl::StatusOr<motion::Motion> out = MotionOf((*m)->Transfer(content, *code));
+  ASSERT_TRUE(out.ok()) << out.status();
+  EXPECT_EQ(content_of(*out), "walk");
+  EXPECT_EQ(style_of(*out), "elderly");
+  const motion::HumanoidRoles roles = *motion::FindHumanoidRoles(content.skeleton);
+  const motion::GaitSummary c = motion::MeasureGait(content, roles)->summary;
+  const motion::GaitSummary s = motion::MeasureGait(style, roles)->summary;
+  const motion::GaitSummary o = motion::MeasureGait(*out, roles)->summary;
+  auto share = [](double content, double style, double out) {
+    return (out - content) / (style - content);
+  };
+  std::printf("share of the way to the style: foot lift %.2f, arm swing %.2f, bob %.2f\n",
+              share(c.foot_lift, s.foot_lift, o.foot_lift),
+              share(c.arm_swing, s.arm_swing, o.arm_swing), share(c.bob, s.bob, o.bob));
+  EXPECT_GT(share(c.foot_lift, s.foot_lift, o.foot_lift), 0.5);
+  EXPECT_GT(share(c.arm_swing, s.arm_swing, o.arm_swing), 0.5);
+  EXPECT_GT(share(c.bob, s.bob, o.bob), 0.5);
 }
 
 TEST(DefaultModelTest, JudgesRecognizeRealHeldOutClips) {

@@ -545,7 +545,7 @@ int main(int argc, char** argv) {
     v1::LoadModelRequest load;
     load.set_model("cyclic/v1");
     v1::UnloadModelRequest unload_default;
-    unload_default.set_model("contrastive/v9");
+    unload_default.set_model("contrastive/v10");
     {
       std::ifstream f(std::string(STYLUS_SOURCE_DIR) + "/models/DEFAULT");
       std::string id;

@@ -4,7 +4,7 @@
 # arguments given to the container.
 #   STYLUS_LISTEN          default 0.0.0.0:50051
 #   STYLUS_MODELS          default /opt/stylus/models (mount your own over it)
-#   STYLUS_DEFAULT_MODEL   e.g. contrastive/v9
+#   STYLUS_DEFAULT_MODEL   e.g. contrastive/v10
 #   STYLUS_THREADS         compute threads
 #   STYLUS_METRICS_LISTEN  e.g. 0.0.0.0:9464
 #   STYLUS_TLS_CERT, STYLUS_TLS_KEY, STYLUS_TLS_CLIENT_CA   PEM files

@@ -20,7 +20,7 @@ namespace stylus::testing {
 
 inline std::string SourceDir() { return STYLUS_SOURCE_DIR; }
 // The shipped default package, as models/DEFAULT names it (e.g.
-// "contrastive/v9"; the server reads the file with model::ReadDefaultPackage,
+// "contrastive/v10"; the server reads the file with model::ReadDefaultPackage,
 // which the registry tests check against this), and its directory.
 inline std::string DefaultPackage() {
   std::ifstream in(SourceDir() + "/models/DEFAULT");

@@ -37,7 +37,7 @@ struct LossRecord {
 struct ContrastiveTrainOptions {
   std::vector<std::string> data;     // Directories (training split) or .bvh files.
   TrainingDataOptions data_options;  // Labels CSV, the package's skeleton.
-  std::string out;                   // Package directory, e.g. models/contrastive/v9.
+  std::string out;                   // Package directory, e.g. models/contrastive/v10.
   ContrastiveConfig config;          // dim is filled from the data.
   bool resume = false;               // Continue from out/checkpoint if present.
   // A package whose weights.pt starts the networks (fine-tuning); its shapes

@@ -292,8 +292,8 @@ TEST_F(ServerTest, StreamOfARealClipMatchesUnaryTransfer) {
   for (int f = 0; f < content.num_frames; ++f) ASSERT_EQ(streamed->indices[f], f);
   // The unary transfer of the configured form (the default package's guard
   // backs off on this pair: its configured transfer reads as a wave).
-  auto model = model::ContrastiveModel::Load(
-      testing::CopyPackage(kModel, "unguarded_v8", {"content_guard", "guard_strengths"}));
+  auto model = model::ContrastiveModel::Load(testing::CopyPackage(
+      kModel, "unguarded_v8", {"content_guard", "guard_strengths", "movement_action_gate"}));
   ASSERT_TRUE(model.ok()) << model.status();
   auto unary = MotionOf(
       (*model)->Transfer(content, *(*model)->EncodeStyle(style), motion::PostProcessMode::kNone));

@@ -4,6 +4,8 @@
 // executor (and reach for the step batcher) ends every stream without
 // touching what is gone, and streams refused because shutdown began are
 // finished once (the sanitized run of this binary checks that).
+#include <unistd.h>
+
 #include <atomic>
 #include <filesystem>
 #include <thread>
@@ -18,8 +20,12 @@ namespace fs = std::filesystem;
 
 // A models directory with the default package alone (fast to load).
 std::string DefaultOnlyModels() {
-  const fs::path root = fs::temp_directory_path() / "stylus_shutdown_race_models";
+  // This process's own folder: another checkout's (or an older run's, whose
+  // link may point at a package since renamed) is never taken for it.
+  const fs::path root =
+      fs::temp_directory_path() / ("stylus_shutdown_race_models_" + std::to_string(::getpid()));
   if (!fs::exists(root / DefaultPackage())) {
+    fs::remove_all(root);
     fs::create_directories((root / DefaultPackage()).parent_path());
     fs::create_directory_symlink(DefaultPackageDir(), root / DefaultPackage());
     fs::copy_file(SourceDir() + "/models/DEFAULT", root / "DEFAULT",

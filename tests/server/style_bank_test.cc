@@ -24,8 +24,8 @@ TEST(StyleBankTest, ASavedStyleDoesNotHoldItsClip) {
   model::StyleCode code{{1, 2}};
   code.cadence = motion::Cadence{motion::Cadence::Source::kSteps, 0.5, 1};
   code.example = std::make_shared<const motion::MovementClip>();
-  ASSERT_TRUE(bank.Save("contrastive/v9", "old", code).ok());
-  const absl::StatusOr<model::StyleCode> saved = bank.Get("contrastive/v9", "old");
+  ASSERT_TRUE(bank.Save("contrastive/v10", "old", code).ok());
+  const absl::StatusOr<model::StyleCode> saved = bank.Get("contrastive/v10", "old");
   ASSERT_TRUE(saved.ok());
   EXPECT_EQ(saved->example, nullptr);
   ASSERT_TRUE(saved->cadence.has_value());
@@ -45,11 +45,11 @@ TEST(StyleBankTest, UnknownNamesAndBadNamesAreErrors) {
 
 TEST(StyleBankTest, ANameSavedOnAnotherModelSaysWhere) {
   StyleBank bank;
-  ASSERT_TRUE(bank.Save("contrastive/v9", "old", model::StyleCode{{1, 2}}).ok());
+  ASSERT_TRUE(bank.Save("contrastive/v10", "old", model::StyleCode{{1, 2}}).ok());
   absl::StatusOr<model::StyleCode> missing = bank.Get("live/v3", "old");
   EXPECT_EQ(missing.status().code(), absl::StatusCode::kNotFound);
   EXPECT_NE(missing.status().message().find(
-                "saved names belong to one model; 'old' is saved for contrastive/v9: save it "
+                "saved names belong to one model; 'old' is saved for contrastive/v10: save it "
                 "again on live/v3"),
             absl::string_view::npos)
       << missing.status();

@@ -23,9 +23,9 @@ check "roundtrip" 0 "^max_fk_error=0$" -- "$tool" bvh-roundtrip "$good" "$work/r
 check "roundtrip unwritable" 1 "cannot open for writing" -- "$tool" bvh-roundtrip "$good" /nonexistent-dir/out.bvh
 check "synth" 0 "wrote .*: 45 frames" -- "$tool" synth --style old,frames=45 -o "$work/old.bvh"
 check "synth in a package's joint frames" 0 "wrote .*: 45 frames" -- "$tool" synth --style old,frames=45 \
-  --model "$src/models/contrastive/v9" -o "$work/old_model.bvh"
+  --model "$src/models/contrastive/v10" -o "$work/old_model.bvh"
 check "synth --model not a package" 1 "stylus-tool takes a package folder" -- "$tool" synth --style old \
-  --model contrastive/v9 -o "$work/x.bvh"
+  --model contrastive/v10 -o "$work/x.bvh"
 check "synth bad knob" 1 "unknown style knob 'wings'" -- "$tool" synth --style wings=3 -o "$work/x.bvh"
 check "synth needs -o" 2 "-o FILE is required" -- "$tool" synth --style old
 check "features" 0 "max_reconstruction_error=([0-9.]+e-0[4-9]|0(\.00[0-9]*)?)$" -- "$tool" features "$work/old.bvh" -o "$work/rebuilt.bvh"

@@ -409,9 +409,11 @@ std::string Stem(const std::string& path) { return std::filesystem::path(path).s
 std::string GuardNote(const model::TransferNote& note) {
   if (!note.backed_off) return "";
   return absl::StrFormat(
-      " (content guard: the configured transfer read as another action; residual form at "
-      "strength %g%s)",
-      note.residual_strength, note.last_form ? ", the last form" : "");
+      " (content guard: the configured transfer read as another action than the content's; "
+      "returned instead: the content plus %g x the change the style makes%s%s; docs/families.md "
+      "\"The content guard\")",
+      note.residual_strength, note.residual_strength == 0 ? ", i.e. no style" : "",
+      note.last_form ? ", the last form" : "");
 }
 
 // " (style timing: ...)" for a transfer asked for the style's timing.

@@ -48,6 +48,18 @@ lo_address ParseAddress(const std::string& host_port) {
 
 }  // namespace
 
+bool SplitHostPort(const std::string& host_port, std::string* host, std::string* port) {
+  std::vector<std::string> parts = absl::StrSplit(host_port, absl::MaxSplits(':', 1));
+  int n = 0;
+  if (parts.size() != 2 || parts[0].empty() || !absl::SimpleAtoi(parts[1], &n) || n <= 0 ||
+      n > 65535) {
+    return false;
+  }
+  *host = parts[0];
+  *port = parts[1];
+  return true;
+}
+
 struct Bridge::Input {
   std::vector<double> row;  // On the performer's skeleton.
   VmcTransform root;        // VMC: the avatar's root transform.
@@ -345,7 +357,9 @@ void Bridge::OnBroadcast(BroadcastFrame frame) {
     absl::MutexLock lock(&mu_);
     if (!row.ok()) {
       ++stats_.malformed;
-      if (bvh_warned_[source]++ < 3) {
+      // Logged for the first few and then every thousandth: the names and
+      // counts are the sender's, the log's size is not.
+      if (bvh_warnings_++ % 1000 < 3) {
         spdlog::warn("BVH broadcast, avatar {} '{}': {}", frame.avatar_index, frame.avatar_name,
                      std::string(row.status().message()));
       }

@@ -160,7 +160,7 @@ class Bridge {
   };
   absl::Mutex out_mu_;
   std::vector<Engine> engines_ ABSL_GUARDED_BY(out_mu_);
-  std::map<std::string, int> bvh_warned_ ABSL_GUARDED_BY(mu_);
+  int64_t bvh_warnings_ ABSL_GUARDED_BY(mu_) = 0;  // Frames that fit no skeleton, logged.
 
   mutable absl::Mutex mu_;
   std::map<std::string, std::unique_ptr<Performer>> performers_ ABSL_GUARDED_BY(mu_);

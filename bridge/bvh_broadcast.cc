@@ -15,6 +15,7 @@ namespace {
 constexpr size_t kHeaderBytes = 64;
 constexpr uint16_t kStartToken = 0xDDFF;
 constexpr uint16_t kEndToken = 0xEEFF;
+constexpr size_t kMaxAvatarName = 64;
 
 uint16_t U16(const char* p) {
   return static_cast<uint16_t>(static_cast<unsigned char>(p[0]) |
@@ -41,6 +42,7 @@ bool ParseTextFrame(absl::string_view text, BroadcastFrame* out) {
       out->avatar_index < 0) {
     return false;
   }
+  if (tokens[1].size() > kMaxAvatarName) return false;  // The binary form holds 31.
   out->avatar_name = std::string(tokens[1]);
   out->values.resize(tokens.size() - 2);
   for (size_t i = 2; i < tokens.size(); ++i) {

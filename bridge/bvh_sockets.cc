@@ -14,9 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_split.h"
 #include "bridge/bridge.h"
 #include "spdlog/spdlog.h"
 
@@ -70,18 +68,6 @@ int Bind(int type, int port, int* bound) {
 }
 
 }  // namespace
-
-bool SplitHostPort(const std::string& host_port, std::string* host, std::string* port) {
-  std::vector<std::string> parts = absl::StrSplit(host_port, absl::MaxSplits(':', 1));
-  int n = 0;
-  if (parts.size() != 2 || parts[0].empty() || !absl::SimpleAtoi(parts[1], &n) || n <= 0 ||
-      n > 65535) {
-    return false;
-  }
-  *host = parts[0];
-  *port = parts[1];
-  return true;
-}
 
 absl::Status Bridge::StartBvh() {
   std::string host, port;
@@ -186,8 +172,8 @@ void Bridge::BvhUdpLoop() {
   }
 }
 
-// Takes engines' connections for the text form. What they send is read and
-// ignored; a closed one is dropped.
+// Takes engines' connections for the text form. What they send is never
+// read; one that has closed is dropped at its next send (SendBroadcast).
 void Bridge::BvhOutLoop() {
   while (!stop_.load()) {
     pollfd pfd{bvh_listen_fd_, POLLIN, 0};
@@ -217,10 +203,11 @@ void Bridge::SendBroadcast(const BroadcastFrame& frame) {
            static_cast<socklen_t>(bvh_send_addr_.size()));
   }
   if (bvh_listen_fd_ < 0) return;
-  const std::string text = FormatBroadcastText(frame);
   int64_t dropped = 0;
   {
     absl::MutexLock lock(&out_mu_);
+    if (engines_.empty()) return;  // No one to format it for.
+    const std::string text = FormatBroadcastText(frame);
     for (auto it = engines_.begin(); it != engines_.end();) {
       it->unsent += text;
       const ssize_t n =

@@ -135,6 +135,16 @@ class Engine:
             return list(self.frames.get(name, []))
 
 
+def connect_engine(port):
+    """An Engine on the bridge's --bvh-out once it listens (None after 10 s)."""
+    for _ in range(100):
+        try:
+            return Engine(port)
+        except OSError:
+            time.sleep(0.1)
+    return None
+
+
 class BinaryEngine:
     """A receiver of the binary form on UDP."""
 
@@ -190,13 +200,7 @@ bridge = subprocess.Popen([bridge_bin, "--server", "localhost:%d" % grpc_port, "
 sent = {"Avatar00": [], "Avatar01": []}
 try:
     capture.accept()
-    engine = None
-    for _ in range(100):
-        try:
-            engine = Engine(out_port)
-            break
-        except OSError:
-            time.sleep(0.1)
+    engine = connect_engine(out_port)
     check("an engine connects to --bvh-out", engine is not None)
     time.sleep(0.3)
 
@@ -330,13 +334,7 @@ def styled_with(extra):
                          stdout=open(os.path.join(work, "anonymous.log"), "a"), stderr=subprocess.STDOUT)
     try:
         cap.accept()
-        eng = None
-        for _ in range(100):
-            try:
-                eng = Engine(out_port)
-                break
-            except OSError:
-                time.sleep(0.1)
+        eng = connect_engine(out_port)
         time.sleep(0.3)
         start = time.monotonic()
         for k in range(120):

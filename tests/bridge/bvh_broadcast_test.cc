@@ -26,11 +26,12 @@ TEST(BvhBroadcastTest, TextFramesArriveInAnyPieces) {
 
 TEST(BvhBroadcastTest, BadTextFramesAreCountedAndSkipped) {
   BroadcastTextReader reader;
-  auto frames =
-      reader.Feed("0 Avatar00 1 x 3 ||\nAvatar00 1 2 ||\n0 Avatar00 nan 1 ||\n0 A 1 2 ||");
+  const std::string long_name(65, 'n');  // Names are the sender's: 64 bytes at most.
+  auto frames = reader.Feed("0 Avatar00 1 x 3 ||\nAvatar00 1 2 ||\n0 Avatar00 nan 1 ||\n0 " +
+                            long_name + " 1 ||\n0 A 1 2 ||");
   ASSERT_EQ(frames.size(), 1u);
   EXPECT_EQ(frames[0].avatar_name, "A");
-  EXPECT_EQ(reader.malformed(), 3);
+  EXPECT_EQ(reader.malformed(), 4);
   // Text with no "||" cannot grow the reader past its bound.
   const std::string junk(BroadcastTextReader::kMaxFrameBytes / 2, '1');
   for (int i = 0; i < 4; ++i) EXPECT_TRUE(reader.Feed(junk).empty());

@@ -37,6 +37,15 @@ motion::Motion BandaiClip(const std::string& dir, const std::string& name) {
   return *motion::ReadBvhFile(dir + "/dataset-1/dataset-1_" + name + ".bvh");
 }
 
+// A clip as the server reads it: quaternions on the wire, Euler angles
+// again (equal to 1e-9, but a contact threshold can tell 1e-12 apart, and
+// in-process comparisons hold the server to 1e-6).
+motion::Motion AsServed(const motion::Motion& clip) {
+  v1::Clip wire_clip;
+  wire::ClipToProto(clip, &wire_clip);
+  return *wire::ClipFromProto(wire_clip, "clip");
+}
+
 class ServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -151,16 +160,8 @@ TEST_F(ServerTest, TransferOfARealClipEqualsTheModelInProcess) {
   ASSERT_TRUE(out.ok()) << out.status();
   auto model = model::ContrastiveModel::Load(kModel);
   ASSERT_TRUE(model.ok());
-  // The clips as the server reads them: quaternions on the wire, Euler
-  // angles again (equal to 1e-9, but a contact threshold can tell 1e-12
-  // apart, and this compares to 1e-6).
-  auto as_served = [](const motion::Motion& clip) {
-    v1::Clip wire_clip;
-    wire::ClipToProto(clip, &wire_clip);
-    return *wire::ClipFromProto(wire_clip, "clip");
-  };
   const motion::Motion local =
-      (*model)->Transfer(as_served(content), *(*model)->EncodeStyle(as_served(style)))->motion;
+      (*model)->Transfer(AsServed(content), *(*model)->EncodeStyle(AsServed(style)))->motion;
   ASSERT_EQ(out->num_frames, content.num_frames);
   EXPECT_LT(motion::MaxPositionDifference(*out, local), 1e-6);
   EXPECT_GT(motion::MaxPositionDifference(*out, content), 1.0);
@@ -179,15 +180,10 @@ TEST_F(ServerTest, SavedStyleNamesWorkLikeTheirClips) {
   // By its clip the old walk's own steps play.
   auto model = model::ContrastiveModel::Load(kModel);
   ASSERT_TRUE(model.ok());
-  v1::Clip wire_content, wire_style;
-  wire::ClipToProto(content, &wire_content);
-  wire::ClipToProto(style, &wire_style);
-  absl::StatusOr<model::StyleCode> saved =
-      (*model)->EncodeStyle(*wire::ClipFromProto(wire_style, "style"));
+  absl::StatusOr<model::StyleCode> saved = (*model)->EncodeStyle(AsServed(style));
   ASSERT_TRUE(saved.ok());
   saved->example = nullptr;
-  const motion::Motion local =
-      (*model)->Transfer(*wire::ClipFromProto(wire_content, "content"), *saved)->motion;
+  const motion::Motion local = (*model)->Transfer(AsServed(content), *saved)->motion;
   EXPECT_LT(motion::MaxPositionDifference(*by_name, local), 1e-6);
   EXPECT_GT(motion::MaxPositionDifference(*by_clip, *by_name), 1.0);
   auto missing = client().Transfer(content, {nullptr, "young"});
